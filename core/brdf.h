@@ -1,0 +1,67 @@
+// The metallic-roughness BRDF every path shares (DESIGN.md §5), the screen-space passes and the
+// Embree reference alike: Lambert diffuse + Cook-Torrance specular with the GGX distribution,
+// height-correlated Smith visibility and Schlick Fresnel, F0 = mix(0.04, albedo, metallic), as in
+// Filament's "Physically Based Rendering in Filament" §4.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+namespace ssgi {
+
+inline constexpr float kPi = 3.14159265358979323846f;
+// GGX alpha below this makes D a near-delta that a point evaluation can't resolve (Filament's fp32
+// minimum perceptual roughness 0.045, squared).
+inline constexpr float kMinGgxAlpha = 0.045f * 0.045f;
+
+struct SurfaceMaterial {
+  glm::vec3 albedo;  // linear base colour
+  float metallic;
+  float roughness;   // perceptual
+};
+
+inline float GgxDistribution(float nDotH, float alpha) {
+  const float a2 = alpha * alpha;
+  const float f = nDotH * nDotH * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPi * f * f);
+}
+
+// V = G / (4 n.l n.v), height-correlated Smith for GGX (Heitz 2014).
+inline float SmithGgxCorrelatedVisibility(float nDotV, float nDotL, float alpha) {
+  const float a2 = alpha * alpha;
+  const float ggxV = nDotL * std::sqrt(nDotV * nDotV * (1.0f - a2) + a2);
+  const float ggxL = nDotV * std::sqrt(nDotL * nDotL * (1.0f - a2) + a2);
+  return 0.5f / (ggxV + ggxL);
+}
+
+inline glm::vec3 SchlickFresnel(float vDotH, const glm::vec3& f0) {
+  const float m = 1.0f - vDotH;
+  const float m2 = m * m;
+  return f0 + (glm::vec3(1.0f) - f0) * (m2 * m2 * m);
+}
+
+inline glm::vec3 SpecularF0(const SurfaceMaterial& m) { return glm::mix(glm::vec3(0.04f), m.albedo, m.metallic); }
+
+// BRDF times n.l for unit vectors n (normal), v (to viewer), l (to light). `alpha` is the GGX alpha
+// to use for the specular lobe (the material's, possibly widened for the light's size); it is
+// clamped to kMinGgxAlpha. Returns 0 when l or v is below the surface.
+inline glm::vec3 BrdfCosine(const SurfaceMaterial& m, float alpha, const glm::vec3& n, const glm::vec3& v,
+                            const glm::vec3& l) {
+  const float nDotL = glm::dot(n, l);
+  const float nDotV = glm::dot(n, v);
+  if (!(nDotL > 0.0f) || !(nDotV > 0.0f)) return glm::vec3(0.0f);
+  glm::vec3 h = v + l;
+  const float hLength = glm::length(h);
+  h = hLength > 0.0f ? h / hLength : n;
+  const float nDotH = std::clamp(glm::dot(n, h), 0.0f, 1.0f);
+  const float vDotH = std::clamp(glm::dot(v, h), 0.0f, 1.0f);
+  alpha = std::max(alpha, kMinGgxAlpha);
+  const glm::vec3 specular = SchlickFresnel(vDotH, SpecularF0(m)) *
+                             (GgxDistribution(nDotH, alpha) * SmithGgxCorrelatedVisibility(nDotV, nDotL, alpha));
+  const glm::vec3 diffuse = m.albedo * ((1.0f - m.metallic) / kPi);
+  return (diffuse + specular) * nDotL;
+}
+
+}  // namespace ssgi

@@ -1,0 +1,32 @@
+// The one doorway to oneTBB (DESIGN.md §12: threading only in drivers, one place includes TBB).
+// Work is split into fixed, index-addressed items, and each item writes only its own output, so
+// results never depend on the thread count or on scheduling (DESIGN.md §11).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string_view>
+
+namespace ssgi {
+
+// Runs body(i) for every i in [0, count), in parallel. `name` labels the region for profilers and
+// error messages. Items must be independent: no item may read what another writes.
+void ParallelFor(std::string_view name, size_t count, const std::function<void(size_t)>& body);
+
+// Limits the threads every ParallelFor uses while the object lives; 0 means all hardware threads.
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(int threads);
+  ~ThreadLimit();
+  ThreadLimit(const ThreadLimit&) = delete;
+  ThreadLimit& operator=(const ThreadLimit&) = delete;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+int HardwareThreads();
+
+}  // namespace ssgi

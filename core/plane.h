@@ -1,0 +1,39 @@
+// Planes: single-channel images with aligned, padded rows (Highway's hwy::Image, DESIGN.md §12).
+// Move-only. MakePlane initialises every byte, padding included, so no buffer ever holds
+// uninitialised memory (DESIGN.md §11).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "hwy/contrib/image/image.h"
+
+namespace ssgi {
+
+template <class T>
+using Plane = hwy::Image<T>;
+
+template <class T>
+Plane<T> MakePlane(size_t width, size_t height, T fill) {
+  Plane<T> plane(width, height);
+  const size_t perRow = plane.bytes_per_row() / sizeof(T);
+  for (size_t y = 0; y < height; ++y) {
+    T* row = plane.MutableRow(y);
+    for (size_t x = 0; x < perRow; ++x) row[x] = fill;
+  }
+  return plane;
+}
+
+// Three planes of one size: linear HDR RGB radiance and the like.
+template <class T>
+struct Plane3 {
+  Plane<T> c[3];
+};
+
+template <class T>
+Plane3<T> MakePlane3(size_t width, size_t height, T fill) {
+  return Plane3<T>{{MakePlane<T>(width, height, fill), MakePlane<T>(width, height, fill),
+                    MakePlane<T>(width, height, fill)}};
+}
+
+}  // namespace ssgi

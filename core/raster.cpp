@@ -1,0 +1,346 @@
+#include "core/raster.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "core/check.h"
+#include "core/parallel.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kSubPixelBits = 8;
+constexpr int64_t kSubPixelScale = 1 << kSubPixelBits;
+constexpr int64_t kHalfPixel = kSubPixelScale / 2;
+constexpr double kGuardBandPixels = 16384.0;
+constexpr int kBlockSize = 8;
+// Triangles are set up and binned in fixed chunks; a tile reads the chunks' bins in chunk order,
+// which is submission order, whatever thread built each chunk.
+constexpr size_t kChunkTriangles = 8192;
+constexpr size_t kChunkVertices = 16384;
+constexpr int kMaxClippedVertices = 3 + 6;  // one more vertex per clip plane at most
+
+struct EdgeFunction {
+  // E(sx, sy) = a * sx + b * sy + c over fixed-point sample positions; c carries the fill-rule bias,
+  // so a sample is inside exactly when E >= 0.
+  int64_t a, b, c;
+};
+
+struct ScreenTriangle {
+  EdgeFunction edge[3];
+  int32_t minX, minY, maxX, maxY;  // inclusive pixel bounds, clipped to the image
+  // Depth key at pixel centre (px + 0.5, py + 0.5) is keyAtOrigin + keyDx * px + keyDy * py.
+  double keyAtOrigin, keyDx, keyDy;
+  uint32_t triangle;
+  uint8_t flags;
+};
+
+struct ChunkBins {
+  std::vector<ScreenTriangle> triangles;
+  std::vector<uint32_t> tileStart;  // tileCount + 1 offsets into entries
+  std::vector<uint32_t> entries;    // indices into triangles, grouped by tile
+  RasterStats stats;
+};
+
+int64_t FloorDiv(int64_t a, int64_t b) {
+  const int64_t q = a / b;
+  return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
+}
+
+// Signed distances of a clip-space vertex to the clip planes; inside where >= 0.
+struct ClipPlanes {
+  double guardX, guardY;
+  static constexpr int kCount = 6;
+  std::array<double, kCount> Distances(const glm::dvec4& v) const {
+    return {v.w - v.z, v.z, guardX * v.w - v.x, guardX * v.w + v.x, guardY * v.w - v.y, guardY * v.w + v.y};
+  }
+};
+
+// Sutherland-Hodgman against one plane; returns the new vertex count.
+int ClipPolygon(const glm::dvec4* in, int count, int plane, const ClipPlanes& planes, glm::dvec4* out) {
+  int written = 0;
+  for (int i = 0; i < count; ++i) {
+    const glm::dvec4& a = in[i];
+    const glm::dvec4& b = in[(i + 1) % count];
+    const double da = planes.Distances(a)[plane];
+    const double db = planes.Distances(b)[plane];
+    if (da >= 0.0) out[written++] = a;
+    if ((da >= 0.0) != (db >= 0.0)) {
+      const double t = da / (da - db);
+      out[written++] = a + (b - a) * t;
+    }
+  }
+  return written;
+}
+
+class Setup {
+ public:
+  Setup(const ViewProjection& view, int tilesX, int tilesY)
+      : width_(view.width), height_(view.height), tilesX_(tilesX), tilesY_(tilesY) {
+    planes_.guardX = 1.0 + 2.0 * kGuardBandPixels / double(width_);
+    planes_.guardY = 1.0 + 2.0 * kGuardBandPixels / double(height_);
+  }
+
+  void Triangle(const glm::vec4* clip, const uint32_t* index, uint32_t triangle, uint8_t flags, ChunkBins& bins) const {
+    ++bins.stats.trianglesIn;
+    glm::dvec4 polygon[2][kMaxClippedVertices];
+    std::array<std::array<double, ClipPlanes::kCount>, 3> distance;
+    bool allInside = true;
+    for (int i = 0; i < 3; ++i) {
+      polygon[0][i] = glm::dvec4(clip[index[i]]);
+      distance[i] = planes_.Distances(polygon[0][i]);
+    }
+    for (int p = 0; p < ClipPlanes::kCount; ++p) {
+      const bool in0 = distance[0][p] >= 0.0, in1 = distance[1][p] >= 0.0, in2 = distance[2][p] >= 0.0;
+      if (!in0 && !in1 && !in2) {
+        ++bins.stats.trianglesCulled;
+        return;
+      }
+      allInside = allInside && in0 && in1 && in2;
+    }
+    int count = 3;
+    int current = 0;
+    if (!allInside) {
+      ++bins.stats.trianglesClipped;
+      for (int p = 0; p < ClipPlanes::kCount && count >= 3; ++p) {
+        count = ClipPolygon(polygon[current], count, p, planes_, polygon[current ^ 1]);
+        current ^= 1;
+      }
+    }
+    bool emitted = false;
+    for (int i = 1; i + 1 < count; ++i) {
+      emitted |= Emit(polygon[current][0], polygon[current][i], polygon[current][i + 1], triangle, flags, bins);
+    }
+    if (!emitted) ++bins.stats.trianglesCulled;
+  }
+
+ private:
+  struct Snapped {
+    int64_t x, y;
+    double key;
+  };
+
+  Snapped Snap(const glm::dvec4& v) const {
+    const double invW = 1.0 / v.w;
+    const double sx = (v.x * invW * 0.5 + 0.5) * double(width_);
+    const double sy = (0.5 - v.y * invW * 0.5) * double(height_);
+    return {std::llround(sx * double(kSubPixelScale)), std::llround(sy * double(kSubPixelScale)), v.z * invW};
+  }
+
+  static EdgeFunction Edge(const Snapped& from, const Snapped& to) {
+    // E(P) = (to - from) x (P - from), positive inside a triangle with positive area.
+    const int64_t dx = to.x - from.x;
+    const int64_t dy = to.y - from.y;
+    const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
+    return {-dy, dx, dy * from.x - dx * from.y - (topLeft ? 0 : 1)};
+  }
+
+  bool Emit(const glm::dvec4& c0, const glm::dvec4& c1, const glm::dvec4& c2, uint32_t triangle, uint8_t flags,
+            ChunkBins& bins) const {
+    Snapped v[3] = {Snap(c0), Snap(c1), Snap(c2)};
+    int64_t area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
+    if (area2 == 0) return false;
+    // Counter-clockwise front faces turn clockwise in y-down screen space, i.e. negative area.
+    const bool backFacing = area2 > 0;
+    if (backFacing && (flags & kTriangleCullBackFace)) return false;
+    if (!backFacing) {
+      std::swap(v[1], v[2]);
+      area2 = -area2;
+    }
+    ScreenTriangle t;
+    const int64_t minSx = std::min({v[0].x, v[1].x, v[2].x});
+    const int64_t maxSx = std::max({v[0].x, v[1].x, v[2].x});
+    const int64_t minSy = std::min({v[0].y, v[1].y, v[2].y});
+    const int64_t maxSy = std::max({v[0].y, v[1].y, v[2].y});
+    // Pixels whose centre sample px * 256 + 128 lies inside the snapped bounds.
+    t.minX = int32_t(std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale)));
+    t.maxX = int32_t(std::min<int64_t>(width_ - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale)));
+    t.minY = int32_t(std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale)));
+    t.maxY = int32_t(std::min<int64_t>(height_ - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale)));
+    if (t.minX > t.maxX || t.minY > t.maxY) return false;
+    t.edge[0] = Edge(v[1], v[2]);
+    t.edge[1] = Edge(v[2], v[0]);
+    t.edge[2] = Edge(v[0], v[1]);
+    // The depth key's plane in pixel units, through the snapped vertices: linear in screen space.
+    const double x10 = double(v[1].x - v[0].x) / kSubPixelScale, y10 = double(v[1].y - v[0].y) / kSubPixelScale;
+    const double x20 = double(v[2].x - v[0].x) / kSubPixelScale, y20 = double(v[2].y - v[0].y) / kSubPixelScale;
+    const double k10 = v[1].key - v[0].key, k20 = v[2].key - v[0].key;
+    const double det = double(area2) / double(kSubPixelScale * kSubPixelScale);
+    t.keyDx = (k10 * y20 - k20 * y10) / det;
+    t.keyDy = (k20 * x10 - k10 * x20) / det;
+    const double x0 = double(v[0].x) / kSubPixelScale, y0 = double(v[0].y) / kSubPixelScale;
+    t.keyAtOrigin = v[0].key + t.keyDx * (0.5 - x0) + t.keyDy * (0.5 - y0);
+    t.triangle = triangle;
+    t.flags = flags;
+    bins.triangles.push_back(t);
+    ++bins.stats.trianglesSetUp;
+    return true;
+  }
+
+  ClipPlanes planes_;
+  int width_, height_;
+  int tilesX_, tilesY_;
+
+ public:
+  // Counting sort of the chunk's triangles into the tiles their bounds overlap.
+  void Bin(ChunkBins& bins) const {
+    const size_t tileCount = size_t(tilesX_) * size_t(tilesY_);
+    bins.tileStart.assign(tileCount + 1, 0);
+    auto forEachTile = [&](const ScreenTriangle& t, auto&& fn) {
+      for (int ty = t.minY / kRasterTileSize; ty <= t.maxY / kRasterTileSize; ++ty)
+        for (int tx = t.minX / kRasterTileSize; tx <= t.maxX / kRasterTileSize; ++tx) fn(size_t(ty) * tilesX_ + tx);
+    };
+    for (const ScreenTriangle& t : bins.triangles) forEachTile(t, [&](size_t tile) { ++bins.tileStart[tile + 1]; });
+    for (size_t i = 0; i < tileCount; ++i) bins.tileStart[i + 1] += bins.tileStart[i];
+    bins.entries.resize(bins.tileStart[tileCount]);
+    std::vector<uint32_t> cursor(bins.tileStart.begin(), bins.tileStart.end() - 1);
+    for (uint32_t i = 0; i < bins.triangles.size(); ++i)
+      forEachTile(bins.triangles[i], [&](size_t tile) { bins.entries[cursor[tile]++] = i; });
+    bins.stats.binEntries = bins.entries.size();
+  }
+};
+
+struct TileTarget {
+  int x0, y0, width, height;  // the tile's pixels in the image
+  float depth[kRasterTileSize * kRasterTileSize];
+  uint32_t triangle[kRasterTileSize * kRasterTileSize];
+  uint32_t coverage[kRasterTileSize * kRasterTileSize];
+};
+
+template <bool kWriteTriangle, bool kCountCoverage>
+void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
+  const int x0 = std::max(t.minX, tile.x0), x1 = std::min(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max(t.minY, tile.y0), y1 = std::min(t.maxY, tile.y0 + tile.height - 1);
+  if (x0 > x1 || y0 > y1) return;
+  const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
+  // Depth plane relative to the tile origin keeps the float evaluation's cancellation small.
+  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const float keyDx = float(t.keyDx), keyDy = float(t.keyDy);
+
+  auto edgeAt = [&](int e, int px, int py) {
+    return t.edge[e].a * (px * kSubPixelScale + kHalfPixel) + t.edge[e].b * (py * kSubPixelScale + kHalfPixel) + t.edge[e].c;
+  };
+  auto shadeSpan = [&](int px0, int px1, int py, bool inside) {
+    int64_t e0 = edgeAt(0, px0, py), e1 = edgeAt(1, px0, py), e2 = edgeAt(2, px0, py);
+    const int64_t s0 = t.edge[0].a * kSubPixelScale, s1 = t.edge[1].a * kSubPixelScale, s2 = t.edge[2].a * kSubPixelScale;
+    const int ly = py - tile.y0;
+    for (int px = px0; px <= px1; ++px, e0 += s0, e1 += s1, e2 += s2) {
+      if (!inside && (e0 | e1 | e2) < 0) continue;
+      const int lx = px - tile.x0;
+      const int i = ly * kRasterTileSize + lx;
+      if constexpr (kCountCoverage) ++tile.coverage[i];
+      const float key = keyBase + keyDx * float(lx) + keyDy * float(ly);
+      if (!(key > tile.depth[i])) continue;
+      if (alphaTested && !alphaTest.passes(alphaTest.context, t.triangle, px, py)) continue;
+      tile.depth[i] = key;
+      if constexpr (kWriteTriangle) tile.triangle[i] = t.triangle;
+    }
+  };
+
+  // Hierarchical test on 8x8 blocks: an edge's extremes over a block are at two of its corners.
+  for (int by = y0; by <= y1; by += kBlockSize - (by - tile.y0) % kBlockSize) {
+    const int byEnd = std::min(y1, by - (by - tile.y0) % kBlockSize + kBlockSize - 1);
+    for (int bx = x0; bx <= x1; bx += kBlockSize - (bx - tile.x0) % kBlockSize) {
+      const int bxEnd = std::min(x1, bx - (bx - tile.x0) % kBlockSize + kBlockSize - 1);
+      bool reject = false, accept = true;
+      for (int e = 0; e < 3; ++e) {
+        const int64_t corner = edgeAt(e, bx, by);
+        const int64_t spanX = t.edge[e].a * int64_t(bxEnd - bx) * kSubPixelScale;
+        const int64_t spanY = t.edge[e].b * int64_t(byEnd - by) * kSubPixelScale;
+        const int64_t lo = corner + std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
+        const int64_t hi = corner + std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
+        reject = reject || hi < 0;
+        accept = accept && lo >= 0;
+      }
+      if (reject) continue;
+      for (int py = by; py <= byEnd; ++py) shadeSpan(bx, bxEnd, py, accept);
+    }
+  }
+}
+
+}  // namespace
+
+VisibilityBuffer MakeVisibilityBuffer(int width, int height, RasterOutput output) {
+  VisibilityBuffer buffer;
+  buffer.depthKey = MakePlane<float>(width, height, 0.0f);
+  if (output == RasterOutput::kVisibility) buffer.triangle = MakePlane<uint32_t>(width, height, kNoTriangle);
+  return buffer;
+}
+
+RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, RasterOutput output,
+                      VisibilityBuffer& target, Plane<uint32_t>* coverageCount) {
+  SSGI_CHECK_EQ(int(target.depthKey.xsize()), view.width);
+  SSGI_CHECK_EQ(int(target.depthKey.ysize()), view.height);
+  const bool writeTriangle = output == RasterOutput::kVisibility;
+  if (writeTriangle) SSGI_CHECK_EQ(int(target.triangle.xsize()), view.width);
+
+  std::vector<glm::vec4> clip(input.vertexCount);
+  ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
+    const size_t end = std::min(input.vertexCount, (chunk + 1) * kChunkVertices);
+    for (size_t i = chunk * kChunkVertices; i < end; ++i) clip[i] = view.viewProjection * glm::vec4(input.positions[i], 1.0f);
+  });
+
+  const int tilesX = (view.width + kRasterTileSize - 1) / kRasterTileSize;
+  const int tilesY = (view.height + kRasterTileSize - 1) / kRasterTileSize;
+  const Setup setup(view, tilesX, tilesY);
+  std::vector<ChunkBins> chunks((input.triangleCount + kChunkTriangles - 1) / kChunkTriangles);
+  ParallelFor("raster.setup_and_bin", chunks.size(), [&](size_t c) {
+    ChunkBins& bins = chunks[c];
+    const size_t begin = c * kChunkTriangles;
+    const size_t end = std::min(input.triangleCount, begin + kChunkTriangles);
+    bins.triangles.reserve(end - begin);
+    for (size_t i = begin; i < end; ++i) {
+      for (int k = 0; k < 3; ++k) SSGI_CHECK_LT(input.indices[3 * i + k], input.vertexCount);
+      const uint8_t flags = input.triangleFlags ? input.triangleFlags[i] : uint8_t(0);
+      setup.Triangle(clip.data(), input.indices + 3 * i, uint32_t(i), flags, bins);
+    }
+    setup.Bin(bins);
+  });
+
+  ParallelFor("raster.tiles", size_t(tilesX) * size_t(tilesY), [&](size_t tileIndex) {
+    auto tile = std::make_unique<TileTarget>();
+    tile->x0 = int(tileIndex % tilesX) * kRasterTileSize;
+    tile->y0 = int(tileIndex / tilesX) * kRasterTileSize;
+    tile->width = std::min(kRasterTileSize, view.width - tile->x0);
+    tile->height = std::min(kRasterTileSize, view.height - tile->y0);
+    std::fill(std::begin(tile->depth), std::end(tile->depth), 0.0f);
+    std::fill(std::begin(tile->triangle), std::end(tile->triangle), kNoTriangle);
+    std::fill(std::begin(tile->coverage), std::end(tile->coverage), 0u);
+    for (const ChunkBins& bins : chunks) {
+      for (uint32_t e = bins.tileStart[tileIndex]; e < bins.tileStart[tileIndex + 1]; ++e) {
+        const ScreenTriangle& t = bins.triangles[bins.entries[e]];
+        if (coverageCount) {
+          RasterizeInTile<true, true>(t, input.alphaTest, *tile);
+        } else if (writeTriangle) {
+          RasterizeInTile<true, false>(t, input.alphaTest, *tile);
+        } else {
+          RasterizeInTile<false, false>(t, input.alphaTest, *tile);
+        }
+      }
+    }
+    for (int y = 0; y < tile->height; ++y) {
+      const int row = tile->y0 + y;
+      std::copy_n(tile->depth + y * kRasterTileSize, tile->width, target.depthKey.MutableRow(row) + tile->x0);
+      if (writeTriangle)
+        std::copy_n(tile->triangle + y * kRasterTileSize, tile->width, target.triangle.MutableRow(row) + tile->x0);
+      if (coverageCount) {
+        uint32_t* out = coverageCount->MutableRow(row) + tile->x0;
+        for (int x = 0; x < tile->width; ++x) out[x] += tile->coverage[y * kRasterTileSize + x];
+      }
+    }
+  });
+
+  RasterStats stats;
+  for (const ChunkBins& bins : chunks) {
+    stats.trianglesIn += bins.stats.trianglesIn;
+    stats.trianglesCulled += bins.stats.trianglesCulled;
+    stats.trianglesClipped += bins.stats.trianglesClipped;
+    stats.trianglesSetUp += bins.stats.trianglesSetUp;
+    stats.binEntries += bins.stats.binEntries;
+  }
+  return stats;
+}
+
+}  // namespace ssgi

@@ -1,0 +1,41 @@
+// Mip-mapped textures, read by OpenImageIO (DESIGN.md §4).
+// Texels are kept as 8 bits per channel, four channels (RGBA), with a full mip chain down to 1x1
+// built from the linear values. Colour textures (map_Kd) are sRGB-encoded and decoded to linear
+// before filtering; data textures (map_Pm, map_Pr, map_d) are linear. Addressing repeats (OBJ UVs
+// outside [0, 1] tile), v = 0 is the bottom row of the image (OBJ convention).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace ssgi {
+
+enum class TextureEncoding : uint8_t { kSrgb, kLinear };
+
+struct TextureLevel {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;  // row-major, top row first, 4 bytes per texel
+};
+
+struct Texture {
+  TextureEncoding encoding = TextureEncoding::kLinear;
+  int sourceChannels = 4;             // channels in the file (1 = grey, 3 = RGB, 4 = RGBA)
+  std::vector<TextureLevel> levels;   // levels[0] is full size, the last is 1x1
+};
+
+// Reads an image file into a texture with its mip chain. Throws InputError naming the file when it
+// is missing or unreadable. Grey images are replicated to RGB; missing alpha reads as 1.
+Texture LoadTexture(const std::filesystem::path& file, TextureEncoding encoding);
+
+// Builds a texture from 8-bit RGBA texels (top row first); used by tests and procedural content.
+Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEncoding encoding);
+
+// Trilinear sample with repeat addressing. `footprint` is the larger screen-pixel footprint of the
+// lookup in UV units (max of |dUV/dx|, |dUV/dy|); it picks the mip level. Returns linear values.
+glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint);
+
+}  // namespace ssgi

@@ -1,0 +1,36 @@
+// Helpers shared by the tests: scratch folders, files written from strings, running the CLI.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace ssgi::test {
+
+// The project's source folder (for data/) and the built ssgi executable.
+std::filesystem::path SourceDir();
+std::filesystem::path CliPath();
+
+// A fresh empty folder under the system temp folder, removed when the object dies.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& name);
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+void WriteText(const std::filesystem::path& file, const std::string& text);
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr together
+};
+// Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
+CommandResult RunCli(const std::string& arguments);
+
+}  // namespace ssgi::test
