@@ -3,17 +3,35 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
 
 namespace ssgi {
 namespace {
 
+// Positive floats below 1 have bit patterns below 0x3F800000; their top 17 bits (exponent and 8
+// mantissa bits) pick a bucket no wider than 1/256 of its value, which holds at most two code
+// boundaries. The bucket's table entry is the code of its smallest value; a lookup then steps over
+// the thresholds inside the bucket. Exact, and with at most two data-dependent steps.
+constexpr int kBucketShift = 15;
+constexpr uint32_t kOneBits = 0x3F800000u;
+
 struct SrgbTables {
   std::array<float, 256> codeToLinear;
-  std::array<float, 255> thresholds;  // linear value where code k rounds up to k + 1
+  std::array<float, 256> thresholds;  // thresholds[k]: linear value where code k rounds up to k + 1; [255] = inf
+  std::vector<uint8_t> bucketCode;
 
-  SrgbTables() {
+  SrgbTables() : bucketCode(kOneBits >> kBucketShift) {
     for (int k = 0; k < 256; ++k) codeToLinear[k] = SrgbToLinear(float(k) / 255.0f);
     for (int k = 0; k < 255; ++k) thresholds[k] = SrgbToLinear((float(k) + 0.5f) / 255.0f);
+    thresholds[255] = std::numeric_limits<float>::infinity();
+    for (uint32_t b = 0; b < bucketCode.size(); ++b) {
+      float lowest;
+      const uint32_t bits = b << kBucketShift;
+      std::memcpy(&lowest, &bits, 4);
+      bucketCode[b] = uint8_t(std::upper_bound(thresholds.begin(), thresholds.end() - 1, lowest) - thresholds.begin());
+    }
   }
 };
 
@@ -36,8 +54,13 @@ float SrgbCodeToLinear(uint8_t code) { return Tables().codeToLinear[code]; }
 
 uint8_t LinearToSrgbCode(float linear) {
   if (!(linear > 0.0f)) return 0;
-  const auto& t = Tables().thresholds;
-  return uint8_t(std::upper_bound(t.begin(), t.end(), linear) - t.begin());
+  if (linear >= 1.0f) return 255;
+  const SrgbTables& tables = Tables();
+  uint32_t bits;
+  std::memcpy(&bits, &linear, 4);
+  unsigned code = tables.bucketCode[bits >> kBucketShift];
+  while (linear >= tables.thresholds[code]) ++code;
+  return uint8_t(code);
 }
 
 uint8_t UnormCode8(float value) {

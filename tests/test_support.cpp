@@ -8,6 +8,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <OpenImageIO/imageio.h>
+
 namespace ssgi::test {
 
 std::filesystem::path SourceDir() { return SSGI_SOURCE_DIR; }
@@ -28,6 +30,21 @@ void WriteText(const std::filesystem::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
   out << text;
   if (!out) throw std::runtime_error("cannot write " + file.string());
+}
+
+StoredImage ReadStoredImage(const std::filesystem::path& file) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw std::runtime_error("cannot read " + file.string() + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  StoredImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.nchannels;
+  image.channelNames = spec.channelnames;
+  image.bytes.resize(spec.image_bytes(true));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UNKNOWN, image.bytes.data()))
+    throw std::runtime_error("cannot read " + file.string() + ": " + in->geterror());
+  return image;
 }
 
 CommandResult RunCli(const std::string& arguments) {

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <filesystem>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ssgi::test {
 
@@ -30,6 +32,15 @@ struct CommandResult {
   int exitCode = -1;
   std::string output;  // stdout and stderr together
 };
+// An image file's pixels as stored (8-bit for PNG, 32-bit words for EXR channels), all channels
+// interleaved, for byte-exact comparisons.
+struct StoredImage {
+  int width = 0, height = 0, channels = 0;
+  std::vector<std::string> channelNames;
+  std::vector<uint8_t> bytes;
+};
+StoredImage ReadStoredImage(const std::filesystem::path& file);
+
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);
 

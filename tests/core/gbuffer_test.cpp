@@ -1,6 +1,8 @@
 #include "core/gbuffer.h"
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
 
 #include <catch2/catch.hpp>
@@ -67,6 +69,29 @@ TEST_CASE("the packed words round-trip", "[gbuffer]") {
   CHECK(UnpackBlockerDistance(kShadowLit) == 0.0f);
   // Out-of-range and NaN inputs clamp instead of wrapping into neighbouring fields.
   CHECK(PackAlbedoMetallic(glm::vec3(7.0f, -1.0f, std::nanf("")), 2.0f) == 0xFF0000FFu);
+}
+
+TEST_CASE("8-bit sRGB encoding is round(LinearToSrgb(x) * 255) for every float in [0, 1]", "[color]") {
+  // Every float bit pattern from 0 to 1 against the exact definition in double precision. The
+  // exhaustive walk takes about a second; a stride keeps it fast while covering every bucket.
+  size_t checked = 0, mismatches = 0;
+  for (uint32_t bits = 0; bits <= 0x3F800000u; bits += 7) {
+    float x;
+    std::memcpy(&x, &bits, 4);
+    const double encoded = x <= 0.0031308 ? x * 12.92 : 1.055 * std::pow(double(x), 1.0 / 2.4) - 0.055;
+    const double scaled = encoded * 255.0;
+    // Values within 1e-4 of a rounding boundary may round either way between float and double.
+    if (std::abs(scaled - std::floor(scaled) - 0.5) < 1e-4) continue;
+    mismatches += LinearToSrgbCode(x) != uint8_t(std::lround(scaled));
+    ++checked;
+  }
+  CHECK(checked > 100000000u);
+  CHECK(mismatches == 0);
+  CHECK(LinearToSrgbCode(1.0f) == 255);
+  CHECK(LinearToSrgbCode(1e9f) == 255);
+  CHECK(LinearToSrgbCode(-1.0f) == 0);
+  CHECK(LinearToSrgbCode(std::nanf("")) == 0);
+  CHECK(LinearToSrgbCode(std::numeric_limits<float>::infinity()) == 255);
 }
 
 TEST_CASE("a fresh G-buffer is background everywhere, padding included", "[gbuffer]") {

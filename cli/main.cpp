@@ -1,0 +1,168 @@
+// The ssgi command line. The only place an error becomes a message and an exit code (DESIGN.md §12):
+// exit 0 on success, 1 for bad input (scene, model, texture, output path, option value), 2 for a
+// command line CLI11 cannot parse, 3 for an unexpected internal failure.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+#include "passes/frame.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The built-in default scene: $SSGI_DATA_DIR, then data/ beside the executable's folder (a build
+// tree inside the source tree, or an install prefix's share/ssgi), then the source tree it was built from.
+fs::path DefaultScenePath() {
+  if (const char* dir = std::getenv("SSGI_DATA_DIR")) return fs::path(dir) / "default.json";
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path()) {
+      for (const fs::path& candidate : {dir / "data" / "default.json", dir / "share" / "ssgi" / "default.json"})
+        if (fs::exists(candidate, error)) return candidate;
+    }
+  }
+  return fs::path(SSGI_SOURCE_DATA_DIR) / "default.json";
+}
+
+struct RenderOptions {
+  std::string scene;
+  std::string output;
+  std::string size;
+  int threads = 0;
+  bool stats = false;
+  std::string dumpBuffers;
+  std::optional<std::string> normalEncoding;
+  std::optional<float> exposure;
+};
+
+void ParseSize(const std::string& text, int& width, int& height) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw ssgi::InputError("--size: expected WIDTHxHEIGHT such as 1024x768, got '" + text + "'");
+  if (w < 1 || h < 1 || w > ssgi::kMaxImageSize || h > ssgi::kMaxImageSize)
+    throw ssgi::InputError("--size: width and height must be in [1, " + std::to_string(ssgi::kMaxImageSize) +
+                           "], got " + text);
+  width = w;
+  height = h;
+}
+
+void PrintStats(const std::vector<ssgi::StageStats>& stats, int width, int height, int threads) {
+  std::printf("%dx%d, %d thread%s\n", width, height, threads, threads == 1 ? "" : "s");
+  std::printf("  %-20s %10s  %s\n", "stage", "ms", "throughput");
+  for (const ssgi::StageStats& s : stats) {
+    std::printf("  %-20s %10.3f", s.name.c_str(), s.ms);
+    if (s.items > 0.0 && s.ms > 0.0)
+      std::printf("  %8.2f M %s/s (%.0f %s)", s.items / (s.ms * 1e3), s.itemUnit.c_str(), s.items, s.itemUnit.c_str());
+    std::printf("\n");
+  }
+}
+
+int Render(const RenderOptions& options) {
+  const ssgi::ThreadLimit threadLimit(options.threads);
+  const int threads = options.threads > 0 ? options.threads : ssgi::HardwareThreads();
+  const fs::path scenePath = options.scene.empty() ? DefaultScenePath() : fs::path(options.scene);
+  const fs::path output = options.output.empty() ? fs::path(scenePath.stem().string() + ".png") : fs::path(options.output);
+  // Every check that can fail on the command line happens before the (possibly long) render.
+  const ssgi::ImageFileKind kind = ssgi::CheckOutputPath(output);
+  if (!options.dumpBuffers.empty() && ssgi::CheckOutputPath(options.dumpBuffers) != ssgi::ImageFileKind::kExr)
+    throw ssgi::InputError(options.dumpBuffers, "--dump-gbuffer writes a multi-channel EXR: use a .exr name");
+  int width = 0, height = 0;
+  if (!options.size.empty()) ParseSize(options.size, width, height);
+
+  ssgi::Stopwatch load;
+  ssgi::Scene scene = ssgi::LoadScene(scenePath);
+  const double loadMs = load.Lap();
+  if (width > 0) {
+    scene.settings.width = width;
+    scene.settings.height = height;
+  }
+  if (options.normalEncoding)
+    scene.settings.normalEncoding = *options.normalEncoding == "xyz8" ? ssgi::NormalEncoding::kXyz8 : ssgi::NormalEncoding::kOct24;
+  if (options.exposure) scene.settings.exposureEv = *options.exposure;
+
+  ssgi::Frame frame = ssgi::RenderFrame(scene);
+  ssgi::Stopwatch write;
+  const int w = scene.settings.width, h = scene.settings.height;
+  if (kind == ssgi::ImageFileKind::kPng) {
+    ssgi::WritePng(output, w, h, frame.display.rgb);
+  } else {
+    const ssgi::Plane3<float>& result = frame.Result();
+    ssgi::WriteExr(output, w, h,
+                   {{"R", false, result.c[0].ConstRow(0), size_t(result.c[0].PixelsPerRow())},
+                    {"G", false, result.c[1].ConstRow(0), size_t(result.c[1].PixelsPerRow())},
+                    {"B", false, result.c[2].ConstRow(0), size_t(result.c[2].PixelsPerRow())}});
+  }
+  if (!options.dumpBuffers.empty()) ssgi::WriteFrameBuffers(options.dumpBuffers, frame, scene.settings.normalEncoding);
+  const double writeMs = write.Lap();
+
+  if (options.stats) {
+    std::printf("scene %s: %zu triangles, %zu materials, %zu textures, load %.1f ms\n", scenePath.string().c_str(),
+                scene.mesh.TriangleCount(), scene.materials.size(), scene.textures.size(), loadMs);
+    PrintStats(frame.stats, w, h, threads);
+    std::printf("  %-20s %10.3f\n", "write image", writeMs);
+  }
+  std::printf("wrote %s\n", output.string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ssgi: a CPU reference renderer for screen-space global illumination (Yang & Saito): "
+               "deferred shading on a packed 128-bit G-buffer, SSABSS soft shadows and Hi-Z cone-traced "
+               "screen-space reflections."};
+  app.require_subcommand(1);
+  RenderOptions render;
+  CLI::App* renderCommand = app.add_subcommand("render", "Render a scene (.json) or a bare model (.obj) to an image.");
+  renderCommand->add_option("scene", render.scene,
+                            "Scene file (.json, see README 'Scene files') or OBJ model (framed automatically, "
+                            "default light). Default: the built-in default scene.");
+  renderCommand->add_option("-o,--output", render.output,
+                            "Output image: .png (8-bit sRGB after exposure and tonemap) or .exr (linear float "
+                            "RGB radiance). Default: <scene name>.png in the current folder.");
+  renderCommand->add_option("--size", render.size, "Image size WIDTHxHEIGHT, each in [1, 16384]; overrides the scene's.");
+  renderCommand->add_option("--threads", render.threads, "Worker threads (0 = all hardware threads). The image is "
+                                                         "byte-identical for any count.")
+      ->check(CLI::Range(0, 1024));
+  renderCommand->add_flag("--stats", render.stats, "Print each stage's time in ms and its throughput.");
+  renderCommand->add_option("--dump-gbuffer", render.dumpBuffers,
+                            "Also write every intermediate buffer (raw and decoded G-buffer, visibility buffer, "
+                            "direct light) to this multi-channel .exr.");
+  renderCommand->add_option("--normal-encoding", render.normalEncoding,
+                            "G-buffer normal encoding: oct24 (octahedral 2x12 bits, default) or xyz8 (3x8 bits, "
+                            "the paper's). Overrides the scene's.")
+      ->check(CLI::IsMember({"oct24", "xyz8"}));
+  renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "
+                                                           "overrides the scene's.");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (*renderCommand) return Render(render);
+  } catch (const ssgi::InputError& e) {
+    std::fprintf(stderr, "ssgi: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ssgi: internal error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}

@@ -1,0 +1,65 @@
+#include "passes/direct_light.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "core/brdf.h"
+#include "core/lighting.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kRowsPerItem = 16;
+
+}  // namespace
+
+DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs& out) {
+  Stopwatch stopwatch;
+  const int width = in.gbuffer.width(), height = in.gbuffer.height();
+  const std::vector<PreparedLight> lights = PrepareLights(in.scene, in.view.view);
+  const NormalEncoding encoding = in.scene.settings.normalEncoding;
+  const glm::vec3 background = in.scene.settings.background;
+  out.radiance = MakePlane3<float>(width, height, 0.0f);
+  const int items = (height + kRowsPerItem - 1) / kRowsPerItem;
+  std::vector<size_t> shadedPerItem(items, 0);
+
+  ParallelFor("direct_light", size_t(items), [&](size_t item) {
+    const int yEnd = std::min(height, int(item + 1) * kRowsPerItem);
+    for (int y = int(item) * kRowsPerItem; y < yEnd; ++y) {
+      const uint32_t* w0 = in.gbuffer.word[0].ConstRow(y);
+      const uint32_t* w1 = in.gbuffer.word[1].ConstRow(y);
+      const uint32_t* w2 = in.gbuffer.word[2].ConstRow(y);
+      float* outRgb[3] = {out.radiance.c[0].MutableRow(y), out.radiance.c[1].MutableRow(y),
+                          out.radiance.c[2].MutableRow(y)};
+      for (int x = 0; x < width; ++x) {
+        const float depth = UnpackDepth(w2[x]);
+        glm::vec3 radiance = background;
+        if (depth != kBackgroundDepth) {
+          ++shadedPerItem[item];
+          const ViewProjection::Ray ray = in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
+          const glm::vec3 position = ray.origin + ray.direction * depth;
+          const glm::vec3 toViewer = glm::normalize(-ray.direction);
+          const glm::vec3 normal = DecodeNormal(w1[x] & 0xFFFFFFu, encoding);
+          const SurfaceMaterial material{UnpackAlbedo(w0[x]), UnpackMetallic(w0[x]), UnpackRoughness(w1[x])};
+          const float alpha = material.roughness * material.roughness;
+          radiance = glm::vec3(0.0f);
+          for (const PreparedLight& light : lights) {
+            const LightAtPoint l = Evaluate(light, position);
+            radiance += BrdfCosine(material, WidenedAlpha(alpha, l.tanAngularRadius), normal, toViewer, l.toLight) *
+                        l.irradiance;
+          }
+        }
+        for (int c = 0; c < 3; ++c) outRgb[c][x] = radiance[c];
+      }
+    }
+  });
+
+  DirectLightStats stats;
+  for (size_t n : shadedPerItem) stats.pixels += n;
+  stats.ms = stopwatch.Lap();
+  return stats;
+}
+
+}  // namespace ssgi

@@ -1,0 +1,30 @@
+// Direct light pass (DESIGN.md §5, docs/pipeline.md §Direct light): shades every G-buffer pixel with
+// every light of the scene using core/brdf.h, multiplied by the light's visibility where a shadow
+// filter produced one. Background pixels get the scene's background radiance. No ambient term.
+#pragma once
+
+#include "core/camera.h"
+#include "core/gbuffer.h"
+#include "core/plane.h"
+#include "core/scene.h"
+
+namespace ssgi {
+
+struct DirectLightInputs {
+  const GBuffer& gbuffer;
+  const ViewProjection& view;  // the camera the G-buffer was rendered with
+  const Scene& scene;          // lights, background, normal encoding
+};
+
+struct DirectLightOutputs {
+  Plane3<float> radiance;  // linear RGB radiance towards the camera, finite and >= 0
+};
+
+struct DirectLightStats {
+  double ms = 0.0;
+  size_t pixels = 0;
+};
+
+DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs& out);
+
+}  // namespace ssgi

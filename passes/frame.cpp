@@ -1,0 +1,65 @@
+#include "passes/frame.h"
+
+#include "core/image_io.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+
+Frame RenderFrame(const Scene& scene) {
+  Frame frame;
+  Stopwatch total;
+  const RenderSettings& settings = scene.settings;
+  frame.view = MakePerspective(scene.camera, settings.width, settings.height);
+  const double pixels = double(settings.width) * double(settings.height);
+
+  const GBufferStats g = RunGBuffer({scene, frame.view}, {settings.normalEncoding}, frame.gbuffer);
+  frame.stats.push_back({"g-buffer raster", g.rasterMs, double(scene.mesh.TriangleCount()), "triangles"});
+  frame.stats.push_back({"g-buffer resolve", g.resolveMs, double(g.coveredPixels), "pixels"});
+
+  const DirectLightStats d = RunDirectLight({frame.gbuffer.gbuffer, frame.view, scene}, frame.direct);
+  frame.stats.push_back({"direct light", d.ms, pixels, "pixels"});
+
+  Stopwatch tonemap;
+  RunTonemap(frame.Result(), {settings.exposureEv, settings.tonemap}, frame.display);
+  frame.stats.push_back({"tonemap", tonemap.Lap(), pixels, "pixels"});
+  frame.stats.push_back({"frame total", total.Lap(), pixels, "pixels"});
+  return frame;
+}
+
+void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding) {
+  const GBuffer& g = frame.gbuffer.gbuffer;
+  const int width = g.width(), height = g.height();
+  // Decoded G-buffer planes, so a port can compare values as well as bits.
+  const char* names[] = {"albedo.R", "albedo.G", "albedo.B", "metallic", "normal.X", "normal.Y", "normal.Z",
+                         "roughness", "depth", "shadow.hard", "shadow.blocker"};
+  constexpr int kDecoded = 11;
+  std::vector<Plane<float>> decoded;
+  for (int i = 0; i < kDecoded; ++i) decoded.push_back(MakePlane<float>(width, height, 0.0f));
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const uint32_t w0 = g.word[0].ConstRow(y)[x], w1 = g.word[1].ConstRow(y)[x];
+      const uint32_t w2 = g.word[2].ConstRow(y)[x], w3 = g.word[3].ConstRow(y)[x];
+      const float depth = UnpackDepth(w2);
+      const bool background = depth == kBackgroundDepth;
+      const glm::vec3 albedo = UnpackAlbedo(w0);
+      const glm::vec3 normal = background ? glm::vec3(0.0f) : DecodeNormal(w1 & 0xFFFFFFu, encoding);
+      const float values[kDecoded] = {albedo.x, albedo.y, albedo.z, UnpackMetallic(w0), normal.x, normal.y, normal.z,
+                                      UnpackRoughness(w1), depth, UnpackHardShadow(w3) ? 1.0f : 0.0f,
+                                      UnpackBlockerDistance(w3)};
+      for (int i = 0; i < kDecoded; ++i) decoded[i].MutableRow(y)[x] = values[i];
+    }
+  }
+  std::vector<ExrChannel> channels;
+  auto add = [&](const std::string& name, bool isUint, const auto& plane) {
+    channels.push_back({name, isUint, plane.ConstRow(0), size_t(plane.PixelsPerRow())});
+  };
+  for (int w = 0; w < 4; ++w) add("gbuffer.word" + std::to_string(w), true, g.word[w]);
+  for (int i = 0; i < kDecoded; ++i) add(names[i], false, decoded[i]);
+  add("raster.depthKey", false, frame.gbuffer.visibility.depthKey);
+  add("raster.triangle", true, frame.gbuffer.visibility.triangle);
+  const char* rgb[] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) add(std::string("direct.") + rgb[c], false, frame.direct.radiance.c[c]);
+  WriteExr(path, width, height, channels);
+}
+
+}  // namespace ssgi

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# ssgi's one set-up script. On a fresh Debian 12 machine (as root, or with sudo) it installs the
+# Debian packages that are missing, builds in Release, then:
+#   ./setup.sh            renders the built-in default scene to default.png (with --stats)
+#   ./setup.sh test       runs the whole test suite (ctest)
+#   ./setup.sh build      only installs and builds
+# BUILD_DIR (default: build) picks the build folder.
+set -euo pipefail
+cd "$(dirname "$0")"
+
+packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libopenimageio-dev
+          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+build="${BUILD_DIR:-build}"
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build "$build" --parallel "$(nproc)"
+
+case "${1:-render}" in
+  render) "$build/cli/ssgi" render --stats ;;
+  test) ctest --test-dir "$build" --output-on-failure --parallel "$(nproc)" ;;
+  build) ;;
+  *) echo "usage: $0 [render|test|build]" >&2; exit 2 ;;
+esac

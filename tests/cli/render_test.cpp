@@ -1,0 +1,124 @@
+// End-to-end tests of `ssgi render`: exit codes and messages for bad input, no output left behind
+// on failure, byte-identical output at any thread count, and the golden image of the default scene.
+#include <cstdlib>
+#include <filesystem>
+
+#include <catch2/catch.hpp>
+
+#include "tests/test_support.h"
+
+namespace ssgi::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::string DefaultScene() { return Quote(SourceDir() / "data" / "default.json"); }
+
+// Only the named files: no output and no temporary file may survive a failed render.
+void RequireOnlyFiles(const ScratchDir& dir, std::initializer_list<std::string> names) {
+  size_t count = 0;
+  for (const auto& entry : fs::directory_iterator(dir.path())) {
+    ++count;
+    CAPTURE(entry.path().string());
+    CHECK(std::find(names.begin(), names.end(), entry.path().filename().string()) != names.end());
+  }
+  CHECK(count == names.size());
+}
+
+TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
+  ScratchDir dir("cli-bad-args");
+  const std::string out = Quote(dir / "out.png");
+  struct Case {
+    std::string arguments;
+    std::string expected;
+  };
+  const Case cases[] = {
+      {"render " + DefaultScene() + " --size 0x10 -o " + out, "--size"},
+      {"render " + DefaultScene() + " --size 20000x100 -o " + out, "[1, 16384]"},
+      {"render " + DefaultScene() + " --size banana -o " + out, "WIDTHxHEIGHT"},
+      {"render " + DefaultScene() + " -o " + Quote(dir / "out.jpg"), "unsupported output format"},
+      {"render " + DefaultScene() + " -o " + Quote(dir / "missing" / "out.png"), "does not exist"},
+      {"render " + DefaultScene() + " -o " + out + " --dump-gbuffer " + Quote(dir / "g.png"), "EXR"},
+      {"render " + Quote(dir / "nowhere.json") + " -o " + out, "nowhere.json"},
+  };
+  for (const Case& c : cases) {
+    const CommandResult result = RunCli(c.arguments);
+    CAPTURE(c.arguments, result.output);
+    CHECK(result.exitCode == 1);
+    CHECK(result.output.find(c.expected) != std::string::npos);
+    CHECK(result.output.find("ssgi: error: ") == 0);
+    CHECK(std::count(result.output.begin(), result.output.end(), '\n') == 1);
+  }
+  RequireOnlyFiles(dir, {});
+}
+
+TEST_CASE("render: a malformed scene names the file and line and writes nothing", "[cli]") {
+  ScratchDir dir("cli-bad-scene");
+  WriteText(dir / "broken.json", "{\n  \"camera\": {\n    \"position\": [0, 1, 2,\n  }\n}\n");
+  const CommandResult result = RunCli("render " + Quote(dir / "broken.json") + " -o " + Quote(dir / "out.png"));
+  CAPTURE(result.output);
+  CHECK(result.exitCode == 1);
+  CHECK(result.output.find("broken.json:4") != std::string::npos);
+  RequireOnlyFiles(dir, {"broken.json"});
+}
+
+TEST_CASE("render: an unwritable output path fails before rendering", "[cli]") {
+  ScratchDir dir("cli-unwritable");
+  WriteText(dir / "file", "not a folder");
+  const CommandResult result = RunCli("render " + DefaultScene() + " -o " + Quote(dir / "file" / "out.png"));
+  CAPTURE(result.output);
+  CHECK(result.exitCode == 1);
+  CHECK(result.output.find("out.png") != std::string::npos);
+  RequireOnlyFiles(dir, {"file"});
+}
+
+TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 threads", "[cli][determinism]") {
+  ScratchDir dir("cli-threads");
+  std::vector<StoredImage> images, buffers;
+  for (int threads : {1, 2, 3}) {
+    const std::string tag = std::to_string(threads);
+    const CommandResult result = RunCli("render " + DefaultScene() + " --size 150x101 --threads " + tag + " -o " +
+                                        Quote(dir / (tag + ".png")) + " --dump-gbuffer " + Quote(dir / (tag + ".exr")));
+    CAPTURE(result.output);
+    REQUIRE(result.exitCode == 0);
+    images.push_back(ReadStoredImage(dir / (tag + ".png")));
+    buffers.push_back(ReadStoredImage(dir / (tag + ".exr")));
+  }
+  REQUIRE(images[0].width == 150);
+  REQUIRE(buffers[0].channels > 10);
+  for (int i = 1; i < 3; ++i) {
+    CHECK(images[i].bytes == images[0].bytes);
+    CHECK(buffers[i].channelNames == buffers[0].channelNames);
+    CHECK(buffers[i].bytes == buffers[0].bytes);
+  }
+}
+
+TEST_CASE("render: the default scene matches its golden image byte for byte", "[cli][golden]") {
+  ScratchDir dir("cli-golden");
+  const fs::path golden = SourceDir() / "tests" / "golden" / "default_160x120.png";
+  const fs::path rendered = dir / "default.png";
+  const CommandResult result = RunCli("render " + DefaultScene() + " --size 160x120 -o " + Quote(rendered));
+  CAPTURE(result.output);
+  REQUIRE(result.exitCode == 0);
+  if (std::getenv("SSGI_UPDATE_GOLDEN")) fs::copy_file(rendered, golden, fs::copy_options::overwrite_existing);
+  const StoredImage expected = ReadStoredImage(golden);
+  const StoredImage actual = ReadStoredImage(rendered);
+  REQUIRE(actual.width == expected.width);
+  REQUIRE(actual.height == expected.height);
+  size_t differing = 0;
+  for (size_t i = 0; i < actual.bytes.size(); ++i) differing += actual.bytes[i] != expected.bytes[i];
+  INFO("bytes differing from the golden image: " << differing << " (SSGI_UPDATE_GOLDEN=1 rewrites it after an intended change)");
+  CHECK(differing == 0);
+}
+
+TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
+  ScratchDir dir("cli-default");
+  const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";
+  CHECK(std::system(command.c_str()) == 0);
+  CHECK(fs::exists(dir / "default.png"));
+}
+
+}  // namespace
+}  // namespace ssgi::test
