@@ -87,7 +87,8 @@ class SurfaceResolver {
 };
 
 float AlphaChannel(const Texture& texture, const glm::vec4& texel) {
-  return texture.sourceChannels == 4 ? texel.w : texel.x;
+  // Grey+alpha and RGBA images carry the mask in alpha; grey and RGB masks in their first channel.
+  return texture.sourceChannels == 2 || texture.sourceChannels == 4 ? texel.w : texel.x;
 }
 
 struct AlphaTestContext {

@@ -189,13 +189,17 @@ TEST_CASE("back faces are culled only when asked, and the nearer surface wins", 
     }
   }
   for (bool cull : {false, true}) {
-    const std::vector<uint8_t> flags(4, cull ? kTriangleCullBackFace : uint8_t(0));
+    const std::vector<uint8_t> flags(4, cull ? uint8_t(kTriangleCullBackFace) : uint8_t(0));
     RasterInput input{mesh.positions.data(), mesh.positions.size(), mesh.indices.data(), 4, flags.data(), {}};
     VisibilityBuffer target = MakeVisibilityBuffer(32, 32, RasterOutput::kVisibility);
     Rasterize(input, view, RasterOutput::kVisibility, target);
     const uint32_t id = target.triangle.ConstRow(16)[16];
     CAPTURE(cull);
-    CHECK((cull ? id < 2u : id >= 2u));
+    if (cull) {
+      CHECK(id < 2u);
+    } else {
+      CHECK(id >= 2u);
+    }
     CHECK(view.DepthFromKey(target.depthKey.ConstRow(16)[16]) == Approx(cull ? 5.0f : 2.0f).epsilon(1e-5));
   }
 }

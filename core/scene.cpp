@@ -1,0 +1,632 @@
+#include "core/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <unordered_map>
+
+#include "core/check.h"
+#include "core/error.h"
+#include "core/obj_loader.h"
+
+namespace ssgi {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+std::string LowerExtension(const fs::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+// A character iterator that records the furthest position the JSON parser has read, so the parser
+// callback knows the line of each key and value (nlohmann reports positions for syntax errors only).
+class TrackingIterator {
+ public:
+  using iterator_category = std::forward_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
+
+  TrackingIterator(const char* at, const char** furthest) : at_(at), furthest_(furthest) {}
+  reference operator*() const { return *at_; }
+  TrackingIterator& operator++() {
+    *furthest_ = std::max(*furthest_, ++at_);
+    return *this;
+  }
+  TrackingIterator operator++(int) {
+    TrackingIterator before = *this;
+    ++*this;
+    return before;
+  }
+  bool operator==(const TrackingIterator& other) const { return at_ == other.at_; }
+
+ private:
+  const char* at_;
+  const char** furthest_;
+};
+
+// The 1-based line of the character at `offset`.
+int LineAt(std::string_view text, size_t offset) {
+  offset = std::min(offset, text.size());
+  return 1 + int(std::count(text.begin(), text.begin() + std::ptrdiff_t(offset), '\n'));
+}
+
+// nlohmann's message without its "[json.exception...] parse error at line L, column C: " prefix,
+// since the line is reported separately.
+std::string JsonProblem(const std::string& what) {
+  const size_t column = what.find("column ");
+  const size_t colon = what.find(": ", column == std::string::npos ? 0 : column);
+  const size_t idEnd = what.find("] ");
+  if (column != std::string::npos && colon != std::string::npos) return what.substr(colon + 2);
+  return idEnd == std::string::npos ? what : what.substr(idEnd + 2);
+}
+
+struct JsonDocument {
+  Json root;
+  std::unordered_map<std::string, int> lines;  // of keys and array elements, by message path
+};
+
+// Message paths: "camera.fov_y_deg", "objects[1].transform.scale".
+JsonDocument ParseJson(const fs::path& file, const std::string& text) {
+  JsonDocument document;
+  const char* furthest = text.data();
+  // The parser has read one character past a number to find its end; the line is the last one
+  // before that character.
+  auto currentLine = [&] { return LineAt(text, size_t(std::max<std::ptrdiff_t>(furthest - text.data() - 1, 0))); };
+  struct Container {
+    bool isArray;
+    size_t nextIndex;
+    std::string path;
+    std::string keyPath;  // objects: the path of the member being read
+  };
+  std::vector<Container> stack;
+  // The path of the value that starts now, recorded with its line when it is an array element.
+  auto valuePath = [&]() -> std::string {
+    if (stack.empty()) return "";
+    Container& parent = stack.back();
+    if (!parent.isArray) return parent.keyPath;
+    std::string path = parent.path + "[" + std::to_string(parent.nextIndex++) + "]";
+    document.lines.emplace(path, currentLine());
+    return path;
+  };
+  const Json::parser_callback_t callback = [&](int, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+      case Json::parse_event_t::array_start: {
+        std::string path = valuePath();
+        stack.push_back({event == Json::parse_event_t::array_start, 0, std::move(path), ""});
+        break;
+      }
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        stack.pop_back();
+        break;
+      case Json::parse_event_t::key: {
+        Container& object = stack.back();
+        const std::string& key = parsed.get_ref<const std::string&>();
+        object.keyPath = object.path.empty() ? key : object.path + "." + key;
+        if (!document.lines.emplace(object.keyPath, currentLine()).second)
+          throw InputError(file, currentLine(), "duplicate key " + object.keyPath);
+        break;
+      }
+      case Json::parse_event_t::value:
+        valuePath();
+        break;
+    }
+    return true;
+  };
+  try {
+    document.root = Json::parse(TrackingIterator(text.data(), &furthest),
+                                TrackingIterator(text.data() + text.size(), &furthest), callback);
+  } catch (const Json::parse_error& error) {
+    throw InputError(file, LineAt(text, error.byte == 0 ? 0 : error.byte - 1), JsonProblem(error.what()));
+  } catch (const Json::exception& error) {
+    throw InputError(file, currentLine(), JsonProblem(error.what()));
+  }
+  return document;
+}
+
+std::string FormatNumber(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// An allowed interval of a number, with the text error messages give for it.
+struct Range {
+  double min = -kInfinity;
+  double max = kInfinity;
+  bool minOpen = false;
+  bool maxOpen = false;
+
+  bool Contains(double v) const { return (minOpen ? v > min : v >= min) && (maxOpen ? v < max : v <= max); }
+  std::string Text() const {
+    if (max == kInfinity) return (minOpen ? "> " : ">= ") + FormatNumber(min);
+    return std::string("in ") + (minOpen ? "(" : "[") + FormatNumber(min) + ", " + FormatNumber(max) +
+           (maxOpen ? ")" : "]");
+  }
+};
+
+constexpr Range kAnyNumber{};
+constexpr Range kNonNegative{0.0, kInfinity, false, false};
+constexpr Range kPositive{0.0, kInfinity, true, false};
+constexpr Range kUnit{0.0, 1.0, false, false};
+constexpr Range kBelowRightAngle{0.0, 90.0, false, true};
+
+// Reports errors at the line of a message path.
+class ErrorReporter {
+ public:
+  ErrorReporter(fs::path file, std::unordered_map<std::string, int> lines)
+      : file_(std::move(file)), lines_(std::move(lines)) {}
+  // A key the file leaves out (a default that conflicts) is reported at its parent's line.
+  [[noreturn]] void Fail(std::string path, const std::string& problem) const {
+    for (;;) {
+      if (const auto line = lines_.find(path); line != lines_.end()) throw InputError(file_, line->second, problem);
+      const size_t parent = path.find_last_of(".[");
+      if (parent == std::string::npos) throw InputError(file_, problem);
+      path.resize(parent);
+    }
+  }
+
+ private:
+  fs::path file_;
+  std::unordered_map<std::string, int> lines_;
+};
+
+// One JSON object of a scene file. Keys outside `known` are errors (a typo must not silently change
+// a render); every read checks the type and range and names the key's path when they are wrong.
+class ObjectReader {
+ public:
+  ObjectReader(const ErrorReporter& errors, const Json& node, std::string path,
+               std::initializer_list<std::string_view> known)
+      : errors_(errors), node_(node), path_(std::move(path)) {
+    if (!node.is_object()) errors_.Fail(path_, path_ + " must be an object, got " + node.type_name());
+    for (const auto& [key, value] : node.items())
+      if (std::find(known.begin(), known.end(), key) == known.end()) {
+        std::string list;
+        for (std::string_view k : known) list.append(list.empty() ? "" : ", ").append(k);
+        errors_.Fail(Path(key), "unknown key " + Path(key) + " (known: " + list + ")");
+      }
+  }
+
+  std::string Path(std::string_view key) const {
+    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  }
+  const Json* Find(std::string_view key) const {
+    const auto it = node_.find(key);
+    return it == node_.end() ? nullptr : &*it;
+  }
+  bool Has(std::string_view key) const { return Find(key) != nullptr; }
+  [[noreturn]] void Fail(std::string_view key, const std::string& problem) const {
+    errors_.Fail(Path(key), Path(key) + " " + problem);
+  }
+
+  std::optional<float> OptionalNumber(std::string_view key, const Range& range = kAnyNumber) const {
+    const Json* value = Find(key);
+    if (!value) return std::nullopt;
+    const float number = ToFloat(key, *value);
+    if (!range.Contains(number)) Fail(key, "must be " + range.Text() + ", got " + value->dump());
+    return number;
+  }
+  float Number(std::string_view key, float fallback, const Range& range = kAnyNumber) const {
+    return OptionalNumber(key, range).value_or(fallback);
+  }
+
+  int Integer(std::string_view key, int fallback, const Range& range) const {
+    const Json* value = Find(key);
+    if (!value) return fallback;
+    if (!value->is_number_integer()) Fail(key, "must be an integer, got " + value->dump());
+    const double number = value->get<double>();
+    if (!range.Contains(number)) Fail(key, "must be " + range.Text() + ", got " + value->dump());
+    return int(number);
+  }
+
+  std::optional<glm::vec3> OptionalVec3(std::string_view key, const Range& range = kAnyNumber) const {
+    const Json* value = Find(key);
+    if (!value) return std::nullopt;
+    return ToVec3(key, *value, range);
+  }
+  glm::vec3 Vec3(std::string_view key, glm::vec3 fallback, const Range& range = kAnyNumber) const {
+    return OptionalVec3(key, range).value_or(fallback);
+  }
+  glm::vec3 RequiredVec3(std::string_view key) const {
+    if (!Has(key)) errors_.Fail(path_, Path(key) + " is required");
+    return *OptionalVec3(key);
+  }
+  glm::vec3 NonZeroDirection(std::string_view key) const {
+    // In double, so tiny directions such as [1e-30, 0, 0] normalize too.
+    const glm::dvec3 direction = RequiredVec3(key);
+    if (direction == glm::dvec3(0.0)) Fail(key, "must not be zero");
+    return glm::vec3(glm::normalize(direction));
+  }
+
+  std::optional<bool> OptionalBool(std::string_view key) const {
+    const Json* value = Find(key);
+    if (!value) return std::nullopt;
+    if (!value->is_boolean()) Fail(key, std::string("must be true or false, got ") + value->dump());
+    return value->get<bool>();
+  }
+
+  // One of `choices`, by name.
+  template <class T>
+  T Choice(std::string_view key, T fallback, std::initializer_list<std::pair<std::string_view, T>> choices) const {
+    const Json* value = Find(key);
+    if (!value) return fallback;
+    std::string list;
+    for (const auto& [name, choice] : choices) {
+      if (value->is_string() && value->get_ref<const std::string&>() == name) return choice;
+      list.append(list.empty() ? "\"" : ", \"").append(name).append("\"");
+    }
+    Fail(key, "must be one of " + list + ", got " + value->dump());
+  }
+
+ private:
+  float ToFloat(std::string_view key, const Json& value) const {
+    if (!value.is_number()) Fail(key, std::string("must be a number, got ") + value.dump());
+    const float number = float(value.get<double>());
+    if (!std::isfinite(number)) Fail(key, "is out of the float range: " + value.dump());
+    return number;
+  }
+  glm::vec3 ToVec3(std::string_view key, const Json& value, const Range& range) const {
+    if (!value.is_array() || value.size() != 3) Fail(key, "must be an array of 3 numbers, got " + value.dump());
+    glm::vec3 v;
+    for (int i = 0; i < 3; ++i) {
+      if (!value[size_t(i)].is_number()) Fail(key, "must be an array of 3 numbers, got " + value.dump());
+      v[i] = ToFloat(key, value[size_t(i)]);
+      if (!range.Contains(v[i])) Fail(key, "components must be " + range.Text() + ", got " + value.dump());
+    }
+    return v;
+  }
+
+  const ErrorReporter& errors_;
+  const Json& node_;
+  std::string path_;
+};
+
+struct MaterialOverride {
+  std::string path;  // for messages
+  std::optional<glm::vec3> baseColor;
+  std::optional<float> metallic;
+  std::optional<float> roughness;
+  std::optional<bool> twoSided;
+  std::optional<float> alphaCutoff;
+
+  void ApplyTo(Material& m) const {
+    m.baseColor = baseColor.value_or(m.baseColor);
+    m.metallic = metallic.value_or(m.metallic);
+    m.roughness = roughness.value_or(m.roughness);
+    m.twoSided = twoSided.value_or(m.twoSided);
+    m.alphaCutoff = alphaCutoff.value_or(m.alphaCutoff);
+  }
+};
+
+struct ObjectDesc {
+  fs::path obj;
+  std::string path;  // "objects[1]", for messages; empty for a bare OBJ
+  glm::mat4 transform{1.0f};
+  std::optional<MaterialOverride> allMaterials;   // "*"
+  std::map<std::string, MaterialOverride> named;  // by MTL material name
+};
+
+CameraDesc ReadCamera(const ErrorReporter& errors, const Json& node) {
+  const ObjectReader r(errors, node, "camera", {"position", "target", "up", "fov_y_deg", "near"});
+  CameraDesc camera;
+  camera.position = r.RequiredVec3("position");
+  camera.target = r.RequiredVec3("target");
+  camera.up = r.Vec3("up", glm::vec3(0.0f, 1.0f, 0.0f));
+  camera.fovYDegrees = r.Number("fov_y_deg", 45.0f, Range{0.0, 180.0, true, true});
+  camera.nearPlane = r.Number("near", 0.05f, kPositive);
+  const glm::dvec3 forward = glm::dvec3(camera.target) - glm::dvec3(camera.position);
+  const glm::dvec3 up = camera.up;
+  if (forward == glm::dvec3(0.0)) r.Fail("target", "must differ from camera.position");
+  // sin(angle between up and forward) below 1e-6: lookAt would have no sideways axis.
+  if (!(glm::length(glm::cross(forward, up)) > 1e-6 * glm::length(forward) * glm::length(up)))
+    r.Fail("up", "must not be zero or parallel to target - position");
+  return camera;
+}
+
+void ReadLights(const ErrorReporter& errors, const Json& node, Scene& scene) {
+  if (!node.is_array()) errors.Fail("lights", std::string("lights must be an array, got ") + node.type_name());
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string path = "lights[" + std::to_string(i) + "]";
+    const Json& light = node[i];
+    const auto type = light.is_object() ? light.find("type") : light.end();
+    if (!light.is_object() || type == light.end()) errors.Fail(path, path + " must be an object with a \"type\"");
+    if (*type == "directional") {
+      const ObjectReader r(errors, light, path,
+                           {"type", "direction", "irradiance", "angular_diameter_deg", "cast_shadows"});
+      DirectionalLight d;
+      d.direction = r.NonZeroDirection("direction");
+      d.irradiance = r.Vec3("irradiance", glm::vec3(3.0f), kNonNegative);
+      d.angularDiameterDegrees = r.Number("angular_diameter_deg", 0.53f, kBelowRightAngle);
+      d.castShadows = r.OptionalBool("cast_shadows").value_or(true);
+      scene.directionalLights.push_back(d);
+    } else if (*type == "spot") {
+      const ObjectReader r(
+          errors, light, path,
+          {"type", "position", "direction", "inner_cone_deg", "outer_cone_deg", "radius", "intensity", "cast_shadows"});
+      SpotLight s;
+      s.position = r.RequiredVec3("position");
+      s.direction = r.NonZeroDirection("direction");
+      s.innerConeDegrees = r.Number("inner_cone_deg", 20.0f, kBelowRightAngle);
+      s.outerConeDegrees = r.Number("outer_cone_deg", 30.0f, kBelowRightAngle);
+      if (s.innerConeDegrees > s.outerConeDegrees)
+        r.Fail("inner_cone_deg", "must be <= outer_cone_deg (" + FormatNumber(s.innerConeDegrees) + " > " +
+                                     FormatNumber(s.outerConeDegrees) + ")");
+      s.radius = r.Number("radius", 0.05f, kNonNegative);
+      s.intensity = r.Vec3("intensity", glm::vec3(10.0f), kNonNegative);
+      s.castShadows = r.OptionalBool("cast_shadows").value_or(true);
+      scene.spotLights.push_back(s);
+    } else {
+      errors.Fail(path + ".type", path + ".type must be \"directional\" or \"spot\", got " + type->dump());
+    }
+  }
+}
+
+EffectMode ReadEffect(const ObjectReader& r, std::string_view key) {
+  const Json* value = r.Find(key);
+  if (value && value->is_boolean()) return value->get<bool>() ? EffectMode::kOn : EffectMode::kOff;
+  if (value && !value->is_string())
+    r.Fail(key, "must be \"auto\", \"on\", \"off\", true or false, got " + value->dump());
+  return r.Choice(key, EffectMode::kAuto,
+                  {{"auto", EffectMode::kAuto}, {"on", EffectMode::kOn}, {"off", EffectMode::kOff}});
+}
+
+RenderSettings ReadRender(const ErrorReporter& errors, const Json& node) {
+  const ObjectReader r(errors, node, "render",
+                       {"width", "height", "exposure_ev", "tonemap", "background", "normal_encoding", "effects"});
+  RenderSettings settings;
+  const Range sizeRange{1.0, double(kMaxImageSize), false, false};
+  settings.width = r.Integer("width", settings.width, sizeRange);
+  settings.height = r.Integer("height", settings.height, sizeRange);
+  settings.exposureEv = r.Number("exposure_ev", 0.0f);
+  settings.tonemap = r.Choice("tonemap", Tonemap::kAces, {{"aces", Tonemap::kAces}, {"clamp", Tonemap::kClamp}});
+  settings.background = r.Vec3("background", glm::vec3(0.0f), kNonNegative);
+  settings.normalEncoding = r.Choice("normal_encoding", NormalEncoding::kOct24,
+                                     {{"oct24", NormalEncoding::kOct24}, {"xyz8", NormalEncoding::kXyz8}});
+  if (const Json* effects = r.Find("effects")) {
+    const ObjectReader e(errors, *effects, "render.effects", {"shadows", "reflections"});
+    settings.shadows = ReadEffect(e, "shadows");
+    settings.reflections = ReadEffect(e, "reflections");
+  }
+  return settings;
+}
+
+MaterialOverride ReadOverride(const ErrorReporter& errors, const Json& node, const std::string& path) {
+  const ObjectReader r(errors, node, path, {"base_color", "metallic", "roughness", "two_sided", "alpha_cutoff"});
+  MaterialOverride o;
+  o.path = path;
+  o.baseColor = r.OptionalVec3("base_color", kUnit);
+  o.metallic = r.OptionalNumber("metallic", kUnit);
+  o.roughness = r.OptionalNumber("roughness", kUnit);
+  o.twoSided = r.OptionalBool("two_sided");
+  o.alphaCutoff = r.OptionalNumber("alpha_cutoff", kUnit);
+  return o;
+}
+
+glm::mat4 ReadTransform(const ErrorReporter& errors, const Json& node, const std::string& path) {
+  const ObjectReader r(errors, node, path, {"translate", "rotate_deg", "scale"});
+  const glm::vec3 translate = r.Vec3("translate", glm::vec3(0.0f));
+  const glm::vec3 rotate = r.Vec3("rotate_deg", glm::vec3(0.0f));
+  glm::vec3 scale(1.0f);
+  if (const Json* value = r.Find("scale"); value && value->is_number()) {
+    scale = glm::vec3(*r.OptionalNumber("scale"));
+  } else if (value) {
+    if (!value->is_array()) r.Fail("scale", "must be a number or an array of 3 numbers, got " + value->dump());
+    scale = *r.OptionalVec3("scale");
+  }
+  if (scale.x == 0.0f || scale.y == 0.0f || scale.z == 0.0f) r.Fail("scale", "must not be zero");
+  // world = T * Rz * Ry * Rx * S * object (docs/scene-format.md)
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), translate);
+  m = glm::rotate(m, glm::radians(rotate.z), glm::vec3(0.0f, 0.0f, 1.0f));
+  m = glm::rotate(m, glm::radians(rotate.y), glm::vec3(0.0f, 1.0f, 0.0f));
+  m = glm::rotate(m, glm::radians(rotate.x), glm::vec3(1.0f, 0.0f, 0.0f));
+  return glm::scale(m, scale);
+}
+
+std::vector<ObjectDesc> ReadObjects(const ErrorReporter& errors, const Json& node, const fs::path& folder) {
+  if (!node.is_array() || node.empty()) errors.Fail("objects", "objects must be a non-empty array");
+  std::vector<ObjectDesc> objects;
+  for (size_t i = 0; i < node.size(); ++i) {
+    ObjectDesc object;
+    object.path = "objects[" + std::to_string(i) + "]";
+    const ObjectReader r(errors, node[i], object.path, {"obj", "transform", "materials"});
+    const Json* obj = r.Find("obj");
+    if (!obj) errors.Fail(object.path, object.path + ".obj is required");
+    if (!obj->is_string()) r.Fail("obj", "must be a file name, got " + obj->dump());
+    object.obj = folder / obj->get<std::string>();
+    std::error_code error;
+    if (!fs::is_regular_file(object.obj, error)) r.Fail("obj", "names a missing file: " + object.obj.string());
+    if (const Json* transform = r.Find("transform"))
+      object.transform = ReadTransform(errors, *transform, r.Path("transform"));
+    if (const Json* materials = r.Find("materials")) {
+      const std::string path = r.Path("materials");
+      if (!materials->is_object()) r.Fail("materials", std::string("must be an object, got ") + materials->type_name());
+      for (const auto& [name, value] : materials->items()) {
+        MaterialOverride o = ReadOverride(errors, value, path + "." + name);
+        if (name == "*") {
+          object.allMaterials = std::move(o);
+        } else {
+          object.named.emplace(name, std::move(o));
+        }
+      }
+    }
+    objects.push_back(std::move(object));
+  }
+  return objects;
+}
+
+std::string PathKey(const fs::path& file) { return fs::absolute(file).lexically_normal().string(); }
+
+// Loads each distinct OBJ once and each (image, encoding) once, and appends every object to the
+// scene in world space with its own copy of its materials.
+void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, Scene& scene) {
+  std::map<std::string, ObjModel> models;
+  std::map<std::pair<std::string, TextureEncoding>, int32_t> textureIndex;
+  auto texture = [&](const fs::path& file, TextureEncoding encoding) -> int32_t {
+    if (file.empty()) return kNoTexture;
+    const auto [it, inserted] = textureIndex.emplace(std::make_pair(PathKey(file), encoding), 0);
+    if (inserted) {
+      it->second = int32_t(scene.textures.size());
+      scene.textures.push_back(LoadTexture(file, encoding));
+    }
+    return it->second;
+  };
+
+  for (const ObjectDesc& object : objects) {
+    const std::string key = PathKey(object.obj);
+    auto model = models.find(key);
+    if (model == models.end()) model = models.emplace(key, LoadObjModel(object.obj)).first;
+    const ObjModel& m = model->second;
+
+    for (const auto& [name, o] : object.named) {
+      const bool found = std::any_of(m.materials.begin(), m.materials.end(),
+                                     [&](const ObjMaterial& om) { return om.material.name == name; });
+      if (!found)
+        errors.Fail(o.path, o.path + ": " + object.obj.filename().string() + " has no material '" + name + "'");
+    }
+    const uint32_t firstMaterial = uint32_t(scene.materials.size());
+    for (const ObjMaterial& om : m.materials) {
+      Material material = om.material;
+      if (object.allMaterials) object.allMaterials->ApplyTo(material);
+      if (const auto named = object.named.find(material.name); named != object.named.end())
+        named->second.ApplyTo(material);
+      material.baseColorTexture = texture(om.baseColorTexture, TextureEncoding::kSrgb);
+      material.metallicTexture = texture(om.metallicTexture, TextureEncoding::kLinear);
+      material.roughnessTexture = texture(om.roughnessTexture, TextureEncoding::kLinear);
+      material.alphaTexture = texture(om.alphaTexture, TextureEncoding::kLinear);
+      scene.materials.push_back(std::move(material));
+    }
+
+    Mesh& mesh = scene.mesh;
+    const size_t firstVertex = mesh.positions.size();
+    if (firstVertex + m.mesh.positions.size() > std::numeric_limits<uint32_t>::max())
+      errors.Fail(object.path, object.path + ": the scene has more than 2^32 - 1 vertices");
+    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(object.transform)));
+    for (size_t v = 0; v < m.mesh.positions.size(); ++v) {
+      const glm::vec3 p = glm::vec3(object.transform * glm::vec4(m.mesh.positions[v], 1.0f));
+      const glm::vec3 n = glm::normalize(normalMatrix * m.mesh.normals[v]);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(n.x) ||
+          !std::isfinite(n.y) || !std::isfinite(n.z))
+        errors.Fail(object.path, (object.path.empty() ? object.obj.string() : object.path) +
+                                     ": the transform makes vertex positions or normals non-finite");
+      mesh.positions.push_back(p);
+      mesh.normals.push_back(n);
+    }
+    mesh.uvs.insert(mesh.uvs.end(), m.mesh.uvs.begin(), m.mesh.uvs.end());
+    // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners back.
+    const bool mirrored = glm::determinant(glm::mat3(object.transform)) < 0.0f;
+    for (size_t t = 0; t < m.mesh.materials.size(); ++t) {
+      const uint32_t* corner = &m.mesh.indices[3 * t];
+      mesh.indices.push_back(uint32_t(firstVertex) + corner[0]);
+      mesh.indices.push_back(uint32_t(firstVertex) + corner[mirrored ? 2 : 1]);
+      mesh.indices.push_back(uint32_t(firstVertex) + corner[mirrored ? 1 : 2]);
+      mesh.materials.push_back(firstMaterial + m.mesh.materials[t]);
+    }
+  }
+}
+
+Scene LoadJsonScene(const fs::path& file) {
+  std::error_code error;
+  if (!fs::is_regular_file(file, error)) throw InputError(file, "scene file not found");
+  std::ifstream in(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) throw InputError(file, "cannot read scene file");
+  JsonDocument document = ParseJson(file, text);
+  if (!document.root.is_object()) throw InputError(file, 1, "the scene must be a JSON object");
+  const ErrorReporter errors(file, std::move(document.lines));
+  const ObjectReader root(errors, document.root, "", {"camera", "lights", "objects", "render"});
+
+  Scene scene;
+  scene.source = file;
+  if (const Json* render = root.Find("render")) scene.settings = ReadRender(errors, *render);
+  std::optional<CameraDesc> camera;
+  if (const Json* node = root.Find("camera")) camera = ReadCamera(errors, *node);
+  if (const Json* lights = root.Find("lights")) {
+    ReadLights(errors, *lights, scene);
+  } else {
+    scene.directionalLights.push_back(DefaultLight());
+  }
+  const Json* objects = root.Find("objects");
+  if (!objects) errors.Fail("", "objects is required");
+  const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  Bake(errors, ReadObjects(errors, *objects, folder), scene);
+  scene.camera = camera ? *camera : FrameMesh(scene.mesh, scene.settings.width, scene.settings.height);
+  return scene;
+}
+
+Scene LoadObjScene(const fs::path& file) {
+  Scene scene;
+  scene.source = file;
+  ObjectDesc object;
+  object.obj = file;
+  Bake(ErrorReporter(file, {}), {object}, scene);
+  scene.directionalLights.push_back(DefaultLight());
+  scene.camera = FrameMesh(scene.mesh, scene.settings.width, scene.settings.height);
+  return scene;
+}
+
+}  // namespace
+
+Scene LoadScene(const fs::path& file) {
+  const std::string ext = LowerExtension(file);
+  if (ext == ".json") return LoadJsonScene(file);
+  if (ext == ".obj") return LoadObjScene(file);
+  throw InputError(file, "unsupported scene format '" + ext + "' (use .json or .obj)");
+}
+
+CameraDesc FrameMesh(const Mesh& mesh, int width, int height) {
+  SSGI_CHECK_GT(width, 0);
+  SSGI_CHECK_GT(height, 0);
+  constexpr double kFovYDegrees = 40.0;
+  constexpr double kMargin = 1.15;
+  glm::dvec3 lo(kInfinity), hi(-kInfinity);
+  for (const glm::vec3& p : mesh.positions) {
+    lo = glm::min(lo, glm::dvec3(p));
+    hi = glm::max(hi, glm::dvec3(p));
+  }
+  const glm::dvec3 centre = mesh.positions.empty() ? glm::dvec3(0.0) : (lo + hi) * 0.5;
+  double radius = 0.0;
+  for (const glm::vec3& p : mesh.positions) radius = std::max(radius, glm::length(glm::dvec3(p) - centre));
+  if (!(radius > 0.0)) radius = 1.0;  // empty or single-point mesh
+
+  // The sphere fits the narrower field of view, so portrait images frame it too.
+  const double tanHalfY = std::tan(glm::radians(kFovYDegrees) * 0.5);
+  const double halfAngle = std::atan(std::min(tanHalfY, tanHalfY * double(width) / double(height)));
+  const double distance = radius / std::sin(halfAngle) * kMargin;
+  const glm::dvec3 direction = glm::normalize(glm::dvec3(0.6, 0.45, 1.0));
+
+  CameraDesc camera;
+  camera.target = glm::vec3(centre);
+  camera.position = glm::vec3(centre + direction * distance);
+  camera.up = glm::vec3(0.0f, 1.0f, 0.0f);
+  camera.fovYDegrees = float(kFovYDegrees);
+  camera.nearPlane = float(std::max(distance - radius, radius) * 0.02);
+  return camera;
+}
+
+DirectionalLight DefaultLight() {
+  DirectionalLight light;
+  light.direction = glm::normalize(glm::vec3(-0.5f, -1.0f, -0.35f));
+  light.irradiance = glm::vec3(3.0f);
+  light.angularDiameterDegrees = 2.0f;
+  light.castShadows = true;
+  return light;
+}
+
+}  // namespace ssgi

@@ -1,0 +1,159 @@
+#include "core/texture.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/check.h"
+#include "core/color.h"
+#include "core/error.h"
+
+namespace ssgi {
+namespace {
+
+float DecodeColor(uint8_t code, TextureEncoding encoding) {
+  return encoding == TextureEncoding::kSrgb ? SrgbCodeToLinear(code) : float(code) / 255.0f;
+}
+
+// Linear RGBA floats of 8-bit texels; alpha is linear in every encoding.
+std::vector<float> DecodeLevel(const TextureLevel& level, TextureEncoding encoding) {
+  std::vector<float> linear(level.rgba.size());
+  for (size_t i = 0; i < level.rgba.size(); i += 4) {
+    for (size_t c = 0; c < 3; ++c) linear[i + c] = DecodeColor(level.rgba[i + c], encoding);
+    linear[i + 3] = float(level.rgba[i + 3]) / 255.0f;
+  }
+  return linear;
+}
+
+TextureLevel EncodeLevel(int width, int height, const std::vector<float>& linear, TextureEncoding encoding) {
+  TextureLevel level{width, height, std::vector<uint8_t>(linear.size())};
+  for (size_t i = 0; i < linear.size(); i += 4) {
+    for (size_t c = 0; c < 3; ++c)
+      level.rgba[i + c] =
+          encoding == TextureEncoding::kSrgb ? LinearToSrgbCode(linear[i + c]) : UnormCode8(linear[i + c]);
+    level.rgba[i + 3] = UnormCode8(linear[i + 3]);
+  }
+  return level;
+}
+
+// log2 for finite x > 0 from frexp and the atanh series of ln, not libm, so every build and SIMD
+// target picks the same mip blend (DESIGN.md §11). |s| < 1/3, so six terms are accurate to ~1e-7.
+float Log2(float x) {
+  int exponent = 0;
+  const float mantissa = 2.0f * std::frexp(x, &exponent);  // in [1, 2)
+  const float s = (mantissa - 1.0f) / (mantissa + 1.0f);
+  const float s2 = s * s;
+  const float series =
+      1.0f + s2 * (1.0f / 3.0f + s2 * (1.0f / 5.0f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f + s2 * (1.0f / 11.0f)))));
+  constexpr float kInvLn2 = 1.44269504f;
+  return float(exponent - 1) + 2.0f * s * series * kInvLn2;
+}
+
+// Fraction of a texture coordinate in [0, 1] (1 only by rounding); non-finite coordinates read as 0.
+float Repeat(float x) { return std::isfinite(x) ? x - std::floor(x) : 0.0f; }
+
+int WrapIndex(int i, int size) { return i < 0 ? i + size : (i >= size ? i - size : i); }
+
+glm::vec4 Texel(const TextureLevel& level, int x, int y, TextureEncoding encoding) {
+  const uint8_t* t = &level.rgba[(size_t(y) * size_t(level.width) + size_t(x)) * 4];
+  return {DecodeColor(t[0], encoding), DecodeColor(t[1], encoding), DecodeColor(t[2], encoding), float(t[3]) / 255.0f};
+}
+
+// u, v in [0, 1]; texel centres at (i + 0.5) / size, v = 0 at the bottom row.
+glm::vec4 SampleBilinear(const TextureLevel& level, float u, float v, TextureEncoding encoding) {
+  const float x = u * float(level.width) - 0.5f;
+  const float y = (1.0f - v) * float(level.height) - 0.5f;
+  const float x0 = std::floor(x);
+  const float y0 = std::floor(y);
+  const float fx = x - x0;
+  const float fy = y - y0;
+  const int ix0 = WrapIndex(int(x0), level.width);
+  const int ix1 = WrapIndex(int(x0) + 1, level.width);
+  const int iy0 = WrapIndex(int(y0), level.height);
+  const int iy1 = WrapIndex(int(y0) + 1, level.height);
+  const glm::vec4 top = Texel(level, ix0, iy0, encoding) * (1.0f - fx) + Texel(level, ix1, iy0, encoding) * fx;
+  const glm::vec4 bottom = Texel(level, ix0, iy1, encoding) * (1.0f - fx) + Texel(level, ix1, iy1, encoding) * fx;
+  return top * (1.0f - fy) + bottom * fy;
+}
+
+}  // namespace
+
+Texture LoadTexture(const std::filesystem::path& file, TextureEncoding encoding) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) throw InputError(file, "image file not found");
+  // Colour under alpha as stored: OIIO would premultiply, darkening the mips of cut-out edges.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  OIIO::ImageBuf image(file.string(), 0, 0, nullptr, &config);
+  if (!image.read(0, 0, true, OIIO::TypeDesc::UINT8)) throw InputError(file, "cannot read image: " + image.geterror());
+  const int channels = image.nchannels();
+  if (channels < 1 || channels > 4)
+    throw InputError(file, "image has " + std::to_string(channels) + " channels; textures need 1 to 4");
+
+  // Grey replicates to RGB; a missing alpha channel reads as opaque.
+  static constexpr int kOrder[4][4] = {{0, 0, 0, -1}, {0, 0, 0, 1}, {0, 1, 2, -1}, {0, 1, 2, 3}};
+  static constexpr float kFill[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+  const OIIO::ImageBuf rgbaImage = OIIO::ImageBufAlgo::channels(image, 4, kOrder[channels - 1], kFill);
+  if (rgbaImage.has_error()) throw InputError(file, "cannot read image: " + rgbaImage.geterror());
+
+  const OIIO::ROI roi = rgbaImage.roi();
+  std::vector<uint8_t> rgba(size_t(roi.width()) * size_t(roi.height()) * 4);
+  if (!rgbaImage.get_pixels(roi, OIIO::TypeDesc::UINT8, rgba.data()))
+    throw InputError(file, "cannot read image: " + rgbaImage.geterror());
+  Texture texture = MakeTexture(roi.width(), roi.height(), std::move(rgba), encoding);
+  texture.sourceChannels = channels;
+  return texture;
+}
+
+Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEncoding encoding) {
+  SSGI_CHECK_GT(width, 0);
+  SSGI_CHECK_GT(height, 0);
+  SSGI_CHECK_EQ(rgba.size(), size_t(width) * size_t(height) * 4);
+  Texture texture;
+  texture.encoding = encoding;
+  texture.levels.push_back({width, height, std::move(rgba)});
+
+  // Each level is a box-filtered reduction of the previous one's linear values (not of its 8-bit
+  // codes, so rounding does not accumulate down the chain). OIIO's box of one destination texel
+  // covers the 2x2 source texels, or 2-3 per axis for odd sizes (5 -> 2 averages texels 0-2 and 2-4).
+  std::vector<float> linear = DecodeLevel(texture.levels[0], encoding);
+  while (width > 1 || height > 1) {
+    const int nextWidth = std::max(1, width / 2);
+    const int nextHeight = std::max(1, height / 2);
+    std::vector<float> next(size_t(nextWidth) * size_t(nextHeight) * 4);
+    const OIIO::ImageBuf source(OIIO::ImageSpec(width, height, 4, OIIO::TypeDesc::FLOAT), linear.data());
+    OIIO::ImageBuf target(OIIO::ImageSpec(nextWidth, nextHeight, 4, OIIO::TypeDesc::FLOAT), next.data());
+    const bool resized = OIIO::ImageBufAlgo::resize(target, source, "box", 1.0f);
+    SSGI_CHECK(resized);
+    texture.levels.push_back(EncodeLevel(nextWidth, nextHeight, next, encoding));
+    linear = std::move(next);
+    width = nextWidth;
+    height = nextHeight;
+  }
+  return texture;
+}
+
+glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
+  const TextureLevel& base = texture.levels.front();
+  const int lastLevel = int(texture.levels.size()) - 1;
+  const float scaled = footprint * float(std::max(base.width, base.height));
+  float lambda = 0.0f;  // also for a zero or NaN footprint
+  if (scaled >= float(1 << lastLevel)) {
+    lambda = float(lastLevel);
+  } else if (scaled > 1.0f) {
+    lambda = Log2(scaled);
+  }
+  const float u = Repeat(uv.x);
+  const float v = Repeat(uv.y);
+  const int level = int(lambda);
+  const float blend = lambda - float(level);
+  const glm::vec4 fine = SampleBilinear(texture.levels[level], u, v, texture.encoding);
+  if (blend == 0.0f) return fine;
+  const glm::vec4 coarse = SampleBilinear(texture.levels[level + 1], u, v, texture.encoding);
+  return fine * (1.0f - blend) + coarse * blend;
+}
+
+}  // namespace ssgi
