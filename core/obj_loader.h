@@ -11,7 +11,7 @@
 // hard edges stay hard and scans stay smooth. Smoothing groups (`s`) are ignored. Zero-area
 // triangles are kept (the rasterizer drops them) and get a finite normal.
 //
-// Materials (docs/scene-format.md): Kd -> baseColor (linear, as written), Pm -> metallic,
+// Materials (README "Scene files"): Kd -> baseColor (linear, as written), Pm -> metallic,
 // Pr -> roughness. A value the MTL leaves out is 1 when its texture is given, so the texture is used
 // as is; otherwise baseColor 0.8, metallic 0, and roughness from the Phong exponent Ns
 // (alpha = sqrt(2 / (Ns + 2)), r = sqrt(alpha)) or 0.5 without Ns. Faces without a material get

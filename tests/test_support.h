@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace ssgi::test {
 
 // The project's source folder (for data/) and the built ssgi executable.
@@ -40,6 +42,17 @@ struct StoredImage {
   std::vector<uint8_t> bytes;
 };
 StoredImage ReadStoredImage(const std::filesystem::path& file);
+
+// The message of the InputError that `action` throws ("" when it throws none).
+template <class Action>
+std::string InputErrorOf(Action&& action) {
+  try {
+    action();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
 
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);

@@ -15,12 +15,7 @@ namespace fs = std::filesystem;
 
 // The message of the InputError that loading `file` throws ("" when none is thrown).
 std::string LoadError(const fs::path& file) {
-  try {
-    LoadObjModel(file);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "";
+  return test::InputErrorOf([&] { LoadObjModel(file); });
 }
 
 glm::vec3 FaceNormal(const Mesh& mesh, size_t triangle) {

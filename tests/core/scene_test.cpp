@@ -14,12 +14,7 @@ namespace fs = std::filesystem;
 
 // The message of the InputError that loading `file` throws ("" when none is thrown).
 std::string LoadError(const fs::path& file) {
-  try {
-    LoadScene(file);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "";
+  return test::InputErrorOf([&] { LoadScene(file); });
 }
 
 // A unit right triangle in the z = 0 plane facing +z, with material "paint" (textured) and "bare".
