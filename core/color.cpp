@@ -35,10 +35,11 @@ struct SrgbTables {
   }
 };
 
-const SrgbTables& Tables() {
-  static const SrgbTables tables;
-  return tables;
-}
+// Built during static initialisation: lookups need no thread-safe-static guard. No other static
+// initialiser uses these functions.
+const SrgbTables kTables;
+
+const SrgbTables& Tables() { return kTables; }
 
 }  // namespace
 
