@@ -1,0 +1,192 @@
+// Rasterizer and G-buffer pass timings at 1024x1024 (DESIGN.md §13: at least 3x faster than Mesa
+// llvmpipe writing the same G-buffer). bench/README.md says what each benchmark measures and
+// records results.
+#include <cstdint>
+#include <exception>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+#include "core/camera.h"
+#include "core/parallel.h"
+#include "core/procedural_mesh.h"
+#include "core/raster.h"
+#include "core/scene.h"
+#include "passes/gbuffer.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kSize = 1024;
+constexpr int64_t kPixels = int64_t(kSize) * kSize;
+
+// A scene to draw, or why it could not be built.
+struct BenchScene {
+  Scene scene;
+  std::vector<uint8_t> flags;  // TriangleFlags(scene)
+  std::string error;
+};
+
+BenchScene Prepare(Scene scene) {
+  BenchScene bench;
+  bench.flags = TriangleFlags(scene);
+  bench.scene = std::move(scene);
+  return bench;
+}
+
+// The default scene is loaded once; a missing or malformed file becomes the benchmark's error,
+// reported by every benchmark that needs it.
+const BenchScene& DefaultScene() {
+  static const BenchScene scene = [] {
+    try {
+      return Prepare(LoadScene(SSGI_SOURCE_DATA_DIR "/default.json"));
+    } catch (const std::exception& e) {
+      BenchScene failed;
+      failed.error = std::string("cannot load the default scene: ") + e.what();
+      return failed;
+    }
+  }();
+  return scene;
+}
+
+// Torus knots of exactly 10k, 100k and 1M triangles, the sizes DESIGN.md §13 gives for llvmpipe,
+// seen along their symmetry axis so they fill most of the square image.
+const BenchScene& KnotScene(int64_t triangles) {
+  struct Segments {
+    int64_t triangles;
+    int tubular, radial;
+  };
+  static constexpr Segments kSegments[] = {{10000, 200, 25}, {100000, 625, 80}, {1000000, 2000, 250}};
+  static BenchScene scenes[std::size(kSegments)];
+  for (size_t i = 0; i < std::size(kSegments); ++i) {
+    if (kSegments[i].triangles != triangles) continue;
+    if (scenes[i].scene.mesh.TriangleCount() == 0) {
+      Scene scene;
+      scene.mesh = MakeTorusKnot(kSegments[i].tubular, kSegments[i].radial);
+      scene.materials.push_back(Material{});
+      scene.camera.position = {0.0f, -0.6f, 4.0f};
+      scene.camera.target = {0.0f, 0.0f, 0.0f};
+      scene.camera.fovYDegrees = 45.0f;
+      scenes[i] = Prepare(std::move(scene));
+    }
+    return scenes[i];
+  }
+  static const BenchScene unknown{{}, {}, "no torus knot with that triangle count"};
+  return unknown;
+}
+
+// Whether a frame's buffers land on pages the process already has. glibc hands blocks above its mmap
+// threshold back to the kernel on free, so every frame that allocates its 8-24 MiB of planes afresh
+// (as Rasterize's caller and RunGBuffer do) pays a page fault and a kernel zero-fill per 4 KiB. That
+// is the cost of a single-frame CLI run; a renderer that keeps its buffers pays only the clear.
+// Returns false if the allocator cannot be told.
+bool UseFreshPages(bool fresh) {
+#if defined(__GLIBC__)
+  // 128 KiB is glibc's initial threshold, pinned so it cannot grow; 32 MiB is its maximum, and a
+  // heap that is never trimmed keeps the freed planes for the next frame.
+  constexpr int kFreshThreshold = 128 << 10, kReuseThreshold = 32 << 20;
+  return mallopt(M_MMAP_THRESHOLD, fresh ? kFreshThreshold : kReuseThreshold) == 1 &&
+         mallopt(M_TRIM_THRESHOLD, fresh ? kFreshThreshold : std::numeric_limits<int>::max()) == 1;
+#else
+  // Elsewhere the allocator's own policy stands; only the fresh-pages variant needs glibc.
+  return !fresh;
+#endif
+}
+
+// Skips the benchmark (and returns false) when its scene or its memory mode is unavailable.
+bool Begin(benchmark::State& state, const BenchScene& bench) {
+  if (!bench.error.empty()) {
+    state.SkipWithError(bench.error.c_str());
+    return false;
+  }
+  if (!UseFreshPages(state.range(2) != 0)) {
+    state.SkipWithError("cannot set the allocator's page reuse (glibc mallopt)");
+    return false;
+  }
+  return true;
+}
+
+void ReportCommon(benchmark::State& state, const Scene& scene) {
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(scene.mesh.TriangleCount()));
+  state.counters["pixels"] = benchmark::Counter(double(kPixels), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["triangles"] = double(scene.mesh.TriangleCount());
+}
+
+// Visibility only: vertex transform, clipping, setup, binning, tile rasterization, including the
+// clear of a fresh visibility buffer each frame. No alpha test (it needs the G-buffer's resolver);
+// the default scene has no cut-out materials.
+void RasterizeOnly(benchmark::State& state, const BenchScene& bench) {
+  if (!Begin(state, bench)) return;
+  const ThreadLimit threads(int(state.range(1)));
+  const Scene& scene = bench.scene;
+  const ViewProjection view = MakePerspective(scene.camera, kSize, kSize);
+  RasterInput input;
+  input.positions = scene.mesh.positions.data();
+  input.vertexCount = scene.mesh.positions.size();
+  input.indices = scene.mesh.indices.data();
+  input.triangleCount = scene.mesh.TriangleCount();
+  input.triangleFlags = bench.flags.data();
+  size_t binEntries = 0;
+  for (auto _ : state) {
+    VisibilityBuffer target = MakeVisibilityBuffer(kSize, kSize, RasterOutput::kVisibility);
+    binEntries = Rasterize(input, view, RasterOutput::kVisibility, target).binEntries;
+    benchmark::DoNotOptimize(target.depthKey.ConstRow(0));
+  }
+  ReportCommon(state, scene);
+  state.counters["binEntries"] = double(binEntries);
+}
+
+// The whole G-buffer pass: RunGBuffer as the frame calls it, raster + resolve + packing.
+void GBufferPass(benchmark::State& state, const BenchScene& bench) {
+  if (!Begin(state, bench)) return;
+  const ThreadLimit threads(int(state.range(1)));
+  const Scene& scene = bench.scene;
+  const ViewProjection view = MakePerspective(scene.camera, kSize, kSize);
+  double rasterMs = 0.0, resolveMs = 0.0;
+  size_t covered = 0;
+  for (auto _ : state) {
+    GBufferOutputs out;
+    const GBufferStats stats = RunGBuffer({scene, view}, GBufferParams{}, out);
+    rasterMs += stats.rasterMs;
+    resolveMs += stats.resolveMs;
+    covered = stats.coveredPixels;
+    benchmark::DoNotOptimize(out.gbuffer.word[2].ConstRow(0));
+  }
+  ReportCommon(state, scene);
+  state.counters["rasterMs"] = benchmark::Counter(rasterMs, benchmark::Counter::kAvgIterations);
+  state.counters["resolveMs"] = benchmark::Counter(resolveMs, benchmark::Counter::kAvgIterations);
+  state.counters["covered"] = double(covered) / double(kPixels);
+}
+
+// range(0): the scene (0 = default scene, else the knot's triangle count); range(1): threads
+// (0 = oneTBB's default, all cores); range(2): 1 = fresh pages every frame (UseFreshPages).
+const BenchScene& SceneFor(const benchmark::State& state) {
+  return state.range(0) == 0 ? DefaultScene() : KnotScene(state.range(0));
+}
+
+void BM_Rasterize(benchmark::State& state) { RasterizeOnly(state, SceneFor(state)); }
+void BM_GBuffer(benchmark::State& state) { GBufferPass(state, SceneFor(state)); }
+
+void Configure(benchmark::internal::Benchmark* b) {
+  const std::vector<int64_t> scenes = {0, 10000, 100000, 1000000};
+  b->ArgNames({"scene", "threads", "freshPages"})
+      ->ArgsProduct({scenes, {0, 1, 2}, {0}})
+      ->ArgsProduct({scenes, {0}, {1}})
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK(BM_Rasterize)->Apply(Configure);
+BENCHMARK(BM_GBuffer)->Apply(Configure);
+
+}  // namespace
+}  // namespace ssgi
+
+BENCHMARK_MAIN();
