@@ -11,7 +11,8 @@ namespace {
 constexpr float kOctMax = 4095.0f;
 
 uint32_t QuantizeSigned(float value, float maxCode) {
-  const float clamped = std::fmin(std::fmax(value, -1.0f), 1.0f);
+  // Comparisons rather than fmin/fmax, which GCC leaves as library calls; NaN maps to -1 as well.
+  const float clamped = !(value > -1.0f) ? -1.0f : (value > 1.0f ? 1.0f : value);
   return uint32_t((clamped * 0.5f + 0.5f) * maxCode + 0.5f);
 }
 

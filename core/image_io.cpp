@@ -90,19 +90,4 @@ void WriteExr(const fs::path& path, int width, int height, const std::vector<Exr
   });
 }
 
-FloatImage ReadFloatImage(const fs::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  FloatImage image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.channels = spec.nchannels;
-  image.channelNames = spec.channelnames;
-  image.pixels.resize(size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    throw InputError(path, "cannot read image: " + in->geterror());
-  return image;
-}
-
 }  // namespace ssgi

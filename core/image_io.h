@@ -31,12 +31,4 @@ struct ExrChannel {
 
 void WriteExr(const std::filesystem::path& path, int width, int height, const std::vector<ExrChannel>& channels);
 
-// A float image read back (tests, compare): interleaved channels, top row first.
-struct FloatImage {
-  int width = 0, height = 0, channels = 0;
-  std::vector<std::string> channelNames;
-  std::vector<float> pixels;
-};
-FloatImage ReadFloatImage(const std::filesystem::path& path);
-
 }  // namespace ssgi

@@ -13,9 +13,15 @@ namespace ssgi {
 template <class T>
 using Plane = hwy::Image<T>;
 
+// Asks the kernel to back a large buffer with transparent huge pages, so that the first touch of a
+// new full-screen plane costs one fault per 2 MiB instead of one per 4 KiB. Only advice: no effect
+// on contents, and none where the kernel declines it.
+void AdviseHugePages(void* data, size_t bytes);
+
 template <class T>
 Plane<T> MakePlane(size_t width, size_t height, T fill) {
   Plane<T> plane(width, height);
+  AdviseHugePages(plane.bytes(), plane.bytes_per_row() * height);
   const size_t perRow = plane.bytes_per_row() / sizeof(T);
   for (size_t y = 0; y < height; ++y) {
     T* row = plane.MutableRow(y);

@@ -44,6 +44,13 @@ struct ChunkBins {
   RasterStats stats;
 };
 
+// llround (half away from zero) without the library call GCC keeps for it; x - trunc(x) is exact.
+int64_t RoundHalfAway(double x) {
+  const int64_t truncated = int64_t(x);
+  const double fraction = x - double(truncated);
+  return truncated + int64_t(fraction >= 0.5) - int64_t(fraction <= -0.5);
+}
+
 int64_t FloorDiv(int64_t a, int64_t b) {
   const int64_t q = a / b;
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
@@ -126,7 +133,7 @@ class Setup {
     const double invW = 1.0 / v.w;
     const double sx = (v.x * invW * 0.5 + 0.5) * double(width_);
     const double sy = (0.5 - v.y * invW * 0.5) * double(height_);
-    return {std::llround(sx * double(kSubPixelScale)), std::llround(sy * double(kSubPixelScale)), v.z * invW};
+    return {RoundHalfAway(sx * double(kSubPixelScale)), RoundHalfAway(sy * double(kSubPixelScale)), v.z * invW};
   }
 
   static EdgeFunction Edge(const Snapped& from, const Snapped& to) {
