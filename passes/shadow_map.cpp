@@ -1,0 +1,398 @@
+#include "passes/shadow_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/check.h"
+#include "core/lighting.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+#include "passes/gbuffer.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kRowsPerItem = 16;            // G-buffer rows per parallel work item
+constexpr size_t kVerticesPerItem = 16384;  // mesh vertices per parallel work item
+
+// Bias (docs/pipeline.md §Shadow map and blocker search). The receiver moves along its normal by
+// kNormalOffsetTexels texels times sin(angle between normal and light) (normal offset, Holbert 2011,
+// "Saying goodbye to shadow acne"); every tap compares against the receiver's tangent plane along the
+// tap's own ray (receiver plane depth bias, Isidoro 2006, "Shadow mapping: GPU-based tips and
+// techniques"), minus kConstantBiasTexels + kSlopeBiasTexels * tan(angle) texels of depth.
+constexpr float kNormalOffsetTexels = 1.0f;
+constexpr float kConstantBiasTexels = 0.25f;
+constexpr float kSlopeBiasTexels = 0.25f;
+// The tangent plane's depth slope is clamped (about 87 degrees) so grazing receivers stay finite.
+constexpr float kMaxSlope = 20.0f;
+constexpr float kMinFacing = 1e-6f;
+
+constexpr float kMaxSpotFovDegrees = 170.0f;
+constexpr float kMinSpotNear = 1e-3f;     // metres
+constexpr float kMinHalfExtent = 1e-3f;   // metres; a single receiver still gets a map of some size
+constexpr float kMinDepthMargin = 1e-3f;  // metres between the outermost geometry and near / far
+
+// The golden angle pi (3 - sqrt 5) of Vogel's sunflower spiral (Vogel 1979), as cos and sin, so the
+// pattern needs no libm call and is the same on every target.
+constexpr double kCosGoldenAngle = -0.7373688780783197;
+constexpr double kSinGoldenAngle = 0.6754902942615238;
+
+// Tap i of n in the unit disc: radius sqrt(i / (n - 1)), angle i * golden angle. Tap 0 is the centre
+// (the receiver's own texel, which gives the hard-shadow flag) and tap n - 1 is on the rim; equal
+// areas per tap, no two taps on one ray from the centre.
+std::vector<glm::vec2> BlockerSearchPattern(int taps) {
+  std::vector<glm::vec2> pattern(size_t(taps), glm::vec2(0.0f));
+  double c = 1.0, s = 0.0;  // cos and sin of i * golden angle, by repeated rotation
+  for (int i = 0; i < taps; ++i) {
+    const double r = taps > 1 ? std::sqrt(double(i) / double(taps - 1)) : 0.0;
+    pattern[size_t(i)] = glm::vec2(float(r * c), float(r * s));
+    const double nextC = c * kCosGoldenAngle - s * kSinGoldenAngle;
+    s = s * kCosGoldenAngle + c * kSinGoldenAngle;
+    c = nextC;
+  }
+  return pattern;
+}
+
+struct Bounds {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()};
+  glm::vec3 hi{-std::numeric_limits<float>::infinity()};
+  void Add(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void Add(const Bounds& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  bool Empty() const { return !(lo.x <= hi.x); }
+};
+
+// (x, y, depth) of a point in a light view: depth = -z_view, the distance along the view axis.
+glm::vec3 LightCoordinates(const glm::mat4& view, const glm::vec3& world) {
+  const glm::vec3 v(view * glm::vec4(world, 1.0f));
+  return {v.x, v.y, -v.z};
+}
+
+// Light-view bounds of every mesh vertex: the casters. Per-item partials combined in item order.
+Bounds CasterBounds(const Mesh& mesh, const glm::mat4& view) {
+  const size_t items = (mesh.positions.size() + kVerticesPerItem - 1) / kVerticesPerItem;
+  std::vector<Bounds> partial(items);
+  ParallelFor("shadow_map.caster_bounds", items, [&](size_t item) {
+    const size_t end = std::min(mesh.positions.size(), (item + 1) * kVerticesPerItem);
+    for (size_t i = item * kVerticesPerItem; i < end; ++i) partial[item].Add(LightCoordinates(view, mesh.positions[i]));
+  });
+  Bounds all;
+  for (const Bounds& b : partial) all.Add(b);
+  return all;
+}
+
+// Light-view positions of G-buffer pixels. The camera ray's direction is affine in x along a row, so
+// a row costs two PixelRay calls and a pixel three multiply-adds and a scale by its view depth.
+class ReceiverPositions {
+ public:
+  ReceiverPositions(const ViewProjection& camera, const glm::mat4& cameraToLight)
+      : camera_(camera), origin_(cameraToLight[3]), rotation_(cameraToLight) {}
+
+  struct Row {
+    glm::vec3 first, step;  // light-view ray directions: pixel 0 and the change per pixel
+  };
+  Row AtRow(int y) const {
+    const float py = float(y) + 0.5f;
+    const glm::vec3 first = rotation_ * camera_.PixelRay(0.5f, py).direction;
+    const glm::vec3 last = rotation_ * camera_.PixelRay(float(camera_.width) - 0.5f, py).direction;
+    return {first, camera_.width > 1 ? (last - first) / float(camera_.width - 1) : glm::vec3(0.0f)};
+  }
+  glm::vec3 At(const Row& row, int x, float viewDepth) const {
+    return origin_ + (row.first + row.step * float(x)) * viewDepth;
+  }
+
+ private:
+  const ViewProjection& camera_;
+  glm::vec3 origin_;    // the camera's position in the light view
+  glm::mat3 rotation_;  // camera view -> light view
+};
+
+// Light-view bounds of the world positions of every G-buffer pixel with geometry: the receivers.
+// Per-band partials combined in band order.
+Bounds ReceiverBounds(const GBuffer& gbuffer, const ReceiverPositions& positions) {
+  const int height = gbuffer.height(), width = gbuffer.width();
+  const size_t items = size_t((height + kRowsPerItem - 1) / kRowsPerItem);
+  std::vector<Bounds> partial(items);
+  ParallelFor("shadow_map.receiver_bounds", items, [&](size_t item) {
+    const int yEnd = std::min(height, int(item + 1) * kRowsPerItem);
+    for (int y = int(item) * kRowsPerItem; y < yEnd; ++y) {
+      const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
+      const ReceiverPositions::Row row = positions.AtRow(y);
+      for (int x = 0; x < width; ++x) {
+        const float depth = UnpackDepth(w2[x]);
+        if (!(depth < kBackgroundDepth)) continue;
+        const glm::vec3 p = positions.At(row, x, depth);
+        partial[item].Add({p.x, p.y, -p.z});
+      }
+    }
+  });
+  Bounds all;
+  for (const Bounds& b : partial) all.Add(b);
+  return all;
+}
+
+// A world axis far from `forward` (the one with its smallest component), so lookAt is well defined.
+glm::vec3 UpHint(const glm::vec3& forward) {
+  const glm::vec3 a = glm::abs(forward);
+  if (a.x <= a.y && a.x <= a.z) return {1.0f, 0.0f, 0.0f};
+  if (a.y <= a.z) return {0.0f, 1.0f, 0.0f};
+  return {0.0f, 0.0f, 1.0f};
+}
+
+// Directional light: an orthographic view along the light, its (x, y) window the receivers' bounds
+// padded by the widest search radius plus the normal offset, its near plane behind every caster of
+// the scene (casters outside the camera's view still cast), its far plane behind every receiver.
+ViewProjection FitDirectional(const PreparedLight& light, const Scene& scene, const GBuffer& gbuffer,
+                              const ViewProjection& camera, const ShadowMapParams& params) {
+  const glm::vec3 up = UpHint(light.direction);
+  const glm::mat4 rotation = glm::lookAt(glm::vec3(0.0f), light.direction, up);
+  const Bounds receivers = ReceiverBounds(gbuffer, ReceiverPositions(camera, rotation * glm::inverse(camera.view)));
+  const Bounds casters = CasterBounds(scene.mesh, rotation);
+  const float nearDepth = std::min(receivers.lo.z, casters.lo.z);
+  const float margin = std::max(kMinDepthMargin, 1e-3f * (receivers.hi.z - nearDepth));
+  const float eyeDepth = nearDepth - margin;
+  const float farPlane = receivers.hi.z + margin - eyeDepth;
+  const float pad = std::min(farPlane, params.maxBlockerDistance) * light.tanAngularRadius;
+  // The normal offset and the texel rounding of the taps reach kNormalOffsetTexels + 1 texels further.
+  const float texelMargin = 1.0f + 2.0f * (kNormalOffsetTexels + 1.0f) / float(params.resolution);
+  const float halfX = std::max(kMinHalfExtent, (0.5f * (receivers.hi.x - receivers.lo.x) + pad) * texelMargin);
+  const float halfY = std::max(kMinHalfExtent, (0.5f * (receivers.hi.y - receivers.lo.y) + pad) * texelMargin);
+  const glm::vec3 centre(0.5f * (receivers.lo.x + receivers.hi.x), 0.5f * (receivers.lo.y + receivers.hi.y), -eyeDepth);
+  const glm::vec3 eye = glm::transpose(glm::mat3(rotation)) * centre;
+  return MakeOrthographic(eye, light.direction, up, halfX, halfY, 0.0f, farPlane, params.resolution,
+                          params.resolution);
+}
+
+// Spot light: a perspective view from the emitter along the cone axis covering the outer cone, its
+// near plane just before the nearest vertex of the scene.
+ViewProjection FitSpot(const PreparedLight& light, const SpotLight& spot, const Scene& scene,
+                       const ShadowMapParams& params) {
+  CameraDesc desc;
+  desc.position = light.position;
+  desc.target = light.position + light.direction;
+  desc.up = UpHint(light.direction);
+  desc.fovYDegrees = std::min(2.0f * spot.outerConeDegrees, kMaxSpotFovDegrees);
+  const Bounds casters = CasterBounds(scene.mesh, glm::lookAt(desc.position, desc.target, desc.up));
+  desc.nearPlane = casters.Empty() ? kMinSpotNear : std::max(kMinSpotNear, 0.99f * casters.lo.z);
+  return MakePerspective(desc, params.resolution, params.resolution);
+}
+
+struct SearchSetup {
+  const ViewProjection& light;
+  const Plane<float>& depthKey;
+  std::vector<glm::vec2> pattern;
+  glm::mat3 normalToLight;   // camera view -> light view, rigid: normals need no inverse transpose
+  float texelX, texelY;      // orthographic: texel size in metres; perspective: per metre of depth
+  float invTexelX, invTexelY;
+  float tanAngularRadius;    // directional
+  float lightRadius;         // spot, metres
+  float maxBlockerDistance;  // metres
+  NormalEncoding encoding;
+};
+
+// The PCSS blocker search (Fernando 2005, §3.1) for the receiver at light-view position `p`: the
+// shadow term of word 3.
+template <bool kOrthographic>
+uint32_t SearchBlockers(const SearchSetup& s, const glm::vec3& p, uint32_t word1) {
+  const ViewProjection& light = s.light;
+  const float resolution = float(light.width);
+  const glm::vec3 n = s.normalToLight * DecodeNormal(word1 & 0xFFFFFFu, s.encoding);
+  const float depth = -p.z;
+  if (!(depth > light.nearPlane)) return kShadowLit;
+  // Distance from the light along its ray: orthographic, from the view's origin plane.
+  const float distance = kOrthographic ? depth : glm::length(p);
+  const glm::vec3 toLight = kOrthographic ? glm::vec3(0.0f, 0.0f, 1.0f) : -p / distance;
+  const float cosAngle = glm::dot(n, toLight);
+  const float sinAngle = std::sqrt(std::max(0.0f, 1.0f - cosAngle * cosAngle));
+  const float slope = cosAngle * kMaxSlope > sinAngle ? sinAngle / cosAngle : kMaxSlope;
+  const float texel = std::max(s.texelX, s.texelY) * (kOrthographic ? 1.0f : depth);
+  const glm::vec3 biased = p + n * (kNormalOffsetTexels * texel * sinAngle);
+  const float biasedDepth = -biased.z;
+  if (!(biasedDepth > light.nearPlane)) return kShadowLit;
+  const float toUnitDepth = kOrthographic ? 1.0f : 1.0f / biasedDepth;
+  const glm::vec2 centre((biased.x * toUnitDepth + light.halfX) * s.invTexelX,
+                         (light.halfY - biased.y * toUnitDepth) * s.invTexelY);
+  if (!(centre.x >= 0.0f && centre.x < resolution && centre.y >= 0.0f && centre.y < resolution)) return kShadowLit;
+  const float bias = texel * (kConstantBiasTexels + kSlopeBiasTexels * slope);
+
+  // Search radius in texels: the penumbra a blocker between the receiver and the light could cast.
+  // Directional: the light's angular radius times the blocker's distance, at most the distance to the
+  // near plane. Spot: similar triangles from the emitter's disc to the receiver, projected on the
+  // nearest plane a blocker can lie on (NVIDIA's PCSS sample, Bavoil 2008).
+  glm::vec2 radius;
+  if (kOrthographic) {
+    const float world = std::min(depth - light.nearPlane, s.maxBlockerDistance) * s.tanAngularRadius;
+    radius = {world * s.invTexelX, world * s.invTexelY};
+  } else {
+    const float nearest = std::max(light.nearPlane, depth - s.maxBlockerDistance);
+    radius = glm::vec2(s.lightRadius * (depth - nearest) / (depth * nearest) * s.invTexelX);
+  }
+  radius = glm::min(radius, glm::vec2(resolution));
+
+  // The receiver's tangent plane along the ray through texel centre (tx + 0.5, ty + 0.5): a blocker
+  // must lie in front of it. That ray's xy (orthographic: its origin; perspective: at unit depth) is
+  // r = ((tx + 0.5) texelX - halfX, halfY - (ty + 0.5) texelY); with m = n.xy . r, affine in (tx, ty),
+  // the plane's depth along it is biasedDepth + (k m - n.xy . biased.xy) / facing, where k = 1 and
+  // facing = n.z (orthographic) or k = biasedDepth and facing = n.z - m (perspective): -n . direction.
+  const float m0 = n.x * (0.5f * s.texelX - light.halfX) + n.y * (light.halfY - 0.5f * s.texelY);
+  const float mx = n.x * s.texelX, my = -n.y * s.texelY;
+  const float c = n.x * biased.x + n.y * biased.y;
+  // Clamping the facing bounds the plane's depth slope by kMaxSlope.
+  const float minFacing = std::max(std::sqrt(n.x * n.x + n.y * n.y) / kMaxSlope, kMinFacing);
+  const float invFacing = kOrthographic ? 1.0f / std::max(n.z, minFacing) : 0.0f;
+
+  bool hardShadow = false;
+  int blockers = 0;
+  float blockerDistanceSum = 0.0f;
+  const glm::vec2* pattern = s.pattern.data();
+  const size_t taps = s.pattern.size();
+  for (size_t i = 0; i < taps; ++i) {
+    const glm::vec2 tap = centre + pattern[i] * radius;
+    if (!(tap.x >= 0.0f && tap.x < resolution && tap.y >= 0.0f && tap.y < resolution)) continue;
+    const int tx = int(tap.x), ty = int(tap.y);
+    const float key = s.depthKey.ConstRow(size_t(ty))[tx];
+    if (key == 0.0f) continue;  // nothing drawn: no blocker
+    const float m = m0 + mx * float(tx) + my * float(ty);
+    const float planeDepth = kOrthographic ? biasedDepth + (m - c) * invFacing
+                                           : biasedDepth + (biasedDepth * m - c) / std::max(n.z - m, minFacing);
+    const float tapDepth = light.DepthFromKey(key);
+    if (!(tapDepth < planeDepth - bias)) continue;
+    hardShadow = hardShadow || i == 0;
+    ++blockers;
+    if constexpr (kOrthographic) {
+      blockerDistanceSum += tapDepth;
+    } else {
+      const glm::vec3 ray((float(tx) + 0.5f) * s.texelX - light.halfX, light.halfY - (float(ty) + 0.5f) * s.texelY,
+                          1.0f);
+      blockerDistanceSum += tapDepth * glm::length(ray);
+    }
+  }
+  if (blockers == 0) return kShadowLit;
+  // Distances along the light's rays: the receiver's (unbiased) and the blockers' mean.
+  const float average = std::max(0.0f, distance - blockerDistanceSum / float(blockers));
+  return PackShadowTerm(hardShadow, average);
+}
+
+}  // namespace
+
+std::vector<size_t> ShadowCastingLights(const Scene& scene) {
+  std::vector<size_t> lights;
+  for (size_t i = 0; i < scene.directionalLights.size(); ++i)
+    if (scene.directionalLights[i].castShadows) lights.push_back(i);
+  for (size_t i = 0; i < scene.spotLights.size(); ++i)
+    if (scene.spotLights[i].castShadows) lights.push_back(scene.directionalLights.size() + i);
+  return lights;
+}
+
+ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out) {
+  const Scene& scene = in.scene;
+  const GBuffer& gbuffer = in.gbuffer;
+  const int width = gbuffer.width(), height = gbuffer.height();
+  SSGI_CHECK(!in.camera.orthographic);
+  SSGI_CHECK_EQ(in.camera.width, width);
+  SSGI_CHECK_EQ(in.camera.height, height);
+  SSGI_CHECK_EQ(int(out.shadowTerm.xsize()), width);
+  SSGI_CHECK_EQ(int(out.shadowTerm.ysize()), height);
+  SSGI_CHECK_GE(params.resolution, 1);
+  SSGI_CHECK_LE(params.resolution, kMaxImageSize);
+  SSGI_CHECK_GE(params.blockerSearchTaps, 1);
+  SSGI_CHECK_LE(params.blockerSearchTaps, kMaxBlockerSearchTaps);
+  SSGI_CHECK_GT(params.maxBlockerDistance, 0.0f);
+  const std::vector<PreparedLight> lights = PrepareLights(scene, glm::mat4(1.0f));  // world space
+  SSGI_CHECK_LT(in.light, lights.size());
+  const PreparedLight& light = lights[in.light];
+  const size_t directionalCount = scene.directionalLights.size();
+  SSGI_CHECK(light.isSpot ? scene.spotLights[in.light - directionalCount].castShadows
+                          : scene.directionalLights[in.light].castShadows);
+  ShadowMapStats stats;
+  Stopwatch stopwatch;
+
+  const int bands = (height + kRowsPerItem - 1) / kRowsPerItem;
+  std::vector<size_t> receiversPerBand(size_t(bands), 0);
+  ParallelFor("shadow_map.count_receivers", size_t(bands), [&](size_t band) {
+    const int yEnd = std::min(height, int(band + 1) * kRowsPerItem);
+    for (int y = int(band) * kRowsPerItem; y < yEnd; ++y) {
+      const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
+      for (int x = 0; x < width; ++x) receiversPerBand[band] += UnpackDepth(w2[x]) < kBackgroundDepth;
+    }
+  });
+  for (size_t n : receiversPerBand) stats.pixels += n;
+
+  if (light.isSpot) {
+    out.lightView = FitSpot(light, scene.spotLights[in.light - directionalCount], scene, params);
+  } else if (stats.pixels > 0) {
+    out.lightView = FitDirectional(light, scene, gbuffer, in.camera, params);
+  } else {
+    // Nothing receives a shadow: a unit window at the origin, only so the output is a valid view.
+    out.lightView = MakeOrthographic(glm::vec3(0.0f), light.direction, UpHint(light.direction), 1.0f, 1.0f, 0.0f,
+                                     1.0f, params.resolution, params.resolution);
+  }
+  stats.fitMs = stopwatch.Lap();
+
+  out.shadowMap = MakeVisibilityBuffer(params.resolution, params.resolution, RasterOutput::kDepthOnly);
+  if (stats.pixels == 0) {
+    for (int y = 0; y < height; ++y) std::fill_n(out.shadowTerm.MutableRow(y), width, kShadowLit);
+    return stats;
+  }
+
+  // Both faces are drawn: thin and open geometry (a leaf, a ground plane seen from below, a mesh with
+  // holes) must cast from either side, and the normal offset plus the receiver-plane test, not
+  // front-face culling, keep lit surfaces free of acne. Alpha-tested triangles keep their flag but
+  // are drawn opaque until the G-buffer's alpha test is shared (docs/pipeline.md).
+  std::vector<uint8_t> flags = TriangleFlags(scene);
+  for (uint8_t& f : flags) f = uint8_t(f & ~kTriangleCullBackFace);
+  RasterInput raster;
+  raster.positions = scene.mesh.positions.data();
+  raster.vertexCount = scene.mesh.positions.size();
+  raster.indices = scene.mesh.indices.data();
+  raster.triangleCount = scene.mesh.TriangleCount();
+  raster.triangleFlags = flags.data();
+  stats.raster = Rasterize(raster, out.lightView, RasterOutput::kDepthOnly, out.shadowMap);
+  stats.triangles = raster.triangleCount;
+  stats.rasterMs = stopwatch.Lap();
+
+  const ViewProjection& lightView = out.lightView;
+  const float resolution = float(params.resolution);
+  const glm::mat4 cameraToLight = lightView.view * glm::inverse(in.camera.view);
+  const ReceiverPositions positions(in.camera, cameraToLight);
+  const SearchSetup setup{
+      lightView,
+      out.shadowMap.depthKey,
+      BlockerSearchPattern(params.blockerSearchTaps),
+      glm::mat3(cameraToLight),
+      2.0f * lightView.halfX / resolution,
+      2.0f * lightView.halfY / resolution,
+      resolution / (2.0f * lightView.halfX),
+      resolution / (2.0f * lightView.halfY),
+      light.tanAngularRadius,
+      light.radius,
+      params.maxBlockerDistance,
+      scene.settings.normalEncoding,
+  };
+  const auto search = lightView.orthographic ? &SearchBlockers<true> : &SearchBlockers<false>;
+  ParallelFor("shadow_map.blocker_search", size_t(bands), [&](size_t band) {
+    const int yEnd = std::min(height, int(band + 1) * kRowsPerItem);
+    for (int y = int(band) * kRowsPerItem; y < yEnd; ++y) {
+      const uint32_t* w1 = gbuffer.word[1].ConstRow(y);
+      const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
+      uint32_t* term = out.shadowTerm.MutableRow(y);
+      const ReceiverPositions::Row row = positions.AtRow(y);
+      for (int x = 0; x < width; ++x) {
+        const float depth = UnpackDepth(w2[x]);
+        term[x] = depth < kBackgroundDepth ? search(setup, positions.At(row, x, depth), w1[x]) : kShadowLit;
+      }
+    }
+  });
+  stats.searchMs = stopwatch.Lap();
+  return stats;
+}
+
+}  // namespace ssgi

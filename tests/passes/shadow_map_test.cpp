@@ -1,0 +1,475 @@
+#include "passes/shadow_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <catch2/catch.hpp>
+
+#include "core/parallel.h"
+#include "passes/gbuffer.h"
+#include "tests/test_support.h"
+
+namespace ssgi {
+namespace {
+
+// A quad o, o + u, o + u + v, o + v, counter-clockwise seen from the side cross(u, v) points to.
+void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v) {
+  const uint32_t base = uint32_t(mesh.positions.size());
+  const glm::vec3 normal = glm::normalize(glm::cross(u, v));
+  for (const glm::vec3& p : {o, o + u, o + u + v, o + v}) {
+    mesh.positions.push_back(p);
+    mesh.normals.push_back(normal);
+    mesh.uvs.push_back(glm::vec2(0.0f));
+  }
+  mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  mesh.materials.insert(mesh.materials.end(), {0u, 0u});
+}
+
+// An axis-aligned box with outward faces and flat normals.
+void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi) {
+  const glm::vec3 d = hi - lo;
+  const glm::vec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
+  AddQuad(mesh, lo, x, z);      // bottom, -y
+  AddQuad(mesh, lo + y, z, x);  // top, +y
+  AddQuad(mesh, lo, y, x);      // back, -z
+  AddQuad(mesh, lo + z, x, y);  // front, +z
+  AddQuad(mesh, lo, z, y);      // left, -x
+  AddQuad(mesh, lo + x, y, z);  // right, +x
+}
+
+// The plane y = 0, `half` metres each way from the origin, facing up.
+void AddGround(Mesh& mesh, float half) { AddQuad(mesh, {-half, 0, -half}, {0, 0, 2 * half}, {2 * half, 0, 0}); }
+
+// A direction travelling down at `fromNormalDeg` from -y, its horizontal part at `azimuthDeg` from +x.
+glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg) {
+  const float a = glm::radians(fromNormalDeg), b = glm::radians(azimuthDeg);
+  return glm::normalize(glm::vec3(std::sin(a) * std::cos(b), -std::cos(a), std::sin(a) * std::sin(b)));
+}
+
+Scene MakeScene(const CameraDesc& camera, int width, int height) {
+  Scene scene;
+  scene.camera = camera;
+  scene.settings.width = width;
+  scene.settings.height = height;
+  Material material;
+  material.twoSided = true;
+  scene.materials.push_back(material);
+  return scene;
+}
+
+DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees) {
+  DirectionalLight light;
+  light.direction = direction;
+  light.angularDiameterDegrees = angularDiameterDegrees;
+  return light;
+}
+
+struct Rendered {
+  ViewProjection camera;
+  GBufferOutputs g;
+  VisibilityBuffer shadowMap;
+  ViewProjection lightView;
+  ShadowMapStats stats;
+
+  uint32_t Term(int x, int y) const { return g.gbuffer.word[3].ConstRow(y)[x]; }
+  bool Background(int x, int y) const { return !(UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]) < kBackgroundDepth); }
+  glm::vec3 World(int x, int y) const {
+    const ViewProjection::Ray ray = camera.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
+    const glm::vec3 p = ray.origin + ray.direction * UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]);
+    return glm::vec3(glm::inverse(camera.view) * glm::vec4(p, 1.0f));
+  }
+};
+
+Rendered Render(const Scene& scene, const ShadowMapParams& params = {}, size_t light = 0) {
+  Rendered r;
+  r.camera = MakePerspective(scene.camera, scene.settings.width, scene.settings.height);
+  RunGBuffer({scene, r.camera}, {scene.settings.normalEncoding}, r.g);
+  ShadowMapOutputs out{r.g.gbuffer.word[3], {}, {}};
+  r.stats = RunShadowMap({scene, r.camera, r.g.gbuffer, light}, params, out);
+  r.shadowMap = std::move(out.shadowMap);
+  r.lightView = out.lightView;
+  return r;
+}
+
+// Every word 3 decodes to a finite distance >= 0, background pixels are lit, and every depth key is
+// finite in [0, 1].
+bool AllValid(const Rendered& r) {
+  for (int y = 0; y < r.g.gbuffer.height(); ++y) {
+    for (int x = 0; x < r.g.gbuffer.width(); ++x) {
+      const float d = UnpackBlockerDistance(r.Term(x, y));
+      if (!(std::isfinite(d) && d >= 0.0f)) return false;
+      if (r.Background(x, y) && r.Term(x, y) != kShadowLit) return false;
+    }
+  }
+  for (size_t y = 0; y < r.shadowMap.depthKey.ysize(); ++y)
+    for (size_t x = 0; x < r.shadowMap.depthKey.xsize(); ++x) {
+      const float key = r.shadowMap.depthKey.ConstRow(y)[x];
+      if (!(key >= 0.0f && key <= 1.0f)) return false;
+    }
+  const glm::mat4& m = r.lightView.viewProjection;
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 4; ++k)
+      if (!std::isfinite(m[c][k])) return false;
+  return true;
+}
+
+// Does the ray from p along `toLight` pass through the box [lo, hi]? Slab test.
+bool RayHitsBox(glm::vec3 p, glm::vec3 toLight, glm::vec3 lo, glm::vec3 hi) {
+  float t0 = 0.0f, t1 = std::numeric_limits<float>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (std::fabs(toLight[a]) < 1e-12f) {
+      if (p[a] < lo[a] || p[a] > hi[a]) return false;
+      continue;
+    }
+    float ta = (lo[a] - p[a]) / toLight[a], tb = (hi[a] - p[a]) / toLight[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+bool OnGround(glm::vec3 p) { return std::fabs(p.y) < 1e-3f; }
+
+TEST_CASE("shadow map: a lit plane has no acne at any light angle", "[shadow]") {
+  CameraDesc camera;
+  camera.position = {0.0f, 3.0f, 6.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  for (NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+    for (int resolution : {2048, 512, 97}) {
+      for (float angle : {0.0f, 30.0f, 60.0f, 80.0f}) {
+        for (float azimuth : {0.0f, 37.0f, 200.0f}) {
+          Scene scene = MakeScene(camera, 160, 120);
+          scene.settings.normalEncoding = encoding;
+          AddGround(scene.mesh, 20.0f);
+          scene.directionalLights.push_back(Sun(LightDirection(angle, azimuth), 5.0f));
+          ShadowMapParams params;
+          params.resolution = resolution;
+          const Rendered r = Render(scene, params);
+          size_t notLit = 0, ground = 0;
+          for (int y = 0; y < 120; ++y)
+            for (int x = 0; x < 160; ++x) {
+              ground += !r.Background(x, y);
+              notLit += r.Term(x, y) != kShadowLit;
+            }
+          CAPTURE(int(encoding), resolution, angle, azimuth);
+          CHECK(ground > 5000);
+          CHECK(r.stats.pixels == ground);
+          CHECK(notLit == 0);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("shadow map: a slab above a plane gives the hard flag and the blocker distance", "[shadow]") {
+  const float angle = 30.0f;
+  const glm::vec3 dir = LightDirection(angle, 0.0f);
+  const glm::vec3 lo(-0.5f, 0.5f, -0.5f), hi(0.5f, 0.52f, 0.5f);
+  // The shadow of the slab's centre on the ground.
+  const glm::vec3 centre = glm::vec3(0.0f, 0.51f, 0.0f) + dir * (0.51f / -dir.y);
+  CameraDesc camera;  // below the slab, looking at its shadow
+  camera.position = {centre.x, 0.3f, 2.0f};
+  camera.target = centre;
+  Scene scene = MakeScene(camera, 400, 300);
+  AddGround(scene.mesh, 5.0f);
+  AddBox(scene.mesh, lo, hi);
+  scene.directionalLights.push_back(Sun(dir, 2.0f));
+  const Rendered r = Render(scene);
+  REQUIRE(AllValid(r));
+
+  // The shadow map stores the surface nearest the light, the slab's top; Fernando's blocker depth.
+  const float gapTop = hi.y / -dir.y, gapBottom = lo.y / -dir.y;
+  size_t underCentre = 0, hardUnder = 0, umbra = 0, hardUmbra = 0, clear = 0, litClear = 0;
+  double worstTop = 0.0, worstBottom = 0.0;
+  const glm::vec3 shrink(0.03f, 0.0f, 0.03f);  // texels and the 2 degree light's penumbra
+  for (int y = 0; y < 300; ++y) {
+    for (int x = 0; x < 400; ++x) {
+      if (r.Background(x, y)) continue;
+      const glm::vec3 p = r.World(x, y);
+      if (!OnGround(p)) continue;
+      const uint32_t term = r.Term(x, y);
+      if (glm::length(p - centre) < 0.2f) {
+        ++underCentre;
+        hardUnder += UnpackHardShadow(term);
+        const double d = UnpackBlockerDistance(term);
+        worstTop = std::max(worstTop, std::fabs(d - gapTop) / gapTop);
+        worstBottom = std::max(worstBottom, std::fabs(d - gapBottom) / gapBottom);
+      }
+      // Analytic visibility of the light's centre, with margins for texels and the penumbra.
+      if (RayHitsBox(p, -dir, lo + shrink, hi - shrink)) {
+        ++umbra;
+        hardUmbra += UnpackHardShadow(term);
+      }
+      if (!RayHitsBox(p, -dir, lo - glm::vec3(0.1f), hi + glm::vec3(0.1f))) {
+        ++clear;
+        litClear += term == kShadowLit;
+      }
+    }
+  }
+  WARN("slab gap " << gapTop << " m (top), " << gapBottom << " m (bottom): worst relative error "
+                   << worstTop << " (top), " << worstBottom << " (bottom) over " << underCentre << " pixels");
+  CHECK(underCentre > 500);
+  CHECK(hardUnder == underCentre);
+  CHECK(worstTop < 0.05);
+  CHECK(worstBottom < 0.05);
+  CHECK(umbra > 2000);
+  CHECK(hardUmbra == umbra);
+  CHECK(clear > 2000);
+  CHECK(litClear == clear);
+}
+
+TEST_CASE("shadow map: a caster resting on the plane shadows from the contact (no peter-panning)", "[shadow]") {
+  // Light travelling +x at 45 degrees: the shadow lies on x > 0.5, beside the caster's +x side.
+  const glm::vec3 dir = LightDirection(45.0f, 0.0f);
+  CameraDesc camera;  // straight down onto the contact edge, just on its shadow side
+  camera.position = {0.52f, 1.2f, 0.0f};
+  camera.target = {0.52f, 0.0f, 0.0f};
+  camera.up = {0.0f, 0.0f, -1.0f};
+  camera.fovYDegrees = 15.0f;
+  // A solid box, whose light-facing faces are far from the ground beside its base, and a wall of
+  // zero thickness, the strict case: the blocker's depth meets the receiver's at the contact.
+  for (bool wall : {false, true}) {
+    Scene scene = MakeScene(camera, 400, 400);
+    AddGround(scene.mesh, 5.0f);
+    if (wall) {
+      AddQuad(scene.mesh, {0.5f, 0.0f, -0.5f}, {0.0f, 0.0f, 1.0f}, {0.0f, 0.5f, 0.0f});
+    } else {
+      AddBox(scene.mesh, {-0.5f, 0.0f, -0.5f}, {0.5f, 0.5f, 0.5f});
+    }
+    scene.directionalLights.push_back(Sun(dir, 1.0f));
+    for (int resolution : {32, 64, 128}) {
+      ShadowMapParams params;
+      params.resolution = resolution;
+      const Rendered r = Render(scene, params);
+      REQUIRE(AllValid(r));
+      // Texel size in the light's image plane; its footprint on the ground along x is 1 / cos 45 longer.
+      const float texel = 2.0f * r.lightView.halfX / float(resolution);
+      float lastLit = 0.5f;  // the largest x of a ground pixel in the shadow's first half that is lit
+      size_t inShadow = 0;
+      float pixel = 0.0f;
+      for (int y = 0; y < 400; ++y) {
+        for (int x = 0; x < 400; ++x) {
+          if (r.Background(x, y)) continue;
+          const glm::vec3 p = r.World(x, y);
+          if (!OnGround(p) || p.x <= 0.5f || p.x > 0.75f || std::fabs(p.z) > 0.3f) continue;
+          ++inShadow;
+          if (x + 1 < 400) pixel = std::max(pixel, std::fabs(r.World(x + 1, y).x - p.x));
+          if (!UnpackHardShadow(r.Term(x, y))) lastLit = std::max(lastLit, p.x);
+        }
+      }
+      const float gap = lastLit - 0.5f;
+      const float gapTexels = gap * std::cos(glm::radians(45.0f)) / texel;
+      WARN((wall ? "wall" : "box") << ", map " << resolution << ": texel " << texel * 1000.0f << " mm, camera pixel "
+                                   << pixel * 1000.0f << " mm on the ground; lit gap at the contact "
+                                   << gap * 1000.0f << " mm = " << gapTexels << " texels");
+      CHECK(inShadow > 5000);
+      CHECK(pixel < 0.3f * texel);
+      CHECK(gapTexels <= 1.0f);
+    }
+  }
+}
+
+TEST_CASE("shadow map: casters outside the camera's view still cast", "[shadow]") {
+  CameraDesc camera;  // looking straight down from below the box
+  camera.position = {0.0f, 0.8f, 0.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  camera.up = {0.0f, 0.0f, -1.0f};
+  camera.fovYDegrees = 40.0f;
+  Scene scene = MakeScene(camera, 64, 64);
+  AddGround(scene.mesh, 5.0f);
+  AddBox(scene.mesh, {-1.5f, 1.0f, -1.0f}, {-1.0f, 1.5f, 1.0f});
+  scene.directionalLights.push_back(Sun(LightDirection(45.0f, 0.0f), 1.0f));
+  const Rendered r = Render(scene);
+  REQUIRE(AllValid(r));
+  size_t hard = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      REQUIRE(OnGround(r.World(x, y)));  // the box is not in view
+      hard += UnpackHardShadow(r.Term(x, y));
+    }
+  CHECK(hard == 64u * 64u);
+}
+
+TEST_CASE("shadow map: spot light blocker distance along the light's rays", "[shadow]") {
+  const glm::vec3 lightPos(0.0f, 3.0f, 0.0f);
+  const glm::vec3 lo(-0.5f, 1.0f, -0.5f), hi(0.5f, 1.02f, 0.5f);
+  CameraDesc camera;
+  camera.position = {0.0f, 0.4f, 3.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  Scene scene = MakeScene(camera, 200, 150);
+  AddGround(scene.mesh, 5.0f);
+  AddBox(scene.mesh, lo, hi);
+  SpotLight spot;
+  spot.position = lightPos;
+  spot.direction = {0.0f, -1.0f, 0.0f};
+  spot.outerConeDegrees = 40.0f;
+  spot.innerConeDegrees = 30.0f;
+  spot.radius = 0.05f;
+  scene.spotLights.push_back(spot);
+  ShadowMapParams params;
+  params.resolution = 1024;
+  const Rendered r = Render(scene, params);
+  REQUIRE(AllValid(r));
+  CHECK(!r.lightView.orthographic);
+  CHECK(r.lightView.nearPlane == Approx(0.99f * (3.0f - 1.02f)));
+  size_t under = 0, hard = 0, outside = 0, litOutside = 0;
+  double worst = 0.0;
+  for (int y = 0; y < 150; ++y) {
+    for (int x = 0; x < 200; ++x) {
+      if (r.Background(x, y)) continue;
+      const glm::vec3 p = r.World(x, y);
+      if (!OnGround(p)) continue;
+      const uint32_t term = r.Term(x, y);
+      const float horizontal = std::max(std::fabs(p.x), std::fabs(p.z));
+      if (horizontal < 0.4f) {
+        ++under;
+        hard += UnpackHardShadow(term);
+        // Similar triangles: the part of the ray from p to the light below the slab's top.
+        const double expected = glm::length(lightPos - p) * hi.y / lightPos.y;
+        worst = std::max(worst, std::fabs(UnpackBlockerDistance(term) - expected) / expected);
+      }
+      // Outside the square frustum (fov 80 deg: |x| or |z| > 3 tan 40 on the ground): lit.
+      if (horizontal > 3.0f * std::tan(glm::radians(40.0f)) + 0.05f) {
+        ++outside;
+        litOutside += term == kShadowLit;
+      }
+    }
+  }
+  WARN("spot: worst relative blocker distance error " << worst << " over " << under << " pixels");
+  CHECK(under > 200);
+  CHECK(hard == under);
+  CHECK(worst < 0.05);
+  CHECK(outside > 500);
+  CHECK(litOutside == outside);
+}
+
+TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {
+  Scene scene = LoadScene(test::SourceDir() / "data" / "default.json");
+  scene.settings.width = 161;
+  scene.settings.height = 119;
+  SpotLight spot;
+  spot.position = {0.5f, 2.5f, 1.0f};
+  spot.direction = glm::normalize(glm::vec3(-0.2f, -1.0f, -0.4f));
+  spot.outerConeDegrees = 50.0f;
+  spot.radius = 0.1f;
+  scene.spotLights.push_back(spot);
+  ShadowMapParams params;
+  params.resolution = 517;
+  for (size_t light : {size_t(0), size_t(1)}) {
+    std::vector<Rendered> runs;
+    for (int threads : {1, 2, 3}) {
+      ThreadLimit limit(threads);
+      runs.push_back(Render(scene, params, light));
+    }
+    size_t shadowed = 0;
+    for (int y = 0; y < 119; ++y) {
+      for (const Rendered& run : runs)
+        REQUIRE(std::memcmp(run.g.gbuffer.word[3].ConstRow(y), runs[0].g.gbuffer.word[3].ConstRow(y), 161 * 4) == 0);
+      for (int x = 0; x < 161; ++x) shadowed += UnpackHardShadow(runs[0].Term(x, y));
+    }
+    for (size_t y = 0; y < 517; ++y)
+      for (const Rendered& run : runs)
+        REQUIRE(std::memcmp(run.shadowMap.depthKey.ConstRow(y), runs[0].shadowMap.depthKey.ConstRow(y), 517 * 4) == 0);
+    CAPTURE(light);
+    CHECK(shadowed > 100);  // the comparison is about something
+    CHECK(AllValid(runs[0]));
+  }
+}
+
+TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shadow]") {
+  CameraDesc camera;
+  camera.position = {0.3f, 1.5f, 3.0f};
+  camera.target = {0.0f, 0.2f, 0.0f};
+  auto boxScene = [&](int width, int height) {
+    Scene scene = MakeScene(camera, width, height);
+    AddGround(scene.mesh, 4.0f);
+    AddBox(scene.mesh, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.6f, 0.3f});
+    return scene;
+  };
+  SECTION("grazing, horizontal and upward lights") {
+    for (glm::vec3 dir : {LightDirection(89.9f, 10.0f), LightDirection(90.0f, 0.0f), glm::vec3(0.0f, 0.0f, -1.0f),
+                          glm::vec3(0.0f, 1.0f, 0.0f), LightDirection(179.0f, 45.0f)}) {
+      Scene scene = boxScene(97, 61);
+      scene.directionalLights.push_back(Sun(dir, 10.0f));
+      CAPTURE(dir.x, dir.y, dir.z);
+      CHECK(AllValid(Render(scene)));
+    }
+  }
+  SECTION("tiny images and maps: every pixel is a border pixel") {
+    for (int size : {1, 2, 7}) {
+      for (int resolution : {1, 3, 64}) {
+        Scene scene = boxScene(size, size + 1);
+        scene.directionalLights.push_back(Sun(LightDirection(40.0f, 30.0f), 3.0f));
+        ShadowMapParams params;
+        params.resolution = resolution;
+        CAPTURE(size, resolution);
+        CHECK(AllValid(Render(scene, params)));
+      }
+    }
+  }
+  SECTION("one tap and many taps, huge light") {
+    for (int taps : {1, 2, kMaxBlockerSearchTaps}) {
+      Scene scene = boxScene(64, 48);
+      scene.directionalLights.push_back(Sun(LightDirection(20.0f, 0.0f), 60.0f));
+      ShadowMapParams params;
+      params.blockerSearchTaps = taps;
+      params.resolution = 256;
+      CAPTURE(taps);
+      CHECK(AllValid(Render(scene, params)));
+    }
+  }
+  SECTION("empty scene") {
+    Scene scene = MakeScene(camera, 33, 17);
+    scene.directionalLights.push_back(Sun(LightDirection(30.0f, 0.0f), 1.0f));
+    ShadowMapParams params;
+    params.resolution = 64;
+    const Rendered r = Render(scene, params);
+    CHECK(r.stats.pixels == 0);
+    CHECK(r.shadowMap.depthKey.xsize() == 64);
+    CHECK(AllValid(r));
+  }
+  SECTION("receivers outside a spot light's map are lit") {
+    for (glm::vec3 axis : {glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(1.0f, 0.0f, 0.0f)}) {
+      Scene scene = boxScene(80, 60);
+      SpotLight spot;
+      spot.position = {0.0f, 0.3f, 0.0f};  // inside the box, pointing out of it
+      spot.direction = axis;
+      spot.outerConeDegrees = 89.0f;  // clamped to a 170 degree field of view
+      spot.innerConeDegrees = 80.0f;
+      spot.radius = 0.5f;
+      scene.spotLights.push_back(spot);
+      const Rendered r = Render(scene);
+      REQUIRE(AllValid(r));
+      size_t lit = 0;
+      for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 80; ++x) {
+          if (r.Background(x, y)) continue;
+          const glm::vec3 p = r.World(x, y);
+          // Behind the light (the ground for the upward light) is outside the map: lit.
+          if (glm::dot(p - spot.position, axis) <= 0.0f) {
+            CHECK(r.Term(x, y) == kShadowLit);
+            ++lit;
+          }
+        }
+      CAPTURE(axis.x, axis.y);
+      CHECK(lit > 100);
+    }
+  }
+}
+
+TEST_CASE("shadow map: the first shadow-casting light is listed first", "[shadow]") {
+  Scene scene;
+  scene.directionalLights.resize(2);
+  scene.directionalLights[0].castShadows = false;
+  scene.spotLights.resize(2);
+  scene.spotLights[1].castShadows = false;
+  CHECK(ShadowCastingLights(scene) == std::vector<size_t>{1, 2});
+  scene.directionalLights[1].castShadows = false;
+  CHECK(ShadowCastingLights(scene) == std::vector<size_t>{2});
+}
+
+}  // namespace
+}  // namespace ssgi
