@@ -30,23 +30,15 @@ constexpr int64_t kPixels = int64_t(kSize) * kSize;
 // A scene to draw, or why it could not be built.
 struct BenchScene {
   Scene scene;
-  std::vector<uint8_t> flags;  // TriangleFlags(scene)
   std::string error;
 };
-
-BenchScene Prepare(Scene scene) {
-  BenchScene bench;
-  bench.flags = TriangleFlags(scene);
-  bench.scene = std::move(scene);
-  return bench;
-}
 
 // The default scene is loaded once; a missing or malformed file becomes the benchmark's error,
 // reported by every benchmark that needs it.
 const BenchScene& DefaultScene() {
   static const BenchScene scene = [] {
     try {
-      return Prepare(LoadScene(SSGI_SOURCE_DATA_DIR "/default.json"));
+      return BenchScene{LoadScene(SSGI_SOURCE_DATA_DIR "/default.json"), {}};
     } catch (const std::exception& e) {
       BenchScene failed;
       failed.error = std::string("cannot load the default scene: ") + e.what();
@@ -74,11 +66,11 @@ const BenchScene& KnotScene(int64_t triangles) {
       scene.camera.position = {0.0f, -0.6f, 4.0f};
       scene.camera.target = {0.0f, 0.0f, 0.0f};
       scene.camera.fovYDegrees = 45.0f;
-      scenes[i] = Prepare(std::move(scene));
+      scenes[i] = BenchScene{std::move(scene), {}};
     }
     return scenes[i];
   }
-  static const BenchScene unknown{{}, {}, "no torus knot with that triangle count"};
+  static const BenchScene unknown{{}, "no torus knot with that triangle count"};
   return unknown;
 }
 
@@ -120,23 +112,18 @@ void ReportCommon(benchmark::State& state, const Scene& scene) {
 }
 
 // Visibility only: vertex transform, clipping, setup, binning, tile rasterization, including the
-// clear of a fresh visibility buffer each frame. No alpha test (it needs the G-buffer's resolver);
-// the default scene has no cut-out materials.
+// clear of a fresh visibility buffer each frame. The scene's raster input (flags, alpha test) is
+// prepared once, outside the timed loop.
 void RasterizeOnly(benchmark::State& state, const BenchScene& bench) {
   if (!Begin(state, bench)) return;
   const ThreadLimit threads(int(state.range(1)));
   const Scene& scene = bench.scene;
   const ViewProjection view = MakePerspective(scene.camera, kSize, kSize);
-  RasterInput input;
-  input.positions = scene.mesh.positions.data();
-  input.vertexCount = scene.mesh.positions.size();
-  input.indices = scene.mesh.indices.data();
-  input.triangleCount = scene.mesh.TriangleCount();
-  input.triangleFlags = bench.flags.data();
+  const SceneRasterInput input(scene, view, true);
   size_t binEntries = 0;
   for (auto _ : state) {
     VisibilityBuffer target = MakeVisibilityBuffer(kSize, kSize, RasterOutput::kVisibility);
-    binEntries = Rasterize(input, view, RasterOutput::kVisibility, target).binEntries;
+    binEntries = Rasterize(input.Get(), view, RasterOutput::kVisibility, target).binEntries;
     benchmark::DoNotOptimize(target.depthKey.ConstRow(0));
   }
   ReportCommon(state, scene);

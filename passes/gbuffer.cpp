@@ -106,17 +106,32 @@ bool PassesAlphaTest(const void* context, uint32_t triangle, int px, int py) {
 
 }  // namespace
 
-std::vector<uint8_t> TriangleFlags(const Scene& scene) {
+struct SceneRasterInput::Impl {
+  Impl(const Scene& scene, const ViewProjection& view) : resolver(scene, view), alphaContext{&scene, &resolver} {}
+  SurfaceResolver resolver;
+  std::vector<uint8_t> flags;
+  AlphaTestContext alphaContext;
+};
+
+SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces)
+    : impl_(std::make_unique<Impl>(scene, view)) {
   std::vector<uint8_t> materialFlags(scene.materials.size());
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& material = scene.materials[m];
-    materialFlags[m] = uint8_t((material.twoSided ? 0 : kTriangleCullBackFace) |
+    materialFlags[m] = uint8_t((cullBackFaces && !material.twoSided ? kTriangleCullBackFace : 0) |
                                (material.alphaTexture != kNoTexture ? kTriangleAlphaTested : 0));
   }
-  std::vector<uint8_t> flags(scene.mesh.TriangleCount());
-  for (size_t t = 0; t < flags.size(); ++t) flags[t] = materialFlags[scene.mesh.materials[t]];
-  return flags;
+  impl_->flags.resize(scene.mesh.TriangleCount());
+  for (size_t t = 0; t < impl_->flags.size(); ++t) impl_->flags[t] = materialFlags[scene.mesh.materials[t]];
+  input_.positions = scene.mesh.positions.data();
+  input_.vertexCount = scene.mesh.positions.size();
+  input_.indices = scene.mesh.indices.data();
+  input_.triangleCount = scene.mesh.TriangleCount();
+  input_.triangleFlags = impl_->flags.data();
+  input_.alphaTest = {&PassesAlphaTest, &impl_->alphaContext};
 }
+
+SceneRasterInput::~SceneRasterInput() = default;
 
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out) {
   const Scene& scene = in.scene;
@@ -125,18 +140,10 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   GBufferStats stats;
 
   Stopwatch stopwatch;
-  const SurfaceResolver resolver(scene, view);
-  const std::vector<uint8_t> flags = TriangleFlags(scene);
-  const AlphaTestContext alphaContext{&scene, &resolver};
-  RasterInput raster;
-  raster.positions = scene.mesh.positions.data();
-  raster.vertexCount = scene.mesh.positions.size();
-  raster.indices = scene.mesh.indices.data();
-  raster.triangleCount = scene.mesh.TriangleCount();
-  raster.triangleFlags = flags.data();
-  raster.alphaTest = {&PassesAlphaTest, &alphaContext};
+  const SceneRasterInput raster(scene, view, true);
+  const SurfaceResolver& resolver = raster.impl_->resolver;
   out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
-  stats.raster = Rasterize(raster, view, RasterOutput::kVisibility, out.visibility);
+  stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility);
   stats.rasterMs = stopwatch.Lap();
 
   out.gbuffer = MakeGBuffer(view.width, view.height);

@@ -5,7 +5,7 @@
 // the 128-bit G-buffer. Alpha cut-out (map_d) is tested during rasterization.
 #pragma once
 
-#include <vector>
+#include <memory>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
@@ -37,8 +37,23 @@ struct GBufferStats {
 
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
 
-// Per-triangle raster flags of a scene's mesh: back-face culling unless the material is two-sided,
-// alpha test where it has an alpha texture. Shared with the shadow-map rasterization.
-std::vector<uint8_t> TriangleFlags(const Scene& scene);
+// A scene's mesh prepared for the rasterizer from one view (the camera, or a light for a shadow map):
+// per-triangle flags (back faces culled unless the material is two-sided or `cullBackFaces` is
+// false; alpha test where the material has an alpha texture) and the alpha test itself, evaluated
+// with the same surface interpolation and texture lookup as the G-buffer resolve.
+class SceneRasterInput {
+ public:
+  SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces);
+  ~SceneRasterInput();
+  SceneRasterInput(const SceneRasterInput&) = delete;
+  SceneRasterInput& operator=(const SceneRasterInput&) = delete;
+  const RasterInput& Get() const { return input_; }
+
+ private:
+  friend GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  RasterInput input_;
+};
 
 }  // namespace ssgi

@@ -345,18 +345,10 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
 
   // Both faces are drawn: thin and open geometry (a leaf, a ground plane seen from below, a mesh with
   // holes) must cast from either side, and the normal offset plus the receiver-plane test, not
-  // front-face culling, keep lit surfaces free of acne. Alpha-tested triangles keep their flag but
-  // are drawn opaque until the G-buffer's alpha test is shared (docs/pipeline.md).
-  std::vector<uint8_t> flags = TriangleFlags(scene);
-  for (uint8_t& f : flags) f = uint8_t(f & ~kTriangleCullBackFace);
-  RasterInput raster;
-  raster.positions = scene.mesh.positions.data();
-  raster.vertexCount = scene.mesh.positions.size();
-  raster.indices = scene.mesh.indices.data();
-  raster.triangleCount = scene.mesh.TriangleCount();
-  raster.triangleFlags = flags.data();
-  stats.raster = Rasterize(raster, out.lightView, RasterOutput::kDepthOnly, out.shadowMap);
-  stats.triangles = raster.triangleCount;
+  // front-face culling, keep lit surfaces free of acne. Cut-outs (map_d) cast through their holes.
+  const SceneRasterInput raster(scene, out.lightView, false);
+  stats.raster = Rasterize(raster.Get(), out.lightView, RasterOutput::kDepthOnly, out.shadowMap);
+  stats.triangles = raster.Get().triangleCount;
   stats.rasterMs = stopwatch.Lap();
 
   const ViewProjection& lightView = out.lightView;

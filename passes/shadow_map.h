@@ -6,7 +6,7 @@
 //  2. runs the blocker search of Percentage-Closer Soft Shadows (Fernando 2005) for every G-buffer
 //     pixel, with a normal-offset receiver and a receiver-plane depth test, and writes the result as
 //     the G-buffer's shadow term (word 3, PackShadowTerm).
-// Both faces of every triangle are drawn; alpha-tested casters are drawn opaque in this version.
+// Both faces of every triangle are drawn; cut-out (map_d) casters are alpha tested.
 // The frame runs it once per shadow-casting light; G-buffer word 3 holds the term of the FIRST
 // shadow-casting light (ShadowCastingLights(scene).front()).
 #pragma once
