@@ -46,6 +46,9 @@ struct RenderOptions {
   std::string dumpBuffers;
   std::optional<std::string> normalEncoding;
   std::optional<float> exposure;
+  std::optional<std::string> shadows;
+  std::string shadowFilter = "ssabss";
+  int shadowMapSize = 2048;
 };
 
 void ParseSize(const std::string& text, int& width, int& height) {
@@ -93,8 +96,17 @@ int Render(const RenderOptions& options) {
   if (options.normalEncoding)
     scene.settings.normalEncoding = *options.normalEncoding == "xyz8" ? ssgi::NormalEncoding::kXyz8 : ssgi::NormalEncoding::kOct24;
   if (options.exposure) scene.settings.exposureEv = *options.exposure;
+  if (options.shadows)
+    scene.settings.shadows = *options.shadows == "on"    ? ssgi::EffectMode::kOn
+                             : *options.shadows == "off" ? ssgi::EffectMode::kOff
+                                                         : ssgi::EffectMode::kAuto;
+  ssgi::FrameOptions frameOptions;
+  frameOptions.shadowMap.resolution = options.shadowMapSize;
+  frameOptions.shadowFilter.filter = options.shadowFilter == "hard"     ? ssgi::ShadowFilter::kHard
+                                     : options.shadowFilter == "sspcss" ? ssgi::ShadowFilter::kSspcss
+                                                                        : ssgi::ShadowFilter::kSsabss;
 
-  ssgi::Frame frame = ssgi::RenderFrame(scene);
+  ssgi::Frame frame = ssgi::RenderFrame(scene, frameOptions);
   ssgi::Stopwatch write;
   const int w = scene.settings.width, h = scene.settings.height;
   if (kind == ssgi::ImageFileKind::kPng) {
@@ -113,6 +125,9 @@ int Render(const RenderOptions& options) {
     std::printf("scene %s: %zu triangles, %zu materials, %zu textures, load %.1f ms\n", scenePath.string().c_str(),
                 scene.mesh.TriangleCount(), scene.materials.size(), scene.textures.size(), loadMs);
     PrintStats(frame.stats, w, h, threads);
+    if (frame.shadowTiles > 0)
+      std::printf("  shadow blur ran on %zu of %zu tiles (%.1f%%)\n", frame.shadowTilesBlurred, frame.shadowTiles,
+                  100.0 * double(frame.shadowTilesBlurred) / double(frame.shadowTiles));
     std::printf("  %-20s %10.3f\n", "write image", writeMs);
   }
   std::printf("wrote %s\n", output.string().c_str());
@@ -146,6 +161,15 @@ int main(int argc, char** argv) {
                             "G-buffer normal encoding: oct24 (octahedral 2x12 bits, default) or xyz8 (3x8 bits, "
                             "the paper's). Overrides the scene's.")
       ->check(CLI::IsMember({"oct24", "xyz8"}));
+  renderCommand->add_option("--shadows", render.shadows,
+                            "Shadows: auto (when a light casts them, the default), on, off. Overrides the scene's.")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  renderCommand->add_option("--shadow-filter", render.shadowFilter,
+                            "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito; default), sspcss (isotropic "
+                            "screen-space PCSS, MohammadBagher et al. 2010) or hard (the shadow map's hard test).")
+      ->check(CLI::IsMember({"hard", "sspcss", "ssabss"}));
+  renderCommand->add_option("--shadow-map-size", render.shadowMapSize, "Shadow map resolution in texels per side.")
+      ->check(CLI::Range(16, 16384));
   renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "
                                                            "overrides the scene's.");
 

@@ -31,6 +31,7 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs&
       const uint32_t* w0 = in.gbuffer.word[0].ConstRow(y);
       const uint32_t* w1 = in.gbuffer.word[1].ConstRow(y);
       const uint32_t* w2 = in.gbuffer.word[2].ConstRow(y);
+      const float* visibility = in.lightVisibility ? in.lightVisibility->ConstRow(y) : nullptr;
       float* outRgb[3] = {out.radiance.c[0].MutableRow(y), out.radiance.c[1].MutableRow(y),
                           out.radiance.c[2].MutableRow(y)};
       for (int x = 0; x < width; ++x) {
@@ -45,10 +46,13 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs&
           const SurfaceMaterial material{UnpackAlbedo(w0[x]), UnpackMetallic(w0[x]), UnpackRoughness(w1[x])};
           const float alpha = material.roughness * material.roughness;
           radiance = glm::vec3(0.0f);
-          for (const PreparedLight& light : lights) {
-            const LightAtPoint l = Evaluate(light, position);
-            radiance += BrdfCosine(material, WidenedAlpha(alpha, l.tanAngularRadius), normal, toViewer, l.toLight) *
-                        l.irradiance;
+          for (size_t i = 0; i < lights.size(); ++i) {
+            const LightAtPoint l = Evaluate(lights[i], position);
+            glm::vec3 contribution =
+                BrdfCosine(material, WidenedAlpha(alpha, l.tanAngularRadius), normal, toViewer, l.toLight) *
+                l.irradiance;
+            if (visibility && i == in.shadowedLight) contribution *= visibility[x];
+            radiance += contribution;
           }
         }
         for (int c = 0; c < 3; ++c) outRgb[c][x] = radiance[c];

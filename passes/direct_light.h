@@ -1,6 +1,6 @@
 // Direct light pass (DESIGN.md §5, docs/pipeline.md §Direct light): shades every G-buffer pixel with
-// every light of the scene using core/brdf.h, multiplied by the light's visibility where a shadow
-// filter produced one. Background pixels get the scene's background radiance. No ambient term.
+// every light of the scene using core/brdf.h; the shadowed light's term is multiplied by its
+// visibility from the shadow filter. Background pixels get the scene's background radiance. No ambient term.
 #pragma once
 
 #include "core/camera.h"
@@ -14,6 +14,10 @@ struct DirectLightInputs {
   const GBuffer& gbuffer;
   const ViewProjection& view;  // the camera the G-buffer was rendered with
   const Scene& scene;          // lights, background, normal encoding
+  // The shadowed light (index in PrepareLights order) and its visibility in [0, 1] per pixel, from
+  // a shadow filter; null when no light is shadowed. Other lights are unshadowed.
+  const Plane<float>* lightVisibility = nullptr;
+  size_t shadowedLight = 0;
 };
 
 struct DirectLightOutputs {

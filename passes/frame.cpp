@@ -1,11 +1,12 @@
 #include "passes/frame.h"
 
 #include "core/image_io.h"
+#include "core/lighting.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {
 
-Frame RenderFrame(const Scene& scene) {
+Frame RenderFrame(const Scene& scene, const FrameOptions& options) {
   Frame frame;
   Stopwatch total;
   const RenderSettings& settings = scene.settings;
@@ -16,7 +17,33 @@ Frame RenderFrame(const Scene& scene) {
   frame.stats.push_back({"g-buffer raster", g.rasterMs, double(scene.mesh.TriangleCount()), "triangles"});
   frame.stats.push_back({"g-buffer resolve", g.resolveMs, double(g.coveredPixels), "pixels"});
 
-  const DirectLightStats d = RunDirectLight({frame.gbuffer.gbuffer, frame.view, scene}, frame.direct);
+  // Shadows only where the scene calls for them (DESIGN.md §9): a light that casts them, and not
+  // switched off. G-buffer word 3 has room for one light's term: the first shadow-casting light.
+  const std::vector<size_t> shadowLights = ShadowCastingLights(scene);
+  const bool shadows = settings.shadows != EffectMode::kOff && !shadowLights.empty();
+  std::vector<PreparedLight> viewLights;
+  if (shadows) {
+    const size_t light = shadowLights.front();
+    frame.shadowMap.emplace(ShadowMapOutputs{frame.gbuffer.gbuffer.word[3], {}, {}});
+    const ShadowMapStats s =
+        RunShadowMap({scene, frame.view, frame.gbuffer.gbuffer, light}, options.shadowMap, *frame.shadowMap);
+    frame.stats.push_back({"shadow map", s.fitMs + s.rasterMs, double(s.triangles), "triangles"});
+    frame.stats.push_back({"blocker search", s.searchMs, double(s.pixels), "pixels"});
+    viewLights = PrepareLights(scene, frame.view.view);
+    const ShadowFilterStats f = RunShadowFilter(
+        {frame.gbuffer.gbuffer, frame.view, viewLights[light], settings.normalEncoding}, options.shadowFilter,
+        frame.shadowVisibility);
+    frame.stats.push_back({"shadow filter", f.ms, pixels, "pixels"});
+    frame.shadowTilesBlurred = f.tilesBlurred;
+    frame.shadowTiles = f.tiles;
+  }
+
+  DirectLightInputs directInputs{frame.gbuffer.gbuffer, frame.view, scene};
+  if (shadows) {
+    directInputs.lightVisibility = &frame.shadowVisibility.visibility;
+    directInputs.shadowedLight = shadowLights.front();
+  }
+  const DirectLightStats d = RunDirectLight(directInputs, frame.direct);
   frame.stats.push_back({"direct light", d.ms, pixels, "pixels"});
 
   Stopwatch tonemap;
@@ -57,6 +84,7 @@ void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, No
   for (int i = 0; i < kDecoded; ++i) add(names[i], false, decoded[i]);
   add("raster.depthKey", false, frame.gbuffer.visibility.depthKey);
   add("raster.triangle", true, frame.gbuffer.visibility.triangle);
+  if (frame.shadowMap) add("shadow.visibility", false, frame.shadowVisibility.visibility);
   const char* rgb[] = {"R", "G", "B"};
   for (int c = 0; c < 3; ++c) add(std::string("direct.") + rgb[c], false, frame.direct.radiance.c[c]);
   WriteExr(path, width, height, channels);

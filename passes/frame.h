@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "core/scene.h"
 #include "passes/direct_light.h"
 #include "passes/gbuffer.h"
+#include "passes/shadow_filter.h"
+#include "passes/shadow_map.h"
 #include "passes/tonemap.h"
 
 namespace ssgi {
@@ -24,9 +27,20 @@ struct StageStats {
   std::string itemUnit;    // "triangles", "pixels"
 };
 
+// Pass parameters that are not part of a scene: quality knobs and comparison modes.
+struct FrameOptions {
+  ShadowMapParams shadowMap;
+  ShadowFilterParams shadowFilter;
+};
+
 struct Frame {
   ViewProjection view;
   GBufferOutputs gbuffer;
+  // Present when the scene has a shadow-casting light and shadows are not switched off: the first
+  // such light's shadow map (its term is G-buffer word 3) and its filtered visibility.
+  std::optional<ShadowMapOutputs> shadowMap;
+  ShadowFilterOutputs shadowVisibility;
+  size_t shadowTiles = 0, shadowTilesBlurred = 0;  // blur-area control: tiles in the image, tiles blurred
   DirectLightOutputs direct;
   TonemapOutputs display;  // 8-bit sRGB of the final image
   std::vector<StageStats> stats;
@@ -36,13 +50,14 @@ struct Frame {
 };
 
 // Renders the scene at scene.settings' size and options.
-Frame RenderFrame(const Scene& scene);
+Frame RenderFrame(const Scene& scene, const FrameOptions& options);
 
 // Writes every intermediate buffer of the frame into one multi-channel EXR for oracle comparisons:
 // the raw G-buffer words as uint32 ("gbuffer.word0".."gbuffer.word3"), their decoded values
 // ("albedo.R/G/B", "metallic", "normal.X/Y/Z" view space, "roughness", "depth" in metres with the
 // background +inf, "shadow.hard", "shadow.blocker"), the visibility buffer ("raster.depthKey",
-// "raster.triangle" uint32, 0xFFFFFFFF = none) and the direct light ("direct.R/G/B").
+// "raster.triangle" uint32, 0xFFFFFFFF = none), the filtered light visibility ("shadow.visibility",
+// when shadows ran) and the direct light ("direct.R/G/B").
 void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding);
 
 }  // namespace ssgi

@@ -9,55 +9,17 @@
 
 #include "core/parallel.h"
 #include "passes/gbuffer.h"
+#include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
 
-// A quad o, o + u, o + u + v, o + v, counter-clockwise seen from the side cross(u, v) points to.
-void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v) {
-  const uint32_t base = uint32_t(mesh.positions.size());
-  const glm::vec3 normal = glm::normalize(glm::cross(u, v));
-  for (const glm::vec3& p : {o, o + u, o + u + v, o + v}) {
-    mesh.positions.push_back(p);
-    mesh.normals.push_back(normal);
-    mesh.uvs.push_back(glm::vec2(0.0f));
-  }
-  mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-  mesh.materials.insert(mesh.materials.end(), {0u, 0u});
-}
-
-// An axis-aligned box with outward faces and flat normals.
-void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi) {
-  const glm::vec3 d = hi - lo;
-  const glm::vec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
-  AddQuad(mesh, lo, x, z);      // bottom, -y
-  AddQuad(mesh, lo + y, z, x);  // top, +y
-  AddQuad(mesh, lo, y, x);      // back, -z
-  AddQuad(mesh, lo + z, x, y);  // front, +z
-  AddQuad(mesh, lo, z, y);      // left, -x
-  AddQuad(mesh, lo + x, y, z);  // right, +x
-}
-
-// The plane y = 0, `half` metres each way from the origin, facing up.
-void AddGround(Mesh& mesh, float half) { AddQuad(mesh, {-half, 0, -half}, {0, 0, 2 * half}, {2 * half, 0, 0}); }
-
-// A direction travelling down at `fromNormalDeg` from -y, its horizontal part at `azimuthDeg` from +x.
-glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg) {
-  const float a = glm::radians(fromNormalDeg), b = glm::radians(azimuthDeg);
-  return glm::normalize(glm::vec3(std::sin(a) * std::cos(b), -std::cos(a), std::sin(a) * std::sin(b)));
-}
-
-Scene MakeScene(const CameraDesc& camera, int width, int height) {
-  Scene scene;
-  scene.camera = camera;
-  scene.settings.width = width;
-  scene.settings.height = height;
-  Material material;
-  material.twoSided = true;
-  scene.materials.push_back(material);
-  return scene;
-}
+using test::AddBox;
+using test::AddGround;
+using test::AddQuad;
+using test::LightDirection;
+using test::MakeScene;
 
 DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees) {
   DirectionalLight light;
@@ -75,11 +37,7 @@ struct Rendered {
 
   uint32_t Term(int x, int y) const { return g.gbuffer.word[3].ConstRow(y)[x]; }
   bool Background(int x, int y) const { return !(UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]) < kBackgroundDepth); }
-  glm::vec3 World(int x, int y) const {
-    const ViewProjection::Ray ray = camera.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
-    const glm::vec3 p = ray.origin + ray.direction * UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]);
-    return glm::vec3(glm::inverse(camera.view) * glm::vec4(p, 1.0f));
-  }
+  glm::vec3 World(int x, int y) const { return test::WorldPosition(camera, g.gbuffer, x, y); }
 };
 
 Rendered Render(const Scene& scene, const ShadowMapParams& params = {}, size_t light = 0) {

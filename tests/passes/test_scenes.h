@@ -1,0 +1,32 @@
+// Small scenes built in code for the pass tests: quads, boxes, a ground plane, sun directions.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "core/camera.h"
+#include "core/gbuffer.h"
+#include "core/mesh.h"
+#include "core/scene.h"
+
+namespace ssgi::test {
+
+// A quad o, o + u, o + u + v, o + v, counter-clockwise seen from the side cross(u, v) points to,
+// with flat normals and material 0.
+void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v);
+
+// An axis-aligned box with outward faces and flat normals.
+void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi);
+
+// The plane y = 0, `half` metres each way from the origin, facing up.
+void AddGround(Mesh& mesh, float half);
+
+// A direction travelling down at `fromNormalDeg` from -y, its horizontal part at `azimuthDeg` from +x.
+glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg);
+
+// The world-space position of G-buffer pixel (x, y) seen by `camera` (word 2 depth).
+glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, int x, int y);
+
+// An empty scene of the given size with one two-sided default material.
+Scene MakeScene(const CameraDesc& camera, int width, int height);
+
+}  // namespace ssgi::test
