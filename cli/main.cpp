@@ -3,6 +3,7 @@
 // command line CLI11 cannot parse, 3 for an unexpected internal failure.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -134,6 +135,68 @@ int Render(const RenderOptions& options) {
   return 0;
 }
 
+struct FiguresOptions {
+  std::string folder;
+  std::string scene;
+  std::string size = "1024x1024";
+  int threads = 0;
+};
+
+// A horizontal strip of the same crop of several RGB images, separated by white bars.
+std::vector<uint8_t> SideBySide(const std::vector<const std::vector<uint8_t>*>& images, int width, int x0, int y0,
+                                int cropWidth, int cropHeight, int& stripWidth) {
+  constexpr int kGap = 4;
+  stripWidth = int(images.size()) * cropWidth + (int(images.size()) - 1) * kGap;
+  std::vector<uint8_t> strip(size_t(stripWidth) * cropHeight * 3, 255);
+  for (size_t i = 0; i < images.size(); ++i)
+    for (int y = 0; y < cropHeight; ++y)
+      std::copy_n(images[i]->data() + (size_t(y0 + y) * width + x0) * 3, size_t(cropWidth) * 3,
+                  strip.data() + (size_t(y) * stripWidth + i * (cropWidth + kGap)) * 3);
+  return strip;
+}
+
+// The paper's image sequence (Figs. 4-6) for one scene: albedo, direct light without shadows, direct
+// light with SSABSS soft shadows, and a crop comparing the hard, SSPCSS and SSABSS shadow filters.
+int Figures(const FiguresOptions& options) {
+  const ssgi::ThreadLimit threadLimit(options.threads);
+  const fs::path folder(options.folder);
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error) throw ssgi::InputError(folder, "cannot create the folder: " + error.message());
+  ssgi::CheckOutputPath(folder / "albedo.png");
+  int width = 0, height = 0;
+  ParseSize(options.size, width, height);
+  ssgi::Scene scene = ssgi::LoadScene(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene));
+  scene.settings.width = width;
+  scene.settings.height = height;
+
+  auto render = [&](ssgi::EffectMode shadows, ssgi::ShadowFilter filter) {
+    scene.settings.shadows = shadows;
+    ssgi::FrameOptions frameOptions;
+    frameOptions.shadowFilter.filter = filter;
+    return ssgi::RenderFrame(scene, frameOptions);
+  };
+  auto write = [&](const std::string& name, int w, int h, const std::vector<uint8_t>& rgb) {
+    ssgi::WritePng(folder / name, w, h, rgb);
+    std::printf("wrote %s\n", (folder / name).string().c_str());
+  };
+  const ssgi::Frame unshadowed = render(ssgi::EffectMode::kOff, ssgi::ShadowFilter::kSsabss);
+  write("albedo.png", width, height, ssgi::AlbedoImage(unshadowed.gbuffer.gbuffer));
+  write("direct.png", width, height, unshadowed.display.rgb);
+  const ssgi::Frame hard = render(ssgi::EffectMode::kAuto, ssgi::ShadowFilter::kHard);
+  const ssgi::Frame sspcss = render(ssgi::EffectMode::kAuto, ssgi::ShadowFilter::kSspcss);
+  const ssgi::Frame ssabss = render(ssgi::EffectMode::kAuto, ssgi::ShadowFilter::kSsabss);
+  write("direct_shadows.png", width, height, ssabss.display.rgb);
+  // The crop of the default scene's blue sphere and its shadow on the board, as fractions of the image.
+  const int x0 = int(0.30 * width), y0 = int(0.55 * height);
+  const int cropWidth = std::max(1, int(0.30 * width)), cropHeight = std::max(1, int(0.22 * height));
+  int stripWidth = 0;
+  const std::vector<uint8_t> strip = SideBySide({&hard.display.rgb, &sspcss.display.rgb, &ssabss.display.rgb}, width,
+                                                x0, y0, cropWidth, cropHeight, stripWidth);
+  write("shadow_filters.png", stripWidth, cropHeight, strip);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -173,6 +236,15 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "
                                                            "overrides the scene's.");
 
+  FiguresOptions figures;
+  CLI::App* figuresCommand = app.add_subcommand(
+      "figures", "Render the paper's image sequence into a folder: albedo.png, direct.png (no shadows), "
+                 "direct_shadows.png (SSABSS) and shadow_filters.png (hard | SSPCSS | SSABSS, cropped).");
+  figuresCommand->add_option("folder", figures.folder, "Output folder (created if missing).")->required();
+  figuresCommand->add_option("--scene", figures.scene, "Scene file or OBJ. Default: the built-in default scene.");
+  figuresCommand->add_option("--size", figures.size, "Image size WIDTHxHEIGHT (default 1024x1024).");
+  figuresCommand->add_option("--threads", figures.threads, "Worker threads (0 = all).")->check(CLI::Range(0, 1024));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -181,6 +253,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*renderCommand) return Render(render);
+    if (*figuresCommand) return Figures(figures);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi: error: %s\n", e.what());
     return 1;

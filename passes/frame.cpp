@@ -53,6 +53,17 @@ Frame RenderFrame(const Scene& scene, const FrameOptions& options) {
   return frame;
 }
 
+std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
+  const int width = gbuffer.width(), height = gbuffer.height();
+  std::vector<uint8_t> rgb(size_t(width) * size_t(height) * 3);
+  for (int y = 0; y < height; ++y) {
+    const uint32_t* w0 = gbuffer.word[0].ConstRow(y);
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) rgb[(size_t(y) * width + x) * 3 + c] = uint8_t(w0[x] >> (8 * c));
+  }
+  return rgb;
+}
+
 void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding) {
   const GBuffer& g = frame.gbuffer.gbuffer;
   const int width = g.width(), height = g.height();

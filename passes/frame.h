@@ -52,6 +52,9 @@ struct Frame {
 // Renders the scene at scene.settings' size and options.
 Frame RenderFrame(const Scene& scene, const FrameOptions& options);
 
+// The G-buffer's albedo as 8-bit sRGB RGB rows (background black): the paper's "albedo" image.
+std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);
+
 // Writes every intermediate buffer of the frame into one multi-channel EXR for oracle comparisons:
 // the raw G-buffer words as uint32 ("gbuffer.word0".."gbuffer.word3"), their decoded values
 // ("albedo.R/G/B", "metallic", "normal.X/Y/Z" view space, "roughness", "depth" in metres with the

@@ -113,6 +113,19 @@ TEST_CASE("render: the default scene matches its golden image byte for byte", "[
   CHECK(differing == 0);
 }
 
+TEST_CASE("figures: one command writes the paper's image sequence", "[cli]") {
+  ScratchDir dir("cli-figures");
+  const CommandResult result = RunCli("figures " + Quote(dir / "out") + " --size 96x72");
+  CAPTURE(result.output);
+  REQUIRE(result.exitCode == 0);
+  for (const char* name : {"albedo.png", "direct.png", "direct_shadows.png", "shadow_filters.png"}) {
+    CAPTURE(name);
+    CHECK(ReadStoredImage(dir / "out" / name).width > 0);
+  }
+  // The shadows darken the image: the shadowed render differs from the unshadowed one.
+  CHECK(ReadStoredImage(dir / "out" / "direct.png").bytes != ReadStoredImage(dir / "out" / "direct_shadows.png").bytes);
+}
+
 TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
   ScratchDir dir("cli-default");
   const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";
