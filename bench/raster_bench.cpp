@@ -14,6 +14,7 @@
 #include <malloc.h>
 #endif
 
+#include "bench/bench_scene.h"
 #include "core/camera.h"
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
@@ -26,27 +27,6 @@ namespace {
 
 constexpr int kSize = 1024;
 constexpr int64_t kPixels = int64_t(kSize) * kSize;
-
-// A scene to draw, or why it could not be built.
-struct BenchScene {
-  Scene scene;
-  std::string error;
-};
-
-// The default scene is loaded once; a missing or malformed file becomes the benchmark's error,
-// reported by every benchmark that needs it.
-const BenchScene& DefaultScene() {
-  static const BenchScene scene = [] {
-    try {
-      return BenchScene{LoadScene(SSGI_SOURCE_DATA_DIR "/default.json"), {}};
-    } catch (const std::exception& e) {
-      BenchScene failed;
-      failed.error = std::string("cannot load the default scene: ") + e.what();
-      return failed;
-    }
-  }();
-  return scene;
-}
 
 // Torus knots of exactly 10k, 100k and 1M triangles, the sizes DESIGN.md §13 gives for llvmpipe,
 // seen along their symmetry axis so they fill most of the square image.
@@ -155,7 +135,7 @@ void GBufferPass(benchmark::State& state, const BenchScene& bench) {
 // range(0): the scene (0 = default scene, else the knot's triangle count); range(1): threads
 // (0 = oneTBB's default, all cores); range(2): 1 = fresh pages every frame (UseFreshPages).
 const BenchScene& SceneFor(const benchmark::State& state) {
-  return state.range(0) == 0 ? DefaultScene() : KnotScene(state.range(0));
+  return state.range(0) == 0 ? DefaultBenchScene() : KnotScene(state.range(0));
 }
 
 void BM_Rasterize(benchmark::State& state) { RasterizeOnly(state, SceneFor(state)); }

@@ -1,0 +1,18 @@
+#include "bench/bench_scene.h"
+
+#include <exception>
+
+namespace ssgi {
+
+const BenchScene& DefaultBenchScene() {
+  static const BenchScene scene = [] {
+    try {
+      return BenchScene{LoadScene(SSGI_SOURCE_DATA_DIR "/default.json"), {}};
+    } catch (const std::exception& e) {
+      return BenchScene{{}, std::string("cannot load the default scene: ") + e.what()};
+    }
+  }();
+  return scene;
+}
+
+}  // namespace ssgi

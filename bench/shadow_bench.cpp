@@ -1,0 +1,79 @@
+// Shadow pass timings at 1024x1024 on the default scene: the shadow map with its blocker search, and
+// the shadow filters. Buffers are reused from iteration to iteration (the steady state of a renderer);
+// bench/README.md records results.
+#include <benchmark/benchmark.h>
+
+#include "bench/bench_scene.h"
+#include "core/lighting.h"
+#include "core/parallel.h"
+#include "passes/gbuffer.h"
+#include "passes/shadow_filter.h"
+#include "passes/shadow_map.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kSize = 1024;
+
+// The default scene's G-buffer, with word 3 from a 2048 shadow map, made once.
+struct ShadowInputs {
+  ViewProjection view;
+  GBufferOutputs g;
+  PreparedLight light;
+  size_t lightIndex = 0;
+};
+
+const ShadowInputs& Inputs(const Scene& scene) {
+  static const ShadowInputs inputs = [&] {
+    ShadowInputs in;
+    in.view = MakePerspective(scene.camera, kSize, kSize);
+    RunGBuffer({scene, in.view}, {scene.settings.normalEncoding}, in.g);
+    in.lightIndex = ShadowCastingLights(scene).front();
+    in.light = PrepareLights(scene, in.view.view)[in.lightIndex];
+    ShadowMapOutputs out{in.g.gbuffer.word[3], {}, {}};
+    RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out);
+    return in;
+  }();
+  return inputs;
+}
+
+void BM_ShadowMap(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const ThreadLimit threads(int(state.range(0)));
+  const ShadowInputs& in = Inputs(bench.scene);
+  ShadowMapParams params;
+  params.resolution = int(state.range(1));
+  Plane<uint32_t> term = MakePlane<uint32_t>(kSize, kSize, 0u);
+  ShadowMapOutputs out{term, {}, {}};
+  ShadowMapStats stats;
+  for (auto _ : state) stats = RunShadowMap({bench.scene, in.view, in.g.gbuffer, in.lightIndex}, params, out);
+  state.counters["rasterMs"] = stats.rasterMs;
+  state.counters["searchMs"] = stats.searchMs;
+  state.counters["pixels"] = benchmark::Counter(double(stats.pixels), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_ShadowFilter(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const ThreadLimit threads(int(state.range(0)));
+  const ShadowInputs& in = Inputs(bench.scene);
+  ShadowFilterParams params;
+  params.filter = state.range(1) == 0 ? ShadowFilter::kSsabss : ShadowFilter::kSspcss;
+  ShadowFilterOutputs out;
+  ShadowFilterStats stats;
+  for (auto _ : state)
+    stats = RunShadowFilter({in.g.gbuffer, in.view, in.light, bench.scene.settings.normalEncoding}, params, out);
+  state.counters["tilesBlurred"] = double(stats.tilesBlurred);
+  state.counters["pixels"] =
+      benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// Arguments: threads (1, 2), then the shadow map resolution, or the filter (0 ssabss, 1 sspcss).
+BENCHMARK(BM_ShadowMap)->ArgNames({"threads", "resolution"})->ArgsProduct({{1, 2}, {1024, 2048}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ShadowFilter)->ArgNames({"threads", "sspcss"})->ArgsProduct({{1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace ssgi
