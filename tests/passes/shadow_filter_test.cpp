@@ -23,10 +23,7 @@ using test::LightDirection;
 using test::MakeScene;
 
 void AddSun(Scene& scene, glm::vec3 direction, float angularDiameterDegrees) {
-  DirectionalLight light;
-  light.direction = direction;
-  light.angularDiameterDegrees = angularDiameterDegrees;
-  scene.directionalLights.push_back(light);
+  scene.directionalLights.push_back(test::Sun(direction, angularDiameterDegrees));
 }
 
 CameraDesc Camera(glm::vec3 position, glm::vec3 target, glm::vec3 up, float fovYDegrees) {

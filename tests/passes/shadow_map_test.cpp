@@ -21,12 +21,7 @@ using test::AddQuad;
 using test::LightDirection;
 using test::MakeScene;
 
-DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees) {
-  DirectionalLight light;
-  light.direction = direction;
-  light.angularDiameterDegrees = angularDiameterDegrees;
-  return light;
-}
+using test::Sun;
 
 struct Rendered {
   ViewProjection camera;

@@ -34,6 +34,13 @@ glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg) {
   return glm::normalize(glm::vec3(std::sin(a) * std::cos(b), -std::cos(a), std::sin(a) * std::sin(b)));
 }
 
+DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees) {
+  DirectionalLight light;
+  light.direction = direction;
+  light.angularDiameterDegrees = angularDiameterDegrees;
+  return light;
+}
+
 glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, int x, int y) {
   const ViewProjection::Ray ray = camera.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
   const glm::vec3 p = ray.origin + ray.direction * UnpackDepth(gbuffer.word[2].ConstRow(y)[x]);

@@ -23,6 +23,9 @@ void AddGround(Mesh& mesh, float half);
 // A direction travelling down at `fromNormalDeg` from -y, its horizontal part at `azimuthDeg` from +x.
 glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg);
 
+// A directional light travelling along `direction` with the given angular diameter.
+DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees);
+
 // The world-space position of G-buffer pixel (x, y) seen by `camera` (word 2 depth).
 glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, int x, int y);
 
