@@ -126,6 +126,26 @@ TEST_CASE("figures: one command writes the paper's image sequence", "[cli]") {
   CHECK(ReadStoredImage(dir / "out" / "direct.png").bytes != ReadStoredImage(dir / "out" / "direct_shadows.png").bytes);
 }
 
+TEST_CASE("render: shadow passes run only when the scene calls for them", "[cli]") {
+  ScratchDir dir("cli-effects");
+  const std::string out = " -o " + Quote(dir / "out.png") + " --size 64x48 --stats";
+  const CommandResult withShadows = RunCli("render " + DefaultScene() + out);
+  REQUIRE(withShadows.exitCode == 0);
+  CHECK(withShadows.output.find("shadow map") != std::string::npos);
+  CHECK(withShadows.output.find("shadow filter") != std::string::npos);
+  const CommandResult switchedOff = RunCli("render " + DefaultScene() + out + " --shadows off");
+  REQUIRE(switchedOff.exitCode == 0);
+  CHECK(switchedOff.output.find("shadow") == std::string::npos);
+  // A light that casts no shadows needs no shadow map, whatever --shadows says.
+  const std::string sphere = (SourceDir() / "data" / "sphere.obj").string();
+  WriteText(dir / "no_caster.json", "{\"objects\": [{\"obj\": \"" + sphere + "\"}], \"lights\": [{\"type\": "
+                                     "\"directional\", \"direction\": [0, -1, 0], \"cast_shadows\": false}]}");
+  const CommandResult noCaster = RunCli("render " + Quote(dir / "no_caster.json") + out + " --shadows on");
+  CAPTURE(noCaster.output);
+  REQUIRE(noCaster.exitCode == 0);
+  CHECK(noCaster.output.find("shadow") == std::string::npos);
+}
+
 TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
   ScratchDir dir("cli-default");
   const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";
