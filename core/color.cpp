@@ -14,13 +14,14 @@ namespace {
 // mantissa bits) pick a bucket no wider than 1/256 of its value, which holds at most two code
 // boundaries. The bucket's table entry is the code of its smallest value; a lookup then steps over
 // the thresholds inside the bucket. Exact, and with at most two data-dependent steps.
-constexpr int kBucketShift = 15;
+constexpr int kBucketShift = kSrgbBucketShift;
 constexpr uint32_t kOneBits = 0x3F800000u;
 
 struct SrgbTables {
   std::array<float, 256> codeToLinear;
   std::array<float, 256> thresholds;  // thresholds[k]: linear value where code k rounds up to k + 1; [255] = inf
-  std::vector<uint8_t> bucketCode;
+  std::vector<int32_t> bucketCode;  // 32-bit so SIMD kernels can gather it
+  SrgbEncodeTables forKernels;
 
   SrgbTables() : bucketCode(kOneBits >> kBucketShift) {
     for (int k = 0; k < 256; ++k) codeToLinear[k] = SrgbToLinear(float(k) / 255.0f);
@@ -30,8 +31,9 @@ struct SrgbTables {
       float lowest;
       const uint32_t bits = b << kBucketShift;
       std::memcpy(&lowest, &bits, 4);
-      bucketCode[b] = uint8_t(std::upper_bound(thresholds.begin(), thresholds.end() - 1, lowest) - thresholds.begin());
+      bucketCode[b] = int32_t(std::upper_bound(thresholds.begin(), thresholds.end() - 1, lowest) - thresholds.begin());
     }
+    forKernels = {bucketCode.data(), thresholds.data()};
   }
 };
 
@@ -51,6 +53,8 @@ float LinearToSrgb(float linear) {
   return linear <= 0.0031308f ? linear * 12.92f : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
+const SrgbEncodeTables& SrgbEncodeTablesForKernels() { return Tables().forKernels; }
+
 float SrgbCodeToLinear(uint8_t code) { return Tables().codeToLinear[code]; }
 
 uint8_t LinearToSrgbCode(float linear) {
@@ -59,8 +63,9 @@ uint8_t LinearToSrgbCode(float linear) {
   const SrgbTables& tables = Tables();
   uint32_t bits;
   std::memcpy(&bits, &linear, 4);
-  unsigned code = tables.bucketCode[bits >> kBucketShift];
-  while (linear >= tables.thresholds[code]) ++code;
+  unsigned code = unsigned(tables.bucketCode[bits >> kBucketShift]);
+  code += linear >= tables.thresholds[code];
+  code += linear >= tables.thresholds[code];
   return uint8_t(code);
 }
 

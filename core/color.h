@@ -19,6 +19,16 @@ float SrgbCodeToLinear(uint8_t code);
 // Values below 0 (and NaN) give 0, above 1 give 255.
 uint8_t LinearToSrgbCode(float linear);
 
+// The tables behind LinearToSrgbCode, for SIMD kernels that must give the same codes: for
+// 0 < x < 1, code = bucketCode[bits(x) >> kSrgbBucketShift], then twice code += (x >= thresholds[code])
+// (a bucket holds at most two code boundaries; thresholds[255] is +inf).
+inline constexpr int kSrgbBucketShift = 15;
+struct SrgbEncodeTables {
+  const int32_t* bucketCode;  // 0x3F800000 >> kSrgbBucketShift entries
+  const float* thresholds;    // 256 entries
+};
+const SrgbEncodeTables& SrgbEncodeTablesForKernels();
+
 // Unsigned normalised 8-bit code of a value in [0, 1], round half up; out-of-range values clamp,
 // NaN gives 0.
 uint8_t UnormCode8(float value);

@@ -8,9 +8,13 @@
 
 namespace ssgi {
 
-float TonemapCurve(float x, Tonemap curve) {
-  if (curve == Tonemap::kAces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
-  return std::clamp(x, 0.0f, 1.0f);
+void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes) {
+  for (size_t i = 0; i < count; ++i) {
+    float x = radiance[i] * scale;
+    x = std::isnan(x) ? 0.0f : std::min(std::max(x, 0.0f), kTonemapMaxInput);
+    if (curve == Tonemap::kAces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
+    codes[i] = LinearToSrgbCode(std::min(x, 1.0f));
+  }
 }
 
 void RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out) {
@@ -18,14 +22,12 @@ void RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, Tone
   const float scale = std::exp2(params.exposureEv);
   out.rgb.assign(width * height * 3, 0);
   ParallelFor("tonemap", height, [&](size_t y) {
+    std::vector<uint8_t> codes(width * 3);
+    for (int c = 0; c < 3; ++c)
+      TonemapRowSimd(radiance.c[c].ConstRow(y), width, scale, params.curve, codes.data() + c * width);
     uint8_t* row = out.rgb.data() + y * width * 3;
-    for (int c = 0; c < 3; ++c) {
-      const float* in = radiance.c[c].ConstRow(y);
-      for (size_t x = 0; x < width; ++x) {
-        const float v = in[x] * scale;
-        row[3 * x + c] = LinearToSrgbCode(std::isnan(v) ? 0.0f : TonemapCurve(std::max(v, 0.0f), params.curve));
-      }
-    }
+    for (size_t x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) row[3 * x + c] = codes[c * width + x];
   });
 }
 

@@ -1,9 +1,13 @@
 // Tonemap pass (DESIGN.md §8, docs/pipeline.md §Tonemap): linear HDR radiance -> 8-bit sRGB.
 // colour * 2^exposureEv, then per channel either the ACES filmic curve fitted by Narkowicz (2015),
 // x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), or a plain clamp, then clamped to [0, 1] and
-// encoded to the nearest 8-bit sRGB code (core/color.h). NaN encodes as 0.
+// encoded to the nearest 8-bit sRGB code (core/color.h). NaN encodes as 0; inputs are clamped to
+// [0, kTonemapMaxInput] first, so +inf encodes as white.
+// The per-row kernel has a scalar definition (tonemap.cpp) and a Highway twin (tonemap_simd.cpp)
+// that gives the same bytes on every SIMD target.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +15,8 @@
 #include "core/scene.h"
 
 namespace ssgi {
+
+inline constexpr float kTonemapMaxInput = 65504.0f;  // the largest half float: far past white
 
 struct TonemapParams {
   float exposureEv = 0.0f;
@@ -21,8 +27,10 @@ struct TonemapOutputs {
   std::vector<uint8_t> rgb;  // interleaved R, G, B rows, top row first, width * height * 3 bytes
 };
 
-float TonemapCurve(float x, Tonemap curve);
-
 void RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out);
+
+// One channel of one row: codes[i] = sRGB code of the tonemapped radiance[i] * scale.
+void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes);
+void TonemapRowSimd(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes);
 
 }  // namespace ssgi

@@ -1,0 +1,47 @@
+// Colour pyramid (DESIGN.md §6; docs/pipeline.md §Colour pyramid): the direct-light image
+// pre-convolved level by level, so the cone trace of Uludag (GPU Pro 5, "Hi-Z Screen-Space
+// Cone-Traced Reflections") reads a blurred radiance whose footprint matches each cone circle with a
+// single fetch. Level sizes equal the Hi-Z's (PyramidLevelSizes), so one level index addresses both.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "core/plane.h"
+#include "passes/hiz.h"
+
+namespace ssgi {
+
+// Uludag's separable 7-tap Gaussian (0.001, 0.028, 0.233, 0.474, 0.233, 0.028, 0.001) sums to 0.998;
+// divided by that sum so a constant image stays constant and the pyramid neither gains nor loses
+// energy level after level.
+inline constexpr std::array<float, 7> kColorPyramidWeights = {
+    float(0.001 / 0.998), float(0.028 / 0.998), float(0.233 / 0.998), float(0.474 / 0.998),
+    float(0.233 / 0.998), float(0.028 / 0.998), float(0.001 / 0.998)};
+
+// Level 0's ceiling, in the radiance's units: the largest half float. Sanitising +inf to a finite
+// cap (rather than 0) keeps a blown-out pixel bright; clamping every larger finite value too keeps
+// the weighted sums of a level from overflowing to +inf.
+inline constexpr float kColorPyramidMaxRadiance = 65504.0f;
+
+struct ColorPyramid {
+  // Linear RGB radiance, finite, in [0, kColorPyramidMaxRadiance]. levels[0]: the input's size, the
+  // input sanitised (NaN and negatives -> 0, values above the cap and +inf -> the cap);
+  // levels[k + 1]: PyramidHalvedSize of levels[k] on each axis, down to 1 x 1.
+  std::vector<Plane3<float>> levels;
+};
+
+struct ColorPyramidStats {
+  double ms = 0;
+  size_t texels = 0;  // RGB texels written over all levels
+};
+
+// radiance: linear RGB (the direct-light image), any values (non-finite and negative sanitised).
+// Level k + 1 texel (x, y) = the mean, over its Hi-Z footprint in level k (2x2; 3 wide / tall at an
+// odd level's last column / row), of level k blurred by kColorPyramidWeights horizontally then
+// vertically with clamp-to-edge addressing; each footprint texel weighted by the level-0 area it
+// covers, so a texel is the mean of its own level-0 area at every size. Reuses out's planes when their sizes already match.
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out);
+
+}  // namespace ssgi

@@ -1,0 +1,74 @@
+#include "passes/tonemap.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <hwy/targets.h>
+
+#include "core/color.h"
+
+namespace ssgi {
+namespace {
+
+// Inputs that reach every branch: special values, the curve's range and float patterns spread over
+// [0, 4] by bits (so every sRGB bucket and threshold neighbourhood is visited).
+std::vector<float> TonemapInputs() {
+  std::vector<float> values = {0.0f, -0.0f, -1.0f, 1.0f, 0.5f, 1e-30f, 1e30f, 65504.0f, 70000.0f,
+                               std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                               std::nanf(""), std::numeric_limits<float>::denorm_min()};
+  for (uint32_t bits = 0; bits <= 0x40800000u; bits += 61) {
+    float x;
+    std::memcpy(&x, &bits, 4);
+    values.push_back(x);
+  }
+  std::mt19937 rng(5);
+  std::lognormal_distribution<float> hdr(0.0f, 2.0f);
+  for (int i = 0; i < 100000; ++i) values.push_back(hdr(rng));
+  return values;
+}
+
+TEST_CASE("tonemap: the SIMD kernel equals the scalar definition on every compiled target", "[tonemap][simd]") {
+  const std::vector<float> inputs = TonemapInputs();
+  size_t targets = 0;
+  for (Tonemap curve : {Tonemap::kAces, Tonemap::kClamp}) {
+    for (float scale : {1.0f, 0.25f, 3.0f}) {
+      std::vector<uint8_t> expected(inputs.size()), actual(inputs.size());
+      TonemapRowScalar(inputs.data(), inputs.size(), scale, curve, expected.data());
+      for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        // Every count up to a few vectors exercises the scalar tail too.
+        for (size_t count : {inputs.size(), size_t(1), size_t(7), size_t(33)}) {
+          std::fill(actual.begin(), actual.end(), uint8_t(0xAB));
+          TonemapRowSimd(inputs.data(), count, scale, curve, actual.data());
+          CAPTURE(hwy::TargetName(target), count, scale);
+          REQUIRE(std::equal(actual.begin(), actual.begin() + count, expected.begin()));
+        }
+        ++targets;
+      }
+      hwy::SetSupportedTargetsForTest(0);
+    }
+  }
+  CHECK(targets >= 6);
+}
+
+TEST_CASE("tonemap: special values encode as documented", "[tonemap]") {
+  const float in[] = {std::nanf(""), -5.0f, 0.0f, std::numeric_limits<float>::infinity(), 1e6f};
+  uint8_t codes[5];
+  TonemapRowScalar(in, 5, 1.0f, Tonemap::kAces, codes);
+  CHECK(codes[0] == 0);
+  CHECK(codes[1] == 0);
+  CHECK(codes[2] == 0);
+  CHECK(codes[3] == 255);
+  CHECK(codes[4] == 255);
+  // Mid-grey through the clamp curve is its sRGB code.
+  const float grey = SrgbCodeToLinear(128);
+  TonemapRowScalar(&grey, 1, 1.0f, Tonemap::kClamp, codes);
+  CHECK(int(codes[0]) == 128);
+}
+
+}  // namespace
+}  // namespace ssgi
