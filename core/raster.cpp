@@ -82,6 +82,17 @@ int ClipPolygon(const glm::dvec4* in, int count, int plane, const ClipPlanes& pl
   return written;
 }
 
+// A vertex in fixed-point screen space: 8 sub-pixel bits, and the depth key z / w.
+struct Snapped {
+  int64_t x, y;
+  double key;
+};
+
+struct ProjectedVertex {
+  Snapped snapped;  // valid when outside == 0
+  uint8_t outside;  // bit p: outside clip plane p
+};
+
 class Setup {
  public:
   Setup(const ViewProjection& view, int tilesX, int tilesY)
@@ -90,45 +101,49 @@ class Setup {
     planes_.guardY = 1.0 + 2.0 * kGuardBandPixels / double(height_);
   }
 
-  void Triangle(const glm::vec4* clip, const uint32_t* index, uint32_t triangle, uint8_t flags, ChunkBins& bins) const {
+  // Per vertex, once: which clip planes it is outside of, and its snapped screen position when it is
+  // inside all of them (the common case, whose triangles need no clipping).
+  ProjectedVertex Project(const glm::vec4& clip) const {
+    const glm::dvec4 v(clip);
+    const std::array<double, ClipPlanes::kCount> distance = planes_.Distances(v);
+    ProjectedVertex out{};
+    for (int p = 0; p < ClipPlanes::kCount; ++p) out.outside |= uint8_t((distance[p] >= 0.0 ? 0 : 1) << p);
+    if (out.outside == 0) out.snapped = Snap(v);
+    return out;
+  }
+
+  void Triangle(const glm::vec4* clip, const ProjectedVertex* projected, const uint32_t* index, uint32_t triangle,
+                uint8_t flags, ChunkBins& bins) const {
     ++bins.stats.trianglesIn;
+    const ProjectedVertex& a = projected[index[0]];
+    const ProjectedVertex& b = projected[index[1]];
+    const ProjectedVertex& c = projected[index[2]];
+    if (a.outside & b.outside & c.outside) {  // all three outside one plane
+      ++bins.stats.trianglesCulled;
+      return;
+    }
+    if ((a.outside | b.outside | c.outside) == 0) {
+      if (!Emit(a.snapped, b.snapped, c.snapped, triangle, flags, bins)) ++bins.stats.trianglesCulled;
+      return;
+    }
+    ++bins.stats.trianglesClipped;
     glm::dvec4 polygon[2][kMaxClippedVertices];
-    std::array<std::array<double, ClipPlanes::kCount>, 3> distance;
-    bool allInside = true;
-    for (int i = 0; i < 3; ++i) {
-      polygon[0][i] = glm::dvec4(clip[index[i]]);
-      distance[i] = planes_.Distances(polygon[0][i]);
-    }
-    for (int p = 0; p < ClipPlanes::kCount; ++p) {
-      const bool in0 = distance[0][p] >= 0.0, in1 = distance[1][p] >= 0.0, in2 = distance[2][p] >= 0.0;
-      if (!in0 && !in1 && !in2) {
-        ++bins.stats.trianglesCulled;
-        return;
-      }
-      allInside = allInside && in0 && in1 && in2;
-    }
+    for (int i = 0; i < 3; ++i) polygon[0][i] = glm::dvec4(clip[index[i]]);
     int count = 3;
     int current = 0;
-    if (!allInside) {
-      ++bins.stats.trianglesClipped;
-      for (int p = 0; p < ClipPlanes::kCount && count >= 3; ++p) {
-        count = ClipPolygon(polygon[current], count, p, planes_, polygon[current ^ 1]);
-        current ^= 1;
-      }
+    for (int p = 0; p < ClipPlanes::kCount && count >= 3; ++p) {
+      count = ClipPolygon(polygon[current], count, p, planes_, polygon[current ^ 1]);
+      current ^= 1;
     }
     bool emitted = false;
     for (int i = 1; i + 1 < count; ++i) {
-      emitted |= Emit(polygon[current][0], polygon[current][i], polygon[current][i + 1], triangle, flags, bins);
+      emitted |= Emit(Snap(polygon[current][0]), Snap(polygon[current][i]), Snap(polygon[current][i + 1]), triangle,
+                      flags, bins);
     }
     if (!emitted) ++bins.stats.trianglesCulled;
   }
 
  private:
-  struct Snapped {
-    int64_t x, y;
-    double key;
-  };
-
   Snapped Snap(const glm::dvec4& v) const {
     const double invW = 1.0 / v.w;
     const double sx = (v.x * invW * 0.5 + 0.5) * double(width_);
@@ -144,9 +159,9 @@ class Setup {
     return {-dy, dx, dy * from.x - dx * from.y - (topLeft ? 0 : 1)};
   }
 
-  bool Emit(const glm::dvec4& c0, const glm::dvec4& c1, const glm::dvec4& c2, uint32_t triangle, uint8_t flags,
+  bool Emit(const Snapped& s0, const Snapped& s1, const Snapped& s2, uint32_t triangle, uint8_t flags,
             ChunkBins& bins) const {
-    Snapped v[3] = {Snap(c0), Snap(c1), Snap(c2)};
+    Snapped v[3] = {s0, s1, s2};
     int64_t area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
     if (area2 == 0) return false;
     // Counter-clockwise front faces turn clockwise in y-down screen space, i.e. negative area.
@@ -283,15 +298,19 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
   const bool writeTriangle = output == RasterOutput::kVisibility;
   if (writeTriangle) SSGI_CHECK_EQ(int(target.triangle.xsize()), view.width);
 
-  std::vector<glm::vec4> clip(input.vertexCount);
-  ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
-    const size_t end = std::min(input.vertexCount, (chunk + 1) * kChunkVertices);
-    for (size_t i = chunk * kChunkVertices; i < end; ++i) clip[i] = view.viewProjection * glm::vec4(input.positions[i], 1.0f);
-  });
-
   const int tilesX = (view.width + kRasterTileSize - 1) / kRasterTileSize;
   const int tilesY = (view.height + kRasterTileSize - 1) / kRasterTileSize;
   const Setup setup(view, tilesX, tilesY);
+  std::vector<glm::vec4> clip(input.vertexCount);
+  std::vector<ProjectedVertex> projected(input.vertexCount);
+  ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
+    const size_t end = std::min(input.vertexCount, (chunk + 1) * kChunkVertices);
+    for (size_t i = chunk * kChunkVertices; i < end; ++i) {
+      clip[i] = view.viewProjection * glm::vec4(input.positions[i], 1.0f);
+      projected[i] = setup.Project(clip[i]);
+    }
+  });
+
   std::vector<ChunkBins> chunks((input.triangleCount + kChunkTriangles - 1) / kChunkTriangles);
   ParallelFor("raster.setup_and_bin", chunks.size(), [&](size_t c) {
     ChunkBins& bins = chunks[c];
@@ -301,7 +320,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     for (size_t i = begin; i < end; ++i) {
       for (int k = 0; k < 3; ++k) SSGI_CHECK_LT(input.indices[3 * i + k], input.vertexCount);
       const uint8_t flags = input.triangleFlags ? input.triangleFlags[i] : uint8_t(0);
-      setup.Triangle(clip.data(), input.indices + 3 * i, uint32_t(i), flags, bins);
+      setup.Triangle(clip.data(), projected.data(), input.indices + 3 * i, uint32_t(i), flags, bins);
     }
     setup.Bin(bins);
   });
