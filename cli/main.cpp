@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
   renderCommand->add_flag("--stats", render.stats, "Print each stage's time in ms and its throughput.");
   renderCommand->add_option("--dump-gbuffer", render.dumpBuffers,
                             "Also write every intermediate buffer (raw and decoded G-buffer, visibility buffer, "
-                            "direct light) to this multi-channel .exr.");
+                            "shadow visibility, direct light) to this multi-channel .exr.");
   renderCommand->add_option("--normal-encoding", render.normalEncoding,
                             "G-buffer normal encoding: oct24 (octahedral 2x12 bits, default) or xyz8 (3x8 bits, "
                             "the paper's). Overrides the scene's.")
@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
                             "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito; default), sspcss (isotropic "
                             "screen-space PCSS, MohammadBagher et al. 2010) or hard (the shadow map's hard test).")
       ->check(CLI::IsMember({"hard", "sspcss", "ssabss"}));
-  renderCommand->add_option("--shadow-map-size", render.shadowMapSize, "Shadow map resolution in texels per side.")
+  renderCommand->add_option("--shadow-map-size", render.shadowMapSize, "Shadow map resolution in texels per side (default 2048).")
       ->check(CLI::Range(16, 16384));
   renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "
                                                            "overrides the scene's.");
