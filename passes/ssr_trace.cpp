@@ -1,0 +1,276 @@
+// SSR Hi-Z trace: driver and scalar per-tile kernel (docs/pipeline.md §SSR: Hi-Z trace).
+#include "passes/ssr_trace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "core/check.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kTileSize = 32;
+// Stands in for 1/0 and "never": finite, so products with it stay finite and comparable
+// (the largest step distance, 16384 pixels, times it is still far below FLT_MAX).
+constexpr float kHuge = 1e30f;
+// Direction components below this are treated as 0 (their reciprocal would overflow to inf).
+constexpr float kTinyComponent = 1e-20f;
+// How far past a crossed cell boundary the ray is put, in level-0 pixels, along the winning axis
+// only: several ulps at the largest image coordinate (16384, ulp 1/512), a negligible offset.
+constexpr float kBoundaryNudge = 1.0f / 64.0f;
+// Reflected segments are cut at 1000 view depths of their origin: farther hits are sub-pixel next
+// to the vanishing point, and the bound keeps the projected end finite for rays parallel to the
+// image plane.
+constexpr float kMaxRayLengthInDepths = 1000.0f;
+
+float SafeReciprocal(float v) { return std::fabs(v) < kTinyComponent ? kHuge : 1.0f / v; }
+
+// The cell of level-0 coordinate p at a level with `size` cells of 2^level pixels; the last cell
+// also covers the remainder of a floor-halved size (PyramidFootprintEnd).
+int CellIndex(float p, int level, int size) {
+  // Clamped before the conversion so a stray coordinate can never overflow the int.
+  const int pixel = int(std::clamp(p, 0.0f, 16384.0f * 2.0f));
+  return std::min(pixel >> level, size - 1);
+}
+
+// The boundary of cell `cell` the ray leaves through: the upper one for positive (and zero)
+// direction, the lower one for negative; the last cell's upper boundary is the image border.
+float CellBoundary(int cell, int level, int size, int imageSize, bool positive) {
+  if (!positive) return float(cell << level);
+  return cell + 1 == size ? float(imageSize) : float((cell + 1) << level);
+}
+
+bool InsideImage(glm::vec3 p, float width, float height) {
+  return p.x >= 0.0f && p.x < width && p.y >= 0.0f && p.y < height;
+}
+
+struct TileCounts {
+  size_t rays = 0;
+  uint64_t iterations = 0;
+};
+
+// One pixel's outputs; the defaults are those of untraced pixels, misses and rejected hits.
+struct PixelHit {
+  float x = -1.0f;
+  float y = -1.0f;
+  float confidence = 0.0f;
+};
+
+class PixelTracer {
+ public:
+  PixelTracer(const SsrTraceInputs& in, const SsrTraceParams& params)
+      : in_(in), params_(params), width_(float(in.gbuffer.width())), height_(float(in.gbuffer.height())) {}
+
+  // Traces pixel (x, y) when it has geometry below the roughness cut-off; counts traced rays.
+  PixelHit Trace(int x, int y, TileCounts& counts) const {
+    PixelHit none;
+    const float d = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(y))[x]);
+    if (!(d < kBackgroundDepth) || !(d > 0.0f)) return none;
+    const uint32_t word1 = in_.gbuffer.word[1].ConstRow(size_t(y))[x];
+    if (!(UnpackRoughness(word1) < params_.roughnessCutoff)) return none;
+
+    const glm::vec3 p = in_.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction * d;
+    const glm::vec3 n = DecodeNormal(word1 & 0xFFFFFFu, in_.normalEncoding);
+    const glm::vec3 v = p / std::sqrt(glm::dot(p, p));
+    const glm::vec3 r = v - 2.0f * glm::dot(v, n) * n;
+    // Rays toward the camera: the max pyramid has no back side, so fade them (see the header).
+    const float towardCamera = r.z <= 0.0f ? 1.0f : 1.0f - r.z / params_.towardCameraFade;
+    if (!(towardCamera > 0.0f)) return none;
+
+    // Near-plane clip before projecting: the end's view depth d - r.z L stays >= near.
+    float length = kMaxRayLengthInDepths * d;
+    if (r.z > 0.0f) length = std::min(length, (d - in_.view.nearPlane) / r.z);
+    if (!(length > 0.0f)) return none;
+    const glm::vec3 q = p + r * length;
+    if (!(-q.z > 0.0f)) return none;
+
+    ++counts.rays;
+    const HiZRay ray{{float(x) + 0.5f, float(y) + 0.5f, 1.0f / d}, Project(q)};
+    const HiZMarch march = MarchHiZ(in_.hiz, ray, params_.maxIterations);
+    counts.iterations += uint64_t(march.iterations);
+    if (!march.hit || !InsideImage(march.position, width_, height_) || !(march.position.z > 0.0f))
+      return none;
+
+    const int hx = std::min(int(march.position.x), in_.gbuffer.width() - 1);
+    const int hy = std::min(int(march.position.y), in_.gbuffer.height() - 1);
+    const float hitDepth = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(hy))[hx]);
+    if (!(hitDepth < kBackgroundDepth)) return none;
+    const glm::vec3 hitNormal =
+        DecodeNormal(in_.gbuffer.word[1].ConstRow(size_t(hy))[hx] & 0xFFFFFFu, in_.normalEncoding);
+    // Back faces and surfaces the ray only grazes cannot reflect light back along r.
+    if (glm::dot(hitNormal, r) >= 0.0f) return none;
+
+    // Relative depth excess of the ray over the surface: (ray d - surface d) / surface d.
+    const float excess = (1.0f / march.position.z) / hitDepth - 1.0f;
+    const float thickness = std::clamp(2.0f - excess / params_.thickness, 0.0f, 1.0f);
+    const float confidence = thickness * towardCamera * EdgeFade(march.position.x, width_) *
+                             EdgeFade(march.position.y, height_);
+    if (!(confidence > 0.0f)) return none;
+    return {march.position.x, march.position.y, std::min(confidence, 1.0f)};
+  }
+
+ private:
+  // View-space point (in front of the camera) -> (x, y, 1/d), docs/pipeline.md §Conventions.
+  glm::vec3 Project(glm::vec3 q) const {
+    const float depth = -q.z;
+    const float ndcX = q.x / (depth * in_.view.halfX);
+    const float ndcY = q.y / (depth * in_.view.halfY);
+    return {(ndcX * 0.5f + 0.5f) * width_, (0.5f - ndcY * 0.5f) * height_, 1.0f / depth};
+  }
+
+  float EdgeFade(float p, float size) const {
+    if (!(params_.edgeFade > 0.0f)) return 1.0f;
+    return std::clamp(std::min(p, size - p) / (params_.edgeFade * size), 0.0f, 1.0f);
+  }
+
+  const SsrTraceInputs& in_;
+  const SsrTraceParams& params_;
+  float width_;
+  float height_;
+};
+
+void ShapeOutput(Plane<float>& plane, size_t width, size_t height) {
+  if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
+}
+
+}  // namespace
+
+HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations) {
+  SSGI_CHECK(!hiz.levels.empty());
+  HiZMarch result;
+  const int imageWidth = int(hiz.levels[0].xsize());
+  const int imageHeight = int(hiz.levels[0].ysize());
+  const float width = float(imageWidth);
+  const float height = float(imageHeight);
+  const int topLevel = int(hiz.levels.size()) - 1;
+  if (!std::isfinite(ray.origin.x) || !std::isfinite(ray.origin.y) || !std::isfinite(ray.origin.z) ||
+      !std::isfinite(ray.end.x) || !std::isfinite(ray.end.y) || !std::isfinite(ray.end.z) ||
+      !InsideImage(ray.origin, width, height))
+    return result;
+
+  // Snap the origin strictly inside its level-0 cell, so its first boundary crossing leaves that
+  // cell and no rounding can put it on the far side of a boundary it has not crossed.
+  glm::vec3 pos = ray.origin;
+  const int startX = CellIndex(pos.x, 0, imageWidth);
+  const int startY = CellIndex(pos.y, 0, imageHeight);
+  pos.x = std::clamp(pos.x, float(startX) + kBoundaryNudge, float(startX + 1) - kBoundaryNudge);
+  pos.y = std::clamp(pos.y, float(startY) + kBoundaryNudge, float(startY + 1) - kBoundaryNudge);
+  result.position = pos;
+
+  const glm::vec3 dir = ray.end - pos;
+  const glm::vec3 inv{SafeReciprocal(dir.x), SafeReciprocal(dir.y), SafeReciprocal(dir.z)};
+  const bool positiveX = !(dir.x <= -kTinyComponent);
+  const bool positiveY = !(dir.y <= -kTinyComponent);
+  // The march ends at the segment's end or where it leaves the image, whichever comes first.
+  const float exitX = ((positiveX ? width : 0.0f) - pos.x) * inv.x;
+  const float exitY = ((positiveY ? height : 0.0f) - pos.y) * inv.y;
+  const float tEnd = std::min({1.0f, exitX, exitY});
+
+  float t = 0.0f;
+  int level = 0;
+  bool skipOrigin = true;  // the first step leaves the origin's own cell: it holds the reflector
+  while (result.iterations < maxIterations) {
+    ++result.iterations;
+    const Plane<float>& plane = hiz.levels[size_t(level)];
+    const int sizeX = int(plane.xsize());
+    const int sizeY = int(plane.ysize());
+    const int cellX = CellIndex(pos.x, level, sizeX);
+    const int cellY = CellIndex(pos.y, level, sizeY);
+    const float closest = plane.ConstRow(size_t(cellY))[cellX];
+
+    // Un-offset cell planes: the nudge below is what moves the ray across, on one axis only, so an
+    // axis-aligned ray (the other axis' t is kHuge) can never stall on a boundary.
+    const float boundaryX = CellBoundary(cellX, level, sizeX, imageWidth, positiveX);
+    const float boundaryY = CellBoundary(cellY, level, sizeY, imageHeight, positiveY);
+    const float tX = (boundaryX - pos.x) * inv.x;
+    const float tY = (boundaryY - pos.y) * inv.y;
+    const float tCell = std::min(tX, tY);
+    // The ray meets the cell's closest-depth plane: now if it is already at or behind it, ahead if
+    // it recedes (1/d falling), never if it approaches the camera in front of it.
+    float tDepth = kHuge;
+    if (!skipOrigin) {
+      if (pos.z <= closest) tDepth = 0.0f;
+      else if (dir.z <= -kTinyComponent) tDepth = (closest - pos.z) * inv.z;
+    }
+    skipOrigin = false;
+
+    if (tDepth < tCell) {
+      if (t + tDepth > tEnd) return result;
+      pos += dir * tDepth;
+      t += tDepth;
+      result.position = pos;
+      if (level == 0) {
+        result.hit = true;
+        return result;
+      }
+      --level;
+    } else {
+      if (t + tCell >= tEnd) return result;
+      pos += dir * tCell;
+      t += tCell;
+      if (tX <= tY) pos.x = boundaryX + (positiveX ? kBoundaryNudge : -kBoundaryNudge);
+      else pos.y = boundaryY + (positiveY ? kBoundaryNudge : -kBoundaryNudge);
+      result.position = pos;
+      if (!InsideImage(pos, width, height)) return result;
+      level = std::min(level + 1, topLevel);
+    }
+  }
+  return result;
+}
+
+SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out) {
+  const Stopwatch stopwatch;
+  const int width = in.gbuffer.width();
+  const int height = in.gbuffer.height();
+  SSGI_CHECK(!in.view.orthographic);
+  SSGI_CHECK_EQ(in.view.width, width);
+  SSGI_CHECK_EQ(in.view.height, height);
+  SSGI_CHECK(!in.hiz.levels.empty());
+  SSGI_CHECK_EQ(in.hiz.levels[0].xsize(), size_t(width));
+  SSGI_CHECK_EQ(in.hiz.levels[0].ysize(), size_t(height));
+  SSGI_CHECK_GE(params.maxIterations, 1);
+  SSGI_CHECK_GT(params.thickness, 0.0f);
+  SSGI_CHECK_GT(params.towardCameraFade, 0.0f);
+  ShapeOutput(out.hitX, size_t(width), size_t(height));
+  ShapeOutput(out.hitY, size_t(width), size_t(height));
+  ShapeOutput(out.confidence, size_t(width), size_t(height));
+
+  const int tilesX = (width + kTileSize - 1) / kTileSize;
+  const int tilesY = (height + kTileSize - 1) / kTileSize;
+  std::vector<TileCounts> counts(size_t(tilesX) * size_t(tilesY));
+  const PixelTracer tracer(in, params);
+  ParallelFor("ssr_trace", counts.size(), [&](size_t tile) {
+    const int x0 = int(tile % size_t(tilesX)) * kTileSize;
+    const int y0 = int(tile / size_t(tilesX)) * kTileSize;
+    const int x1 = std::min(x0 + kTileSize, width);
+    const int y1 = std::min(y0 + kTileSize, height);
+    for (int y = y0; y < y1; ++y) {
+      float* hitX = out.hitX.MutableRow(size_t(y));
+      float* hitY = out.hitY.MutableRow(size_t(y));
+      float* confidence = out.confidence.MutableRow(size_t(y));
+      for (int x = x0; x < x1; ++x) {
+        const PixelHit hit = tracer.Trace(x, y, counts[tile]);
+        hitX[x] = hit.x;
+        hitY[x] = hit.y;
+        confidence[x] = hit.confidence;
+      }
+    }
+  });
+
+  SsrTraceStats stats;
+  uint64_t iterations = 0;
+  for (const TileCounts& tile : counts) {
+    stats.rays += tile.rays;
+    iterations += tile.iterations;
+    if (tile.rays > 0) ++stats.tilesTraced;
+  }
+  stats.meanIterations = stats.rays > 0 ? double(iterations) / double(stats.rays) : 0.0;
+  stats.ms = stopwatch.Milliseconds();
+  return stats;
+}
+
+}  // namespace ssgi

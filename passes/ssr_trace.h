@@ -1,0 +1,82 @@
+// SSR Hi-Z trace (DESIGN.md §7; docs/pipeline.md §SSR: Hi-Z trace): per pixel, reflect the view ray
+// about the G-buffer normal and march the reflected ray in screen space through the Hi-Z pyramid,
+// after Uludag (GPU Pro 5, "Hi-Z Screen-Space Cone-Traced Reflections"), with the fixes of the
+// Bitsquid/Stingray notes and AMD FidelityFX SSSR (origin snapped into its cell, un-offset cell planes
+// with a nudge along the winning axis only, safe reciprocals, a fixed iteration cap). The cone trace
+// that turns a hit into radiance is a separate pass.
+#pragma once
+
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+#include "core/camera.h"
+#include "core/gbuffer.h"
+#include "core/plane.h"
+#include "core/scene.h"
+#include "passes/hiz.h"
+
+namespace ssgi {
+
+struct SsrTraceParams {
+  int maxIterations = 64;         // Hi-Z steps per ray (>= 1); a ray still marching then is a miss
+  float roughnessCutoff = 0.7f;   // perceptual roughness; pixels with roughness >= cutoff are not traced
+  // Relative thickness assumed behind every depth sample: a hit where the ray's view depth exceeds
+  // the surface's by up to thickness * d has full confidence, fading linearly to 0 at 2 * thickness * d
+  // (the ray then passed behind the surface rather than hitting it). > 0.
+  float thickness = 0.05f;
+  // Screen-edge fade width, as a fraction of the image width (x) and height (y): confidence falls
+  // linearly to 0 as the hit approaches an image border. 0 disables the fade.
+  float edgeFade = 0.05f;
+  // Rays toward the camera (view-space r.z > 0) are traced with the max pyramid, which cannot tell
+  // whether the ray passes in front of or behind a surface; their confidence fades linearly from 1
+  // at r.z = 0 to 0 at r.z = towardCameraFade (continuous at r.z = 0: no seam). Rays with r.z >=
+  // towardCameraFade are not traced. > 0.
+  float towardCameraFade = 0.3f;
+};
+
+struct SsrTraceInputs {
+  const GBuffer& gbuffer;        // words 1 (normal, roughness) and 2 (view depth)
+  const ViewProjection& view;    // the perspective camera of the G-buffer's size
+  const HiZ& hiz;                // RunHiZ of gbuffer.word[2]
+  NormalEncoding normalEncoding; // the G-buffer's word-1 encoding
+};
+
+struct SsrTraceOutputs {
+  // G-buffer size. Hit position in level-0 pixel coordinates (origin top-left, pixel centres at
+  // +0.5), inside [0, width) x [0, height); -1 in both where there is no hit (untraced pixel, miss,
+  // or rejected hit). Never NaN.
+  Plane<float> hitX;
+  Plane<float> hitY;
+  // In [0, 1]: thickness x screen-edge x toward-camera fades; 0 exactly where hitX is -1.
+  Plane<float> confidence;
+};
+
+struct SsrTraceStats {
+  double ms = 0;
+  size_t rays = 0;             // pixels traced
+  double meanIterations = 0;   // Hi-Z steps per traced ray
+  size_t tilesTraced = 0;      // 32 x 32 tiles with at least one traced ray
+};
+
+// One screen-space ray march through the Hi-Z. Positions are (x, y, 1/d): level-0 pixel coordinates
+// and inverse view depth in 1/metres, in which a perspective ray is linear.
+struct HiZRay {
+  glm::vec3 origin;  // inside the image; its own cell is skipped (the reflecting surface itself)
+  glm::vec3 end;     // anywhere; the march stops at the segment's end or the image border
+};
+
+struct HiZMarch {
+  bool hit = false;     // the ray reached the depth of a level-0 texel inside that texel
+  glm::vec3 position{}; // (x, y, 1/d) of the hit; the last position reached on a miss
+  int iterations = 0;   // <= maxIterations
+};
+
+// Uludag's march: at level k the ray steps to the nearer of the current cell's boundary (then
+// k + 1) and the cell's closest-depth plane 1/d = max (then k - 1, a hit below level 0).
+HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations);
+
+// Reuses out's planes when their sizes already match, else allocates them.
+SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out);
+
+}  // namespace ssgi

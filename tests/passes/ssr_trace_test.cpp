@@ -1,0 +1,247 @@
+#include "passes/ssr_trace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "core/parallel.h"
+#include "passes/gbuffer.h"
+#include "tests/passes/test_scenes.h"
+
+namespace ssgi {
+namespace {
+
+struct Traced {
+  GBuffer gbuffer;
+  ViewProjection view;
+  HiZ hiz;
+  SsrTraceOutputs out;
+  SsrTraceStats stats;
+};
+
+constexpr glm::vec3 kBoxLo{-0.8f, 0.0f, -0.4f};
+constexpr glm::vec3 kBoxHi{0.8f, 1.0f, 0.4f};
+
+// A mirror floor (roughness 0) with a box standing on it, seen from above and in front.
+Traced TraceMirrorFloor(int width, int height, NormalEncoding encoding) {
+  CameraDesc camera;
+  camera.position = {0.0f, 1.2f, 4.0f};
+  camera.target = {0.0f, 0.4f, 0.0f};
+  Scene scene = test::MakeScene(camera, width, height);
+  scene.materials[0].roughness = 0.0f;
+  test::AddGround(scene.mesh, 10.0f);
+  test::AddBox(scene.mesh, kBoxLo, kBoxHi);
+  Traced t;
+  t.view = MakePerspective(camera, width, height);
+  GBufferOutputs g;
+  RunGBuffer({scene, t.view}, {encoding}, g);
+  t.gbuffer = std::move(g.gbuffer);
+  RunHiZ(t.gbuffer.word[2], t.hiz);
+  t.stats = RunSsrTrace({t.gbuffer, t.view, t.hiz, encoding}, {}, t.out);
+  return t;
+}
+
+// Every output pixel is either "no hit" (-1, -1, 0) or a hit inside the image with confidence in
+// (0, 1]; never NaN.
+void CheckOutputsWellFormed(const SsrTraceOutputs& out) {
+  const size_t width = out.hitX.xsize();
+  const size_t height = out.hitX.ysize();
+  size_t bad = 0;
+  for (size_t y = 0; y < height; ++y) {
+    for (size_t x = 0; x < width; ++x) {
+      const float hx = out.hitX.ConstRow(y)[x];
+      const float hy = out.hitY.ConstRow(y)[x];
+      const float c = out.confidence.ConstRow(y)[x];
+      const bool noHit = hx == -1.0f && hy == -1.0f && c == 0.0f;
+      const bool hit = hx >= 0.0f && hx < float(width) && hy >= 0.0f && hy < float(height) && c > 0.0f &&
+                       c <= 1.0f;
+      if (!noHit && !hit) ++bad;
+    }
+  }
+  CHECK(bad == 0);
+}
+
+TEST_CASE("SSR hits on a mirror floor match the analytic reflection of the box's front face", "[ssr]") {
+  constexpr int kWidth = 256;
+  constexpr int kHeight = 192;
+  const Traced t = TraceMirrorFloor(kWidth, kHeight, NormalEncoding::kOct24);
+  const glm::vec3 eye{0.0f, 1.2f, 4.0f};
+  constexpr float kMargin = 0.03f;  // metres kept clear of the face's edges (ambiguous pixels)
+
+  std::vector<float> errors;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const glm::vec3 p = test::WorldPosition(t.view, t.gbuffer, x, y);
+      if (!(std::fabs(p.y) < 1e-3f) || !(p.z > kBoxHi.z)) continue;  // floor in front of the box
+      glm::vec3 w = glm::normalize(p - eye);
+      w.y = -w.y;  // mirror about y = 0
+      if (!(w.z < 0.0f)) continue;
+      const glm::vec3 q = p + w * ((kBoxHi.z - p.z) / w.z);
+      if (q.x < kBoxLo.x + kMargin || q.x > kBoxHi.x - kMargin || q.y < kMargin || q.y > kBoxHi.y - kMargin)
+        continue;
+      const glm::vec4 clip = t.view.viewProjection * glm::vec4(q, 1.0f);
+      const float sx = (clip.x / clip.w * 0.5f + 0.5f) * float(kWidth);
+      const float sy = (0.5f - clip.y / clip.w * 0.5f) * float(kHeight);
+      const float hx = t.out.hitX.ConstRow(size_t(y))[x];
+      const float hy = t.out.hitY.ConstRow(size_t(y))[x];
+      errors.push_back(hx < 0.0f ? std::numeric_limits<float>::infinity() : std::hypot(hx - sx, hy - sy));
+    }
+  }
+  REQUIRE(errors.size() > 500);
+  const size_t within = size_t(std::count_if(errors.begin(), errors.end(), [](float e) { return e <= 1.0f; }));
+  std::sort(errors.begin(), errors.end());
+  const float median = errors[errors.size() / 2];
+  const double fraction = double(within) / double(errors.size());
+  std::printf("[ssr] mirror floor %dx%d: %zu analytic pixels, %.2f%% within 1 px, median error %.3f px; "
+              "%zu rays, %.2f mean iterations, %zu tiles\n",
+              kWidth, kHeight, errors.size(), 100.0 * fraction, double(median), t.stats.rays,
+              t.stats.meanIterations, t.stats.tilesTraced);
+  CHECK(fraction >= 0.95);
+  CHECK(median <= 0.5f);
+  CheckOutputsWellFormed(t.out);
+}
+
+// A Hi-Z over a width x height depth image given by depth(x, y) in metres.
+HiZ MakeHiZ(int width, int height, const std::function<float(int, int)>& depth) {
+  Plane<uint32_t> word = MakePlane<uint32_t>(size_t(width), size_t(height), 0u);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) word.MutableRow(size_t(y))[x] = PackDepth(depth(x, y));
+  HiZ hiz;
+  RunHiZ(word, hiz);
+  return hiz;
+}
+
+TEST_CASE("SSR march: axis-aligned rays find a wall and stop, degenerate rays terminate", "[ssr]") {
+  constexpr int kWidth = 64;
+  constexpr int kHeight = 48;
+  constexpr int kCap = 64;
+  // A far floor at 10 m with near walls at 2 m: column 40, column 5, row 30, row 4.
+  const HiZ hiz = MakeHiZ(kWidth, kHeight, [](int x, int y) {
+    return x == 40 || x == 5 || y == 30 || y == 4 ? 2.0f : 10.0f;
+  });
+  struct Case {
+    glm::vec3 origin;
+    glm::vec3 end;
+    int wallX;  // expected hit column or -1
+    int wallY;  // expected hit row or -1
+  };
+  const float iz = 1.0f / 5.0f;  // the ray at 5 m: in front of the floor, behind the walls
+  const Case cases[] = {
+      {{10.5f, 20.5f, iz}, {500.0f, 20.5f, iz}, 40, 20},   // +x
+      {{30.5f, 20.5f, iz}, {-500.0f, 20.5f, iz}, 5, 20},   // -x
+      {{20.5f, 10.5f, iz}, {20.5f, 500.0f, iz}, 20, 30},   // +y
+      {{20.5f, 20.5f, iz}, {20.5f, -500.0f, iz}, 20, 4},   // -y
+      {{41.0f, 20.0f, iz}, {41.0f, -500.0f, iz}, 41, 4},   // -y from a pixel corner
+  };
+  for (const Case& c : cases) {
+    const HiZMarch m = MarchHiZ(hiz, {c.origin, c.end}, kCap);
+    INFO("origin " << c.origin.x << ", " << c.origin.y << " iterations " << m.iterations);
+    CHECK(m.hit);
+    CHECK(m.iterations <= kCap);
+    CHECK(int(std::floor(m.position.x)) == c.wallX);
+    CHECK(int(std::floor(m.position.y)) == c.wallY);
+  }
+
+  // No walls: axis-aligned, diagonal, purely-depth and zero-length rays, from corners and edges, in
+  // both depth directions, all end (miss) within the cap with finite positions.
+  const HiZ open = MakeHiZ(kWidth, kHeight, [](int, int) { return 10.0f; });
+  const glm::vec3 origins[] = {{0.0f, 0.0f, iz}, {63.99f, 47.99f, iz}, {0.5f, 24.0f, iz}, {32.0f, 24.0f, iz}};
+  const glm::vec3 offsets[] = {{1e4f, 0, 0}, {-1e4f, 0, 0}, {0, 1e4f, 0}, {0, -1e4f, 0}, {1e4f, 1e4f, 0},
+                               {-3.0f, 7.0f, 0}, {0, 0, 1.0f}, {0, 0, -0.1f}, {0, 0, 0}, {1e-30f, -1e-30f, 0}};
+  for (const glm::vec3& o : origins) {
+    for (const glm::vec3& d : offsets) {
+      for (int cap : {1, 7, kCap}) {
+        const HiZMarch m = MarchHiZ(open, {o, o + d}, cap);
+        CHECK_FALSE(m.hit);
+        CHECK(m.iterations <= cap);
+        CHECK(std::isfinite(m.position.x));
+        CHECK(std::isfinite(m.position.y));
+        CHECK(std::isfinite(m.position.z));
+      }
+    }
+  }
+}
+
+// A hand-built G-buffer: random depths, random unit normals over the whole sphere (so rays go toward
+// the camera, off screen, along the axes, from every edge pixel), some background, roughness 0.
+GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> depth(0.5f, 20.0f);
+  std::normal_distribution<float> gauss(0.0f, 1.0f);
+  std::uniform_int_distribution<int> background(0, 9);
+  GBuffer g = MakeGBuffer(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (background(rng) == 0) continue;
+      glm::vec3 n{gauss(rng), gauss(rng), gauss(rng)};
+      if (x % 7 == 0) n = {0.0f, 0.0f, 1.0f};  // facing the camera: the ray returns toward it
+      if (x % 11 == 0) n = {0.0f, 1.0f, 0.2f};
+      g.word[1].MutableRow(size_t(y))[x] = PackNormalRoughness(glm::normalize(n), 0.0f, encoding);
+      g.word[2].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
+    }
+  }
+  return g;
+}
+
+TEST_CASE("SSR trace on random G-buffers terminates within the cap with well-formed outputs", "[ssr]") {
+  for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+    for (const auto& [width, height] : {std::pair{67, 45}, std::pair{1, 1}, std::pair{1, 9}, std::pair{33, 2}}) {
+      const GBuffer g = RandomGBuffer(width, height, encoding, uint32_t(width * 100 + height));
+      CameraDesc camera;
+      const ViewProjection view = MakePerspective(camera, width, height);
+      HiZ hiz;
+      RunHiZ(g.word[2], hiz);
+      for (int cap : {1, 64}) {
+        SsrTraceParams params;
+        params.maxIterations = cap;
+        SsrTraceOutputs out;
+        const SsrTraceStats stats = RunSsrTrace({g, view, hiz, encoding}, params, out);
+        INFO(width << "x" << height << " cap " << cap);
+        CHECK(stats.meanIterations <= double(cap));
+        CheckOutputsWellFormed(out);
+        if (width == 67) CHECK(stats.rays > 1000);
+      }
+    }
+  }
+}
+
+void CheckSame(const Plane<float>& a, const Plane<float>& b) {
+  REQUIRE(a.xsize() == b.xsize());
+  REQUIRE(a.ysize() == b.ysize());
+  for (size_t y = 0; y < a.ysize(); ++y)
+    CHECK(std::memcmp(a.ConstRow(y), b.ConstRow(y), a.xsize() * sizeof(float)) == 0);
+}
+
+TEST_CASE("SSR trace outputs are byte-identical at 1, 2 and 3 threads", "[ssr]") {
+  const GBuffer g = RandomGBuffer(131, 77, NormalEncoding::kOct24, 7);
+  const ViewProjection view = MakePerspective(CameraDesc{}, 131, 77);
+  HiZ hiz;
+  RunHiZ(g.word[2], hiz);
+  std::vector<Traced> floors;
+  std::vector<SsrTraceOutputs> randoms;
+  for (int threads : {1, 2, 3}) {
+    const ThreadLimit limit(threads);
+    floors.push_back(TraceMirrorFloor(160, 120, NormalEncoding::kOct24));
+    SsrTraceOutputs out;
+    RunSsrTrace({g, view, hiz, NormalEncoding::kOct24}, {}, out);
+    randoms.push_back(std::move(out));
+  }
+  for (size_t i = 1; i < 3; ++i) {
+    CheckSame(floors[0].out.hitX, floors[i].out.hitX);
+    CheckSame(floors[0].out.hitY, floors[i].out.hitY);
+    CheckSame(floors[0].out.confidence, floors[i].out.confidence);
+    CheckSame(randoms[0].hitX, randoms[i].hitX);
+    CheckSame(randoms[0].hitY, randoms[i].hitY);
+    CheckSame(randoms[0].confidence, randoms[i].confidence);
+  }
+}
+
+}  // namespace
+}  // namespace ssgi
