@@ -147,6 +147,10 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   stats.rasterMs = stopwatch.Lap();
 
   out.gbuffer = MakeGBuffer(view.width, view.height);
+  // Word 0 of a material without colour or metallic textures is the same at every pixel.
+  std::vector<uint32_t> constantWord0(scene.materials.size());
+  for (size_t m = 0; m < scene.materials.size(); ++m)
+    constantWord0[m] = PackAlbedoMetallic(scene.materials[m].baseColor, scene.materials[m].metallic);
   const glm::mat3 normalToView(view.view);  // lookAt is a rotation plus a translation
   const int bands = (view.height + kResolveRows - 1) / kResolveRows;
   std::vector<size_t> coveredPerBand(bands, 0);
@@ -162,7 +166,8 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
         const uint32_t triangle = ids[x];
         if (triangle == kNoTriangle) continue;
         ++coveredPerBand[band];
-        const Material& material = scene.materials[scene.mesh.materials[triangle]];
+        const uint32_t materialIndex = scene.mesh.materials[triangle];
+        const Material& material = scene.materials[materialIndex];
         const bool textured = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
                               material.roughnessTexture != kNoTexture;
         const SurfacePoint s = resolver.At(triangle, x, y, textured);
@@ -179,17 +184,21 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
         const glm::vec3 toPoint = view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
         if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
 
-        glm::vec3 albedo = material.baseColor;
-        float metallic = material.metallic;
+        if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
+          w0[x] = constantWord0[materialIndex];
+        } else {
+          glm::vec3 albedo = material.baseColor;
+          float metallic = material.metallic;
+          if (material.baseColorTexture != kNoTexture)
+            albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
+          if (material.metallicTexture != kNoTexture)
+            metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
+          w0[x] = PackAlbedoMetallic(albedo, metallic);
+        }
         float roughness = material.roughness;
-        if (material.baseColorTexture != kNoTexture)
-          albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
-        if (material.metallicTexture != kNoTexture)
-          metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
         if (material.roughnessTexture != kNoTexture)
           roughness *= SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
 
-        w0[x] = PackAlbedoMetallic(albedo, metallic);
         w1[x] = PackNormalRoughness(normal, roughness, params.normalEncoding);
         w2[x] = PackDepth(view.DepthFromKey(keys[x]));
       }
