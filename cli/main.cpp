@@ -48,6 +48,7 @@ struct RenderOptions {
   std::optional<std::string> normalEncoding;
   std::optional<float> exposure;
   std::optional<std::string> shadows;
+  std::optional<std::string> reflections;
   std::string shadowFilter = "ssabss";
   int shadowMapSize = 2048;
 };
@@ -62,6 +63,10 @@ void ParseSize(const std::string& text, int& width, int& height) {
                            "], got " + text);
   width = w;
   height = h;
+}
+
+ssgi::EffectMode ParseEffectMode(const std::string& text) {
+  return text == "on" ? ssgi::EffectMode::kOn : text == "off" ? ssgi::EffectMode::kOff : ssgi::EffectMode::kAuto;
 }
 
 void PrintStats(const std::vector<ssgi::StageStats>& stats, int width, int height, int threads) {
@@ -97,10 +102,8 @@ int Render(const RenderOptions& options) {
   if (options.normalEncoding)
     scene.settings.normalEncoding = *options.normalEncoding == "xyz8" ? ssgi::NormalEncoding::kXyz8 : ssgi::NormalEncoding::kOct24;
   if (options.exposure) scene.settings.exposureEv = *options.exposure;
-  if (options.shadows)
-    scene.settings.shadows = *options.shadows == "on"    ? ssgi::EffectMode::kOn
-                             : *options.shadows == "off" ? ssgi::EffectMode::kOff
-                                                         : ssgi::EffectMode::kAuto;
+  if (options.shadows) scene.settings.shadows = ParseEffectMode(*options.shadows);
+  if (options.reflections) scene.settings.reflections = ParseEffectMode(*options.reflections);
   ssgi::FrameOptions frameOptions;
   frameOptions.shadowMap.resolution = options.shadowMapSize;
   frameOptions.shadowFilter.filter = options.shadowFilter == "hard"     ? ssgi::ShadowFilter::kHard
@@ -129,6 +132,10 @@ int Render(const RenderOptions& options) {
     if (frame.shadowTiles > 0)
       std::printf("  shadow blur ran on %zu of %zu tiles (%.1f%%)\n", frame.shadowTilesBlurred, frame.shadowTiles,
                   100.0 * double(frame.shadowTilesBlurred) / double(frame.shadowTiles));
+    if (frame.reflections)
+      std::printf("  ssr traced %zu rays (%.1f Hi-Z steps each) in %zu of %zu tiles (%.1f%%)\n", frame.ssrRays,
+                  frame.ssrMeanIterations, frame.ssrTilesTraced, frame.ssrTiles,
+                  100.0 * double(frame.ssrTilesTraced) / double(frame.ssrTiles));
     std::printf("  %-20s %10.3f\n", "write image", writeMs);
   }
   std::printf("wrote %s\n", output.string().c_str());
@@ -155,10 +162,13 @@ std::vector<uint8_t> SideBySide(const std::vector<const std::vector<uint8_t>*>& 
   return strip;
 }
 
-// The paper's image sequence (Figs. 4-6) for one scene: albedo, direct light without shadows, direct
-// light with SSABSS soft shadows, and a crop comparing the hard, SSPCSS and SSABSS shadow filters.
+// The paper's image sequence for one scene: albedo, direct light without shadows, direct light with
+// SSABSS soft shadows (Figs. 4-6), the final image with indirect light at board roughness 0, 0.3 and
+// 0.9 (Figs. 7-9; the default scene's board materials), a crop comparing the hard, SSPCSS and SSABSS
+// shadow filters, and Table 1: the median frame time of direct only / + shadows / + shadows + GI.
 int Figures(const FiguresOptions& options) {
   const ssgi::ThreadLimit threadLimit(options.threads);
+  const int threads = options.threads > 0 ? options.threads : ssgi::HardwareThreads();
   const fs::path folder(options.folder);
   std::error_code error;
   fs::create_directories(folder, error);
@@ -170,8 +180,9 @@ int Figures(const FiguresOptions& options) {
   scene.settings.width = width;
   scene.settings.height = height;
 
-  auto render = [&](ssgi::EffectMode shadows, ssgi::ShadowFilter filter) {
+  auto render = [&](ssgi::EffectMode shadows, ssgi::EffectMode reflections, ssgi::ShadowFilter filter) {
     scene.settings.shadows = shadows;
+    scene.settings.reflections = reflections;
     ssgi::FrameOptions frameOptions;
     frameOptions.shadowFilter.filter = filter;
     return ssgi::RenderFrame(scene, frameOptions);
@@ -180,12 +191,14 @@ int Figures(const FiguresOptions& options) {
     ssgi::WritePng(folder / name, w, h, rgb);
     std::printf("wrote %s\n", (folder / name).string().c_str());
   };
-  const ssgi::Frame unshadowed = render(ssgi::EffectMode::kOff, ssgi::ShadowFilter::kSsabss);
+  using ssgi::EffectMode;
+  using ssgi::ShadowFilter;
+  const ssgi::Frame unshadowed = render(EffectMode::kOff, EffectMode::kOff, ShadowFilter::kSsabss);
   write("albedo.png", width, height, ssgi::AlbedoImage(unshadowed.gbuffer.gbuffer));
   write("direct.png", width, height, unshadowed.display.rgb);
-  const ssgi::Frame hard = render(ssgi::EffectMode::kAuto, ssgi::ShadowFilter::kHard);
-  const ssgi::Frame sspcss = render(ssgi::EffectMode::kAuto, ssgi::ShadowFilter::kSspcss);
-  const ssgi::Frame ssabss = render(ssgi::EffectMode::kAuto, ssgi::ShadowFilter::kSsabss);
+  const ssgi::Frame hard = render(EffectMode::kAuto, EffectMode::kOff, ShadowFilter::kHard);
+  const ssgi::Frame sspcss = render(EffectMode::kAuto, EffectMode::kOff, ShadowFilter::kSspcss);
+  const ssgi::Frame ssabss = render(EffectMode::kAuto, EffectMode::kOff, ShadowFilter::kSsabss);
   write("direct_shadows.png", width, height, ssabss.display.rgb);
   // The crop of the default scene's blue sphere and its shadow on the board, as fractions of the image.
   const int x0 = int(0.30 * width), y0 = int(0.55 * height);
@@ -194,6 +207,49 @@ int Figures(const FiguresOptions& options) {
   const std::vector<uint8_t> strip = SideBySide({&hard.display.rgb, &sspcss.display.rgb, &ssabss.display.rgb}, width,
                                                 x0, y0, cropWidth, cropHeight, stripWidth);
   write("shadow_filters.png", stripWidth, cropHeight, strip);
+
+  std::vector<ssgi::Material*> board;
+  for (ssgi::Material& m : scene.materials)
+    if (m.name == "board_light" || m.name == "board_dark") board.push_back(&m);
+  const std::vector<float> boardRoughness = board.empty() ? std::vector<float>{} : std::vector<float>{0.0f, 0.3f, 0.9f};
+  for (float roughness : boardRoughness) {
+    for (ssgi::Material* m : board) m->roughness = roughness;
+    char name[64];
+    std::snprintf(name, sizeof(name), "gi_board_roughness_%.1f.png", double(roughness));
+    write(name, width, height, render(EffectMode::kAuto, EffectMode::kAuto, ShadowFilter::kSsabss).display.rgb);
+  }
+  if (board.empty()) write("gi.png", width, height, render(EffectMode::kAuto, EffectMode::kAuto, ShadowFilter::kSsabss).display.rgb);
+
+  // Table 1: median frame time over repeated renders of each configuration.
+  constexpr int kRepeats = 5;
+  struct Row {
+    const char* name;
+    EffectMode shadows, reflections;
+  };
+  const Row rows[] = {{"direct only", EffectMode::kOff, EffectMode::kOff},
+                      {"+ shadows", EffectMode::kAuto, EffectMode::kOff},
+                      {"+ shadows + GI", EffectMode::kAuto, EffectMode::kAuto}};
+  std::string table = "| " + std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(threads) +
+                      " threads | frame time (median of " + std::to_string(kRepeats) +
+                      ", ms) | paper, RTX 2080 Ti (ms) |\n|---|---|---|\n";
+  const char* paper[] = {"15.08", "15.79", "16.69"};
+  for (size_t r = 0; r < std::size(rows); ++r) {
+    std::vector<double> times;
+    for (int i = 0; i < kRepeats; ++i) {
+      const ssgi::Frame frame = render(rows[r].shadows, rows[r].reflections, ShadowFilter::kSsabss);
+      times.push_back(frame.stats.back().ms);
+    }
+    std::sort(times.begin(), times.end());
+    char line[160];
+    std::snprintf(line, sizeof(line), "| %s | %.1f | %s |\n", rows[r].name, times[kRepeats / 2], paper[r]);
+    table += line;
+  }
+  std::printf("%s", table.c_str());
+  const fs::path tablePath = folder / "table1.md";
+  std::FILE* file = std::fopen(tablePath.c_str(), "w");
+  if (!file || std::fputs(table.c_str(), file) < 0 || std::fclose(file) != 0)
+    throw ssgi::InputError(tablePath, "cannot write the table");
+  std::printf("wrote %s\n", tablePath.string().c_str());
   return 0;
 }
 
@@ -227,6 +283,10 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--shadows", render.shadows,
                             "Shadows: auto (when a light casts them, the default), on, off. Overrides the scene's.")
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  renderCommand->add_option("--reflections", render.reflections,
+                            "Screen-space reflections (indirect light): auto (when a surface is smooth enough to "
+                            "reflect, the default), on, off. Overrides the scene's.")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   renderCommand->add_option("--shadow-filter", render.shadowFilter,
                             "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito; default), sspcss (isotropic "
                             "screen-space PCSS, MohammadBagher et al. 2010) or hard (the shadow map's hard test).")
@@ -238,8 +298,9 @@ int main(int argc, char** argv) {
 
   FiguresOptions figures;
   CLI::App* figuresCommand = app.add_subcommand(
-      "figures", "Render the paper's image sequence into a folder: albedo.png, direct.png (no shadows), "
-                 "direct_shadows.png (SSABSS) and shadow_filters.png (hard | SSPCSS | SSABSS, cropped).");
+      "figures", "Render the paper's figures into a folder: albedo.png, direct.png (no shadows), "
+                 "direct_shadows.png (SSABSS), gi_board_roughness_{0.0,0.3,0.9}.png (final image, direct + "
+                 "indirect), shadow_filters.png (hard | SSPCSS | SSABSS, cropped) and table1.md (frame times).");
   figuresCommand->add_option("folder", figures.folder, "Output folder (created if missing).")->required();
   figuresCommand->add_option("--scene", figures.scene, "Scene file or OBJ. Default: the built-in default scene.");
   figuresCommand->add_option("--size", figures.size, "Image size WIDTHxHEIGHT (default 1024x1024).");

@@ -46,6 +46,29 @@ Frame RenderFrame(const Scene& scene, const FrameOptions& options) {
   const DirectLightStats d = RunDirectLight(directInputs, frame.direct);
   frame.stats.push_back({"direct light", d.ms, pixels, "pixels"});
 
+  frame.reflections = settings.reflections == EffectMode::kOn ||
+                      (settings.reflections == EffectMode::kAuto && SceneReflects(scene, options.ssrTrace.roughnessCutoff));
+  if (frame.reflections) {
+    const HiZStats h = RunHiZ(frame.gbuffer.gbuffer.word[2], frame.hiz);
+    frame.stats.push_back({"hi-z", h.ms, double(h.texels), "texels"});
+    const ColorPyramidStats c = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+    frame.stats.push_back({"colour pyramid", c.ms, double(c.texels), "texels"});
+    const SsrTraceStats t = RunSsrTrace({frame.gbuffer.gbuffer, frame.view, frame.hiz, settings.normalEncoding},
+                                        options.ssrTrace, frame.ssrTrace);
+    frame.stats.push_back({"ssr trace", t.ms, double(t.rays), "rays"});
+    frame.ssrRays = t.rays;
+    frame.ssrMeanIterations = t.meanIterations;
+    frame.ssrTilesTraced = t.tilesTraced;
+    frame.ssrTiles = t.tiles;
+    const SsrConeStats k =
+        RunSsrCone({frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace}, options.ssrCone, frame.ssrCone);
+    frame.stats.push_back({"cone trace", k.ms, double(k.pixels), "pixels"});
+    const CompositeStats m = RunComposite({frame.gbuffer.gbuffer, frame.view, settings.normalEncoding,
+                                           frame.direct.radiance, frame.ssrCone.reflected, frame.ssrTrace.confidence},
+                                          frame.composite);
+    frame.stats.push_back({"composite", m.ms, double(m.pixels), "pixels"});
+  }
+
   Stopwatch tonemap;
   RunTonemap(frame.Result(), {settings.exposureEv, settings.tonemap}, frame.display);
   frame.stats.push_back({"tonemap", tonemap.Lap(), pixels, "pixels"});
@@ -62,6 +85,12 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
       for (int c = 0; c < 3; ++c) rgb[(size_t(y) * width + x) * 3 + c] = uint8_t(w0[x] >> (8 * c));
   }
   return rgb;
+}
+
+bool SceneReflects(const Scene& scene, float roughnessCutoff) {
+  for (const Material& m : scene.materials)
+    if (m.roughness < roughnessCutoff || m.roughnessTexture != kNoTexture) return true;
+  return false;
 }
 
 void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding) {
@@ -98,6 +127,16 @@ void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, No
   if (frame.shadowMap) add("shadow.visibility", false, frame.shadowVisibility.visibility);
   const char* rgb[] = {"R", "G", "B"};
   for (int c = 0; c < 3; ++c) add(std::string("direct.") + rgb[c], false, frame.direct.radiance.c[c]);
+  if (frame.reflections) {
+    add("ssr.hitX", false, frame.ssrTrace.hitX);
+    add("ssr.hitY", false, frame.ssrTrace.hitY);
+    add("ssr.confidence", false, frame.ssrTrace.confidence);
+    for (int c = 0; c < 3; ++c) {
+      add(std::string("ssr.reflected.") + rgb[c], false, frame.ssrCone.reflected.c[c]);
+      add(std::string("indirect.") + rgb[c], false, frame.composite.indirect.c[c]);
+      add(std::string("result.") + rgb[c], false, frame.composite.result.c[c]);
+    }
+  }
   WriteExr(path, width, height, channels);
 }
 

@@ -11,10 +11,15 @@
 #include "core/camera.h"
 #include "core/plane.h"
 #include "core/scene.h"
+#include "passes/color_pyramid.h"
+#include "passes/composite.h"
 #include "passes/direct_light.h"
 #include "passes/gbuffer.h"
+#include "passes/hiz.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
+#include "passes/ssr_cone.h"
+#include "passes/ssr_trace.h"
 #include "passes/tonemap.h"
 
 namespace ssgi {
@@ -31,6 +36,8 @@ struct StageStats {
 struct FrameOptions {
   ShadowMapParams shadowMap;
   ShadowFilterParams shadowFilter;
+  SsrTraceParams ssrTrace;
+  SsrConeParams ssrCone;
 };
 
 struct Frame {
@@ -42,12 +49,26 @@ struct Frame {
   ShadowFilterOutputs shadowVisibility;
   size_t shadowTiles = 0, shadowTilesBlurred = 0;  // blur-area control: tiles in the image, tiles blurred
   DirectLightOutputs direct;
+  // Present when the scene has a surface smooth enough to reflect and reflections are not off.
+  bool reflections = false;
+  HiZ hiz;
+  ColorPyramid colorPyramid;
+  SsrTraceOutputs ssrTrace;
+  SsrConeOutputs ssrCone;
+  CompositeOutputs composite;
+  size_t ssrTiles = 0, ssrTilesTraced = 0;  // 32x32 tiles in the image, tiles with a traced ray
+  size_t ssrRays = 0;
+  double ssrMeanIterations = 0.0;
   TonemapOutputs display;  // 8-bit sRGB of the final image
   std::vector<StageStats> stats;
 
-  // The final linear HDR image: result = direct (+ indirect once a pass provides it).
-  const Plane3<float>& Result() const { return direct.radiance; }
+  // The final linear HDR image: result = direct + indirect (direct alone without reflections).
+  const Plane3<float>& Result() const { return reflections ? composite.result : direct.radiance; }
 };
+
+// Whether the scene calls for screen-space reflections: some material smooth enough to be traced
+// (roughness below the trace's cut-off, or a roughness texture that may make it so).
+bool SceneReflects(const Scene& scene, float roughnessCutoff);
 
 // Renders the scene at scene.settings' size and options.
 Frame RenderFrame(const Scene& scene, const FrameOptions& options);
@@ -60,7 +81,9 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);
 // ("albedo.R/G/B", "metallic", "normal.X/Y/Z" view space, "roughness", "depth" in metres with the
 // background +inf, "shadow.hard", "shadow.blocker"), the visibility buffer ("raster.depthKey",
 // "raster.triangle" uint32, 0xFFFFFFFF = none), the filtered light visibility ("shadow.visibility",
-// when shadows ran) and the direct light ("direct.R/G/B").
+// when shadows ran), the direct light ("direct.R/G/B") and, when reflections ran, the trace
+// ("ssr.hitX", "ssr.hitY", "ssr.confidence"), the cone-traced radiance ("ssr.reflected.R/G/B"), the
+// indirect light ("indirect.R/G/B") and the result ("result.R/G/B").
 void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding);
 
 }  // namespace ssgi

@@ -262,6 +262,7 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   });
 
   SsrTraceStats stats;
+  stats.tiles = counts.size();
   uint64_t iterations = 0;
   for (const TileCounts& tile : counts) {
     stats.rays += tile.rays;

@@ -56,7 +56,8 @@ struct SsrTraceStats {
   double ms = 0;
   size_t rays = 0;             // pixels traced
   double meanIterations = 0;   // Hi-Z steps per traced ray
-  size_t tilesTraced = 0;      // 32 x 32 tiles with at least one traced ray
+  size_t tiles = 0;            // 32 x 32 tiles in the image
+  size_t tilesTraced = 0;      // tiles with at least one traced ray
 };
 
 // One screen-space ray march through the Hi-Z. Positions are (x, y, 1/d): level-0 pixel coordinates

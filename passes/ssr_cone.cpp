@@ -1,0 +1,242 @@
+#include "passes/ssr_cone.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/brdf.h"
+#include "core/check.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+namespace {
+
+// Below this screen distance (px) from origin to hit the cone has no direction to walk; the hit's
+// own level-0 texel is the whole footprint anyway.
+constexpr float kMinConeHeight = 0.5f;
+
+// Bilinear fetch of one level at level-0 pixel coordinates (pixel centres at +0.5), clamp to edge.
+// A level's floor-halved size maps onto the full image by the per-axis size ratio, the same area
+// a level texel averages (color_pyramid.h).
+glm::vec3 SampleLevel(const ColorPyramid& pyramid, int level, float x, float y) {
+  const Plane3<float>& image = pyramid.levels[size_t(level)];
+  const Plane<float>& base = pyramid.levels[0].c[0];
+  const int width = int(image.c[0].xsize()), height = int(image.c[0].ysize());
+  const float u = x * (float(width) / float(base.xsize())) - 0.5f;
+  const float v = y * (float(height) / float(base.ysize())) - 0.5f;
+  const float uFloor = std::floor(u), vFloor = std::floor(v);
+  const float fu = u - uFloor, fv = v - vFloor;
+  const int x0 = std::clamp(int(uFloor), 0, width - 1), x1 = std::clamp(int(uFloor) + 1, 0, width - 1);
+  const int y0 = std::clamp(int(vFloor), 0, height - 1), y1 = std::clamp(int(vFloor) + 1, 0, height - 1);
+  glm::vec3 result;
+  for (int c = 0; c < 3; ++c) {
+    const float* row0 = image.c[c].ConstRow(size_t(y0));
+    const float* row1 = image.c[c].ConstRow(size_t(y1));
+    const float top = row0[x0] + (row0[x1] - row0[x0]) * fu;
+    const float bottom = row1[x0] + (row1[x1] - row1[x0]) * fu;
+    result[c] = top + (bottom - top) * fv;
+  }
+  return result;
+}
+
+// Trilinear fetch for a circle of the given diameter (px, >= 1): level = log2(diameter), the level
+// whose texel is as wide as the circle. log2 is piecewise linear between powers of two (frexp is
+// exact), so no libm transcendental runs per pixel (DESIGN.md §11); exact at every level.
+glm::vec3 SampleCircle(const ColorPyramid& pyramid, float x, float y, float diameter) {
+  int exponent = 0;
+  const float mantissa = std::frexp(diameter, &exponent);  // diameter = mantissa * 2^exponent, [0.5, 1)
+  const int level = exponent - 1;
+  const int lastLevel = int(pyramid.levels.size()) - 1;
+  if (level >= lastLevel) return SampleLevel(pyramid, lastLevel, x, y);
+  const float t = 2.0f * mantissa - 1.0f;
+  const glm::vec3 fine = SampleLevel(pyramid, level, x, y);
+  const glm::vec3 coarse = SampleLevel(pyramid, level + 1, x, y);
+  return fine + (coarse - fine) * t;
+}
+
+struct ConeSample {
+  glm::vec3 radiance;
+  int samples;
+};
+
+// Uludag's loop: the hit is the apex-opposite base of an isosceles triangle of height h (screen
+// distance origin -> hit) and apex angle 2 theta. Circle i is the incircle of the remaining
+// triangle (height adj, base a = 2 adj tan theta): r = a (sqrt(a^2 + 4 adj^2) - a) / (4 adj)
+// = adj t (sqrt(1 + t^2) - t); its centre is adj - r from the origin; the next triangle ends at the
+// circle's near side (adj -= 2 r). Coverage of circle i = (r / (h t))^2, its area over the cone's
+// footprint disk at the hit; the last circle gets only the coverage left below 1 (Uludag's
+// remaining alpha), and the sum is normalised by the coverage taken.
+ConeSample TraceCone(const ColorPyramid& pyramid, glm::vec2 origin, glm::vec2 hit, float tanTheta,
+                     int maxSamples) {
+  const glm::vec2 delta = hit - origin;
+  const float h = std::sqrt(delta.x * delta.x + delta.y * delta.y);
+  if (!(h >= kMinConeHeight)) return {SampleLevel(pyramid, 0, hit.x, hit.y), 1};
+  const glm::vec2 direction = delta / h;
+  const float inRadiusPerHeight = tanTheta * (std::sqrt(1.0f + tanTheta * tanTheta) - tanTheta);
+  const float footprintRadius = h * tanTheta;
+  glm::vec3 sum(0.0f);
+  float coverage = 0.0f;
+  float adjacent = h;
+  int samples = 0;
+  while (samples < maxSamples && coverage < 1.0f) {
+    const float radius = adjacent * inRadiusPerHeight;
+    const float ratio = radius / footprintRadius;
+    const float weight = std::min(ratio * ratio, 1.0f - coverage);
+    const glm::vec2 centre = origin + direction * (adjacent - radius);
+    sum += weight * SampleCircle(pyramid, centre.x, centre.y, std::max(2.0f * radius, 1.0f));
+    coverage += weight;
+    adjacent -= 2.0f * radius;
+    ++samples;
+  }
+  return {sum / coverage, samples};
+}
+
+const ConeTanTable& SharedConeTanTable() {
+  static const ConeTanTable table = BuildConeTanTable();
+  return table;
+}
+
+const DfgTable& SharedDfgTable() {
+  static const DfgTable table = BuildDfgTable();
+  return table;
+}
+
+// Van der Corput radical inverse in base 2: the Hammersley set's second coordinate.
+double RadicalInverse(uint32_t bits) {
+  bits = (bits << 16u) | (bits >> 16u);
+  bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+  bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+  bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+  bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+  return double(bits) * 2.3283064365386963e-10;
+}
+
+// Karis 2013, IntegrateBRDF: GGX-sampled half vectors h, l = reflect(-v, h); each sample adds
+// V * 4 n.l v.h / n.h (BRDF * n.l / pdf without F) split by Schlick into F0 * (1 - Fc) + Fc.
+glm::vec2 IntegrateDfg(double nDotV, double alpha) {
+  const double vx = std::sqrt(1.0 - nDotV * nDotV), vz = nDotV;
+  const double a2 = alpha * alpha;
+  double a = 0.0, b = 0.0;
+  for (int i = 0; i < kDfgSamples; ++i) {
+    const double u = (double(i) + 0.5) / kDfgSamples;
+    const double phi = 2.0 * double(kPi) * RadicalInverse(uint32_t(i));
+    const double cosTheta = std::sqrt((1.0 - u) / (1.0 + (a2 - 1.0) * u));
+    const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
+    // v lies in the xz plane, so the half vector's y component enters neither v.h nor l.z.
+    const double hx = sinTheta * std::cos(phi), hz = cosTheta;
+    const double vDotH = vx * hx + vz * hz;
+    const double lz = 2.0 * vDotH * hz - vz;
+    if (lz <= 0.0 || vDotH <= 0.0) continue;
+    const double ggxV = lz * std::sqrt(nDotV * nDotV * (1.0 - a2) + a2);
+    const double ggxL = nDotV * std::sqrt(lz * lz * (1.0 - a2) + a2);
+    const double weight = 0.5 / (ggxV + ggxL) * 4.0 * lz * vDotH / hz;
+    const double fc = std::pow(1.0 - vDotH, 5.0);
+    a += (1.0 - fc) * weight;
+    b += fc * weight;
+  }
+  a /= kDfgSamples;
+  b /= kDfgSamples;
+  const double sum = a + b;
+  if (sum > 1.0) {
+    a /= sum;
+    b /= sum;
+  }
+  return glm::vec2(float(a), float(b));
+}
+
+}  // namespace
+
+ConeTanTable BuildConeTanTable() {
+  ConeTanTable table;
+  for (int code = 0; code < 256; ++code) {
+    const double roughness = code / 255.0;
+    const double alpha = roughness * roughness;
+    const double exponent =
+        alpha > 0.0 ? std::min(2.0 / (alpha * alpha) - 2.0, kConeMaxPhongExponent) : kConeMaxPhongExponent;
+    const double theta = std::acos(std::pow(0.244, 1.0 / (exponent + 1.0)));
+    table[size_t(code)] = float(std::tan(theta));
+  }
+  return table;
+}
+
+float ConeHalfAngleTan(uint8_t roughnessCode) { return SharedConeTanTable()[roughnessCode]; }
+
+DfgTable BuildDfgTable() {
+  DfgTable table;
+  // n.v = 0 has no defined view direction in the integral; its row uses a just-positive n.v.
+  constexpr double kMinNDotV = 1e-4;
+  for (int j = 0; j < kDfgSize; ++j) {
+    const double roughness = double(j) / (kDfgSize - 1);
+    const double alpha = std::max(roughness * roughness, double(kMinGgxAlpha));
+    for (int i = 0; i < kDfgSize; ++i) {
+      const double nDotV = std::max(double(i) / (kDfgSize - 1), kMinNDotV);
+      table.ab[size_t(j * kDfgSize + i)] = IntegrateDfg(nDotV, alpha);
+    }
+  }
+  return table;
+}
+
+glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness) {
+  const DfgTable& table = SharedDfgTable();
+  const float u = std::clamp(nDotV, 0.0f, 1.0f) * (kDfgSize - 1);
+  const float v = std::clamp(roughness, 0.0f, 1.0f) * (kDfgSize - 1);
+  const int i0 = std::min(int(u), kDfgSize - 2), j0 = std::min(int(v), kDfgSize - 2);
+  const float fu = u - float(i0), fv = v - float(j0);
+  const auto at = [&](int i, int j) { return table.ab[size_t(j * kDfgSize + i)]; };
+  const glm::vec2 top = at(i0, j0) + (at(i0 + 1, j0) - at(i0, j0)) * fu;
+  const glm::vec2 bottom = at(i0, j0 + 1) + (at(i0 + 1, j0 + 1) - at(i0, j0 + 1)) * fu;
+  const glm::vec2 ab = top + (bottom - top) * fv;
+  return f0 * ab.x + glm::vec3(ab.y);
+}
+
+SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out) {
+  const Stopwatch stopwatch;
+  SSGI_CHECK_GE(params.maxSamples, 1);
+  SSGI_CHECK(!in.pyramid.levels.empty());
+  const size_t width = size_t(in.gbuffer.width()), height = size_t(in.gbuffer.height());
+  SSGI_CHECK_EQ(in.pyramid.levels[0].c[0].xsize(), width);
+  SSGI_CHECK_EQ(in.pyramid.levels[0].c[0].ysize(), height);
+  SSGI_CHECK_EQ(in.trace.confidence.xsize(), width);
+  SSGI_CHECK_EQ(in.trace.confidence.ysize(), height);
+  for (Plane<float>& plane : out.reflected.c) {
+    if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
+  }
+  const ConeTanTable& tanTable = SharedConeTanTable();
+  std::vector<size_t> rowSamples(height, 0), rowPixels(height, 0);
+  ParallelFor("ssr_cone", height, [&](size_t y) {
+    const uint32_t* word1 = in.gbuffer.word[1].ConstRow(y);
+    const float* hitX = in.trace.hitX.ConstRow(y);
+    const float* hitY = in.trace.hitY.ConstRow(y);
+    const float* confidence = in.trace.confidence.ConstRow(y);
+    float* rows[3] = {out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
+                      out.reflected.c[2].MutableRow(y)};
+    for (size_t x = 0; x < width; ++x) {
+      glm::vec3 radiance(0.0f);
+      if (confidence[x] > 0.0f) {
+        const uint32_t code = word1[x] >> 24;
+        const glm::vec2 hit(hitX[x], hitY[x]);
+        ConeSample cone{};
+        if (code == 0) {
+          cone = {SampleLevel(in.pyramid, 0, hit.x, hit.y), 1};  // mirror: the exact hit, no cone
+        } else {
+          cone = TraceCone(in.pyramid, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), hit, tanTable[code],
+                           params.maxSamples);
+        }
+        radiance = cone.radiance;
+        rowSamples[y] += size_t(cone.samples);
+        ++rowPixels[y];
+      }
+      for (int c = 0; c < 3; ++c) rows[c][x] = radiance[c];
+    }
+  });
+  SsrConeStats stats;
+  for (size_t y = 0; y < height; ++y) {
+    stats.samples += rowSamples[y];
+    stats.pixels += rowPixels[y];
+  }
+  stats.ms = stopwatch.Milliseconds();
+  return stats;
+}
+
+}  // namespace ssgi

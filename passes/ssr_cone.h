@@ -1,0 +1,74 @@
+// SSR cone trace (DESIGN.md §7; docs/pipeline.md §SSR: cone trace): turns each Hi-Z trace hit into
+// reflected radiance by walking the circles inscribed in the roughness cone's screen-space triangle
+// and reading the pre-blurred colour pyramid, after Uludag (GPU Pro 5, "Hi-Z Screen-Space
+// Cone-Traced Reflections", cone tracing section). Also holds the split-sum DFG table (Karis 2013,
+// "Real Shading in Unreal Engine 4") that weights the traced radiance in the composite.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "core/gbuffer.h"
+#include "core/plane.h"
+#include "passes/color_pyramid.h"
+#include "passes/ssr_trace.h"
+
+namespace ssgi {
+
+// Phong exponent used for GGX alpha -> 0 (a mirror), where 2 / alpha^2 - 2 diverges.
+inline constexpr double kConeMaxPhongExponent = 1e6;
+
+// tan(theta) of the cone half-angle for each 8-bit perceptual roughness code r = code / 255:
+// alpha = r^2 (GGX), Phong exponent n = min(2 / alpha^2 - 2, kConeMaxPhongExponent) (Walter et al.
+// 2007's Beckmann/Phong equivalence, as Karis's "specular D" notes use it), theta =
+// acos(0.244^(1 / (n + 1))) (Uludag: the lobe angle holding most of the Phong energy).
+// Monotone non-decreasing in the code; tan(theta) in (0, 4.0] (code 255: n = 0, theta = 75.9 deg).
+using ConeTanTable = std::array<float, 256>;
+ConeTanTable BuildConeTanTable();
+float ConeHalfAngleTan(uint8_t roughnessCode);  // looks up a table built once
+
+// Split-sum DFG (Karis 2013): for GGX with height-correlated Smith visibility (core/brdf.h) and
+// Schlick Fresnel, the directional albedo = F0 * A + B. Tabulated at n.v = i / (kDfgSize - 1) and
+// perceptual roughness = j / (kDfgSize - 1), alpha = max(roughness^2, kMinGgxAlpha), each entry the
+// mean over kDfgSamples GGX-importance-sampled half vectors on the Hammersley set; A + B is
+// rescaled to <= 1 where quadrature error exceeds energy conservation.
+inline constexpr int kDfgSize = 32;
+inline constexpr int kDfgSamples = 1024;
+struct DfgTable {
+  std::array<glm::vec2, kDfgSize * kDfgSize> ab;  // (A, B) at [j * kDfgSize + i], in [0, 1], A + B <= 1
+};
+DfgTable BuildDfgTable();
+// F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in a table built once.
+glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness);
+
+struct SsrConeParams {
+  // Pyramid fetches (circles) per pixel, >= 1. 7 lets a cone of up to ~45 deg cover its hit
+  // footprint; wider cones stop at the cap and are normalised over the circles taken.
+  int maxSamples = 7;
+};
+
+struct SsrConeInputs {
+  const GBuffer& gbuffer;          // word 1 (bits 24-31: perceptual roughness code)
+  const ColorPyramid& pyramid;     // RunColorPyramid of the direct-light image, the G-buffer's size
+  const SsrTraceOutputs& trace;    // RunSsrTrace of the same G-buffer
+};
+
+struct SsrConeOutputs {
+  // G-buffer size. Linear RGB radiance reflected toward the viewer before the specular weight,
+  // finite, in [0, kColorPyramidMaxRadiance]; 0 where trace.confidence is 0 (no hit).
+  Plane3<float> reflected;
+};
+
+struct SsrConeStats {
+  double ms = 0;
+  size_t samples = 0;  // circles sampled (each a trilinear pyramid fetch) over all pixels
+  size_t pixels = 0;   // pixels with confidence > 0
+};
+
+// Reuses out's planes when their sizes already match, else allocates them.
+SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out);
+
+}  // namespace ssgi

@@ -1,0 +1,234 @@
+#include "passes/ssr_cone.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "core/parallel.h"
+
+namespace ssgi {
+namespace {
+
+constexpr size_t kStepWidth = 256, kStepHeight = 64;
+constexpr float kStepEdge = 128.0f;   // level-0 columns x < 128 are 0, the rest 1
+constexpr float kConeHeight = 24.0f;  // px from each origin straight up to its hit
+
+ColorPyramid StepPyramid() {
+  Plane3<float> image = MakePlane3<float>(kStepWidth, kStepHeight, 0.0f);
+  for (Plane<float>& channel : image.c) {
+    for (size_t y = 0; y < kStepHeight; ++y) {
+      for (size_t x = size_t(kStepEdge); x < kStepWidth; ++x) channel.MutableRow(y)[x] = 1.0f;
+    }
+  }
+  ColorPyramid pyramid;
+  RunColorPyramid(image, pyramid);
+  return pyramid;
+}
+
+GBuffer UniformRoughness(size_t width, size_t height, uint32_t code) {
+  GBuffer gbuffer = MakeGBuffer(int(width), int(height));
+  for (size_t y = 0; y < height; ++y) {
+    for (size_t x = 0; x < width; ++x) gbuffer.word[1].MutableRow(y)[x] = code << 24;
+  }
+  return gbuffer;
+}
+
+// Every pixel hits kConeHeight px above itself (clamped into the image), offset by hitOffsetX, so
+// the cone walks along the step edge and the reflected row shows the edge blurred by the cone only.
+SsrTraceOutputs VerticalHits(float hitOffsetX) {
+  SsrTraceOutputs trace{MakePlane<float>(kStepWidth, kStepHeight, 0.0f),
+                        MakePlane<float>(kStepWidth, kStepHeight, 0.0f),
+                        MakePlane<float>(kStepWidth, kStepHeight, 1.0f)};
+  for (size_t y = 0; y < kStepHeight; ++y) {
+    for (size_t x = 0; x < kStepWidth; ++x) {
+      trace.hitX.MutableRow(y)[x] = float(x) + 0.5f + hitOffsetX;
+      trace.hitY.MutableRow(y)[x] = std::max(float(y) + 0.5f - kConeHeight, 0.5f);
+    }
+  }
+  return trace;
+}
+
+SsrConeOutputs Cone(const GBuffer& gbuffer, const ColorPyramid& pyramid, const SsrTraceOutputs& trace,
+                    SsrConeStats* stats = nullptr) {
+  SsrConeOutputs out;
+  const SsrConeStats s = RunSsrCone({gbuffer, pyramid, trace}, SsrConeParams{}, out);
+  if (stats) *stats = s;
+  return out;
+}
+
+// 10-90 % width (px) of the rising edge in row y, thresholds relative to the row's min and max.
+float EdgeWidth(const Plane<float>& plane, size_t y) {
+  const float* row = plane.ConstRow(y);
+  const float lo = *std::min_element(row, row + plane.xsize());
+  const float hi = *std::max_element(row, row + plane.xsize());
+  const auto crossing = [&](float fraction) {
+    const float level = lo + fraction * (hi - lo);
+    for (size_t x = 1; x < plane.xsize(); ++x) {
+      if (row[x] >= level) return float(x - 1) + (level - row[x - 1]) / (row[x] - row[x - 1]);
+    }
+    return float(plane.xsize());
+  };
+  return crossing(0.9f) - crossing(0.1f);
+}
+
+bool AllFiniteNonNegative(const Plane3<float>& image) {
+  for (const Plane<float>& channel : image.c) {
+    for (size_t y = 0; y < channel.ysize(); ++y) {
+      for (size_t x = 0; x < channel.xsize(); ++x) {
+        const float v = channel.ConstRow(y)[x];
+        if (!std::isfinite(v) || v < 0.0f) return false;
+      }
+    }
+  }
+  return true;
+}
+
+TEST_CASE("Cone half-angle table is monotone, Uludag's at the ends", "[cone]") {
+  const ConeTanTable table = BuildConeTanTable();
+  for (size_t code = 1; code < 256; ++code) CHECK(table[code] >= table[code - 1]);
+  CHECK(table[0] > 0.0f);
+  CHECK(table[0] < 2e-3f);                                        // n = 1e6: a near-mirror
+  CHECK(table[255] == Approx(std::tan(std::acos(0.244))).epsilon(1e-6));  // n = 0
+  CHECK(ConeHalfAngleTan(128) == table[128]);
+}
+
+TEST_CASE("Roughness code 0 reflects the level-0 bilinear sample at the hit", "[cone]") {
+  const ColorPyramid pyramid = StepPyramid();
+  const float offset = 0.3f;  // hits between texel centres, so bilinear weights are exercised
+  const SsrConeOutputs out = Cone(UniformRoughness(kStepWidth, kStepHeight, 0), pyramid, VerticalHits(offset));
+  const size_t y = 40;
+  const Plane<float>& level0 = pyramid.levels[0].c[0];
+  size_t edgePixels = 0;
+  for (size_t x = 0; x + 1 < kStepWidth; ++x) {
+    // Hit at x + 0.8: 70 % texel x, 30 % texel x + 1.
+    const float expected = 0.7f * level0.ConstRow(y - 24)[x] + 0.3f * level0.ConstRow(y - 24)[x + 1];
+    CHECK(out.reflected.c[0].ConstRow(y)[x] == Approx(expected).margin(1e-6));
+    if (expected > 0.0f && expected < 1.0f) ++edgePixels;
+  }
+  CHECK(edgePixels == 1);  // the step stays one pixel sharp
+}
+
+TEST_CASE("Cone reflection blur widens with roughness", "[cone]") {
+  const ColorPyramid pyramid = StepPyramid();
+  const SsrTraceOutputs trace = VerticalHits(0.0f);
+  std::vector<int> codes;
+  for (int code = 0; code < 256; code += 32) codes.push_back(code);
+  codes.push_back(255);
+  std::vector<float> widths;
+  for (int code : codes) {
+    const SsrConeOutputs out = Cone(UniformRoughness(kStepWidth, kStepHeight, uint32_t(code)), pyramid, trace);
+    widths.push_back(EdgeWidth(out.reflected.c[0], 40));
+    INFO("code " << code << " width " << widths.back());
+    CHECK(std::isfinite(widths.back()));
+  }
+  for (size_t i = 1; i < widths.size(); ++i) {
+    INFO("code " << codes[i] << ": " << widths[i] << " after " << widths[i - 1]);
+    CHECK(widths[i] >= widths[i - 1]);
+  }
+  CHECK(widths.back() > widths.front() + 8.0f);
+}
+
+TEST_CASE("Cone trace is finite for every code, h = 0, corners and a 1x1 image", "[cone]") {
+  std::mt19937 rng(7);
+  for (const auto& [width, height] : std::vector<std::pair<size_t, size_t>>{{1, 1}, {67, 45}, {1, 9}, {33, 2}}) {
+    Plane3<float> image = MakePlane3<float>(width, height, 0.0f);
+    std::uniform_real_distribution<float> radiance(0.0f, 100.0f);
+    for (Plane<float>& channel : image.c) {
+      for (size_t y = 0; y < height; ++y) {
+        for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = radiance(rng);
+      }
+    }
+    ColorPyramid pyramid;
+    RunColorPyramid(image, pyramid);
+    // Hits: the pixel itself (h = 0), the four image corners, and random points.
+    const float w = float(width), h = float(height);
+    const std::vector<std::pair<float, float>> corners{{0.0f, 0.0f}, {std::nextafter(w, 0.0f), 0.0f},
+                                                       {0.0f, std::nextafter(h, 0.0f)},
+                                                       {std::nextafter(w, 0.0f), std::nextafter(h, 0.0f)}};
+    std::uniform_real_distribution<float> hitX(0.0f, std::nextafter(w, 0.0f)), hitY(0.0f, std::nextafter(h, 0.0f));
+    for (int pattern = 0; pattern < 6; ++pattern) {
+      SsrTraceOutputs trace{MakePlane<float>(width, height, 0.0f), MakePlane<float>(width, height, 0.0f),
+                            MakePlane<float>(width, height, 1.0f)};
+      for (size_t y = 0; y < height; ++y) {
+        for (size_t x = 0; x < width; ++x) {
+          std::pair<float, float> hit{float(x) + 0.5f, float(y) + 0.5f};
+          if (pattern >= 1 && pattern <= 4) hit = corners[size_t(pattern - 1)];
+          if (pattern == 5) hit = {hitX(rng), hitY(rng)};
+          trace.hitX.MutableRow(y)[x] = hit.first;
+          trace.hitY.MutableRow(y)[x] = hit.second;
+        }
+      }
+      for (uint32_t code = 0; code < 256; ++code) {
+        SsrConeStats stats;
+        const SsrConeOutputs out = Cone(UniformRoughness(width, height, code), pyramid, trace, &stats);
+        INFO(width << "x" << height << " pattern " << pattern << " code " << code);
+        REQUIRE(AllFiniteNonNegative(out.reflected));
+        CHECK(stats.pixels == width * height);
+        CHECK(stats.samples >= stats.pixels);
+        CHECK(stats.samples <= stats.pixels * size_t(SsrConeParams{}.maxSamples));
+      }
+    }
+  }
+}
+
+TEST_CASE("Cone output is 0 where the trace has no hit", "[cone]") {
+  const ColorPyramid pyramid = StepPyramid();
+  SsrTraceOutputs trace = VerticalHits(0.0f);
+  trace.hitX.MutableRow(10)[200] = -1.0f;
+  trace.hitY.MutableRow(10)[200] = -1.0f;
+  trace.confidence.MutableRow(10)[200] = 0.0f;
+  SsrConeStats stats;
+  const SsrConeOutputs out = Cone(UniformRoughness(kStepWidth, kStepHeight, 100), pyramid, trace, &stats);
+  for (const Plane<float>& channel : out.reflected.c) CHECK(channel.ConstRow(10)[200] == 0.0f);
+  CHECK(out.reflected.c[0].ConstRow(10)[201] > 0.0f);
+  CHECK(stats.pixels == kStepWidth * kStepHeight - 1);
+}
+
+TEST_CASE("DFG table: energy bounded, mirror at normal incidence, deterministic", "[cone]") {
+  const DfgTable table = BuildDfgTable();
+  for (const glm::vec2& ab : table.ab) {
+    CHECK(ab.x >= 0.0f);
+    CHECK(ab.y >= 0.0f);
+    CHECK(ab.x + ab.y <= 1.0f);
+  }
+  const glm::vec2 mirror = table.ab[kDfgSize - 1];  // roughness 0, n.v = 1
+  CHECK(mirror.x == Approx(1.0f).margin(0.02));
+  CHECK(mirror.y == Approx(0.0f).margin(0.02));
+  const glm::vec3 weight = SpecularWeight(glm::vec3(0.04f, 0.5f, 1.0f), 1.0f, 0.0f);
+  CHECK(weight.x == Approx(0.04f).margin(0.02));
+  CHECK(weight.z == Approx(1.0f).margin(0.02));
+  // Grazing, rough: Fresnel raises B, roughness lowers the total.
+  CHECK(table.ab[(kDfgSize - 1) * kDfgSize + 2].y > table.ab[(kDfgSize - 1) * kDfgSize + kDfgSize - 1].y);
+  const DfgTable again = BuildDfgTable();
+  CHECK(std::memcmp(table.ab.data(), again.ab.data(), sizeof(table.ab)) == 0);
+}
+
+TEST_CASE("Cone output is byte-identical at 1, 2 and 3 threads", "[cone]") {
+  const ColorPyramid pyramid = StepPyramid();
+  const SsrTraceOutputs trace = VerticalHits(0.37f);
+  GBuffer gbuffer = MakeGBuffer(int(kStepWidth), int(kStepHeight));
+  for (size_t y = 0; y < kStepHeight; ++y) {
+    for (size_t x = 0; x < kStepWidth; ++x) gbuffer.word[1].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
+  }
+  std::vector<std::vector<float>> results;
+  for (int threads : {1, 2, 3}) {
+    const ThreadLimit limit(threads);
+    const SsrConeOutputs out = Cone(gbuffer, pyramid, trace);
+    std::vector<float> flat;
+    for (const Plane<float>& channel : out.reflected.c) {
+      for (size_t y = 0; y < kStepHeight; ++y) {
+        flat.insert(flat.end(), channel.ConstRow(y), channel.ConstRow(y) + kStepWidth);
+      }
+    }
+    results.push_back(std::move(flat));
+  }
+  CHECK(std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(float)) == 0);
+  CHECK(std::memcmp(results[0].data(), results[2].data(), results[0].size() * sizeof(float)) == 0);
+}
+
+}  // namespace
+}  // namespace ssgi
