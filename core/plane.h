@@ -3,9 +3,11 @@
 // uninitialised memory (DESIGN.md §11).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
+#include "core/parallel.h"
 #include "hwy/contrib/image/image.h"
 
 namespace ssgi {
@@ -18,15 +20,20 @@ using Plane = hwy::Image<T>;
 // on contents, and none where the kernel declines it.
 void AdviseHugePages(void* data, size_t bytes);
 
+// Rows are filled in parallel bands: the fill is a new plane's first touch, and the page faults and
+// kernel zeroing it triggers then run on every core.
 template <class T>
 Plane<T> MakePlane(size_t width, size_t height, T fill) {
+  constexpr size_t kRowsPerBand = 64;
   Plane<T> plane(width, height);
   AdviseHugePages(plane.bytes(), plane.bytes_per_row() * height);
   const size_t perRow = plane.bytes_per_row() / sizeof(T);
-  for (size_t y = 0; y < height; ++y) {
-    T* row = plane.MutableRow(y);
-    for (size_t x = 0; x < perRow; ++x) row[x] = fill;
-  }
+  ParallelFor("plane.fill", (height + kRowsPerBand - 1) / kRowsPerBand, [&](size_t band) {
+    for (size_t y = band * kRowsPerBand; y < std::min(height, (band + 1) * kRowsPerBand); ++y) {
+      T* row = plane.MutableRow(y);
+      for (size_t x = 0; x < perRow; ++x) row[x] = fill;
+    }
+  });
   return plane;
 }
 
