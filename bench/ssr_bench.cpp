@@ -58,7 +58,7 @@ void BM_Composite(benchmark::State& state) {
   CompositeOutputs out;
   Run(state, [&](const Frame& f) {
     RunComposite({f.gbuffer.gbuffer, f.view, NormalEncoding::kOct24, f.direct.radiance, f.ssrCone.reflected,
-                   f.ssrTrace.confidence},
+                   f.ssrTrace.confidence, SsrTraceParams{}.roughnessCutoff},
                   out);
   });
 }

@@ -35,7 +35,9 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out) {
           const glm::vec3 normal = DecodeNormal(w1[x] & 0xFFFFFFu, in.normalEncoding);
           const glm::vec3 toViewer = glm::normalize(-in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction);
           const float nDotV = std::clamp(glm::dot(normal, toViewer), 0.0f, 1.0f);
-          const glm::vec3 weight = SpecularWeight(SpecularF0(material), nDotV, material.roughness) * confidence[x];
+          const float fade = std::clamp((in.roughnessCutoff - material.roughness) / kRoughnessFadeWidth, 0.0f, 1.0f);
+          const glm::vec3 weight =
+              SpecularWeight(SpecularF0(material), nDotV, material.roughness) * (confidence[x] * fade);
           for (int c = 0; c < 3; ++c) indirect[c] = in.reflected.c[c].ConstRow(y)[x] * weight[c];
         }
         for (int c = 0; c < 3; ++c) {

@@ -1,5 +1,6 @@
 // Composite pass (DESIGN.md §7-§8, docs/pipeline.md §Composite): the final linear HDR image,
-// result = direct + indirect, where indirect = reflected radiance x specular weight x confidence:
+// result = direct + indirect, where indirect = reflected radiance x specular weight x confidence x
+// roughness fade:
 // the cone-traced screen-space reflection (passes/ssr_cone.h), weighted by the split-sum specular
 // term of the pixel's material and view angle (Karis 2013) and faded by the trace's confidence.
 #pragma once
@@ -17,7 +18,12 @@ struct CompositeInputs {
   const Plane3<float>& direct;     // linear RGB radiance
   const Plane3<float>& reflected;  // cone-traced radiance, 0 where nothing was hit
   const Plane<float>& confidence;  // [0, 1], 0 where nothing was hit
+  float roughnessCutoff;           // the trace's: rougher pixels were not traced
 };
+
+// The reflection fades out linearly over the last kRoughnessFadeWidth of perceptual roughness below
+// the trace's cut-off, so a material just under it does not end in a visible step.
+inline constexpr float kRoughnessFadeWidth = 0.1f;
 
 struct CompositeOutputs {
   Plane3<float> indirect;  // reflected x specular weight x confidence

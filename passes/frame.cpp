@@ -64,7 +64,8 @@ Frame RenderFrame(const Scene& scene, const FrameOptions& options) {
         RunSsrCone({frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace}, options.ssrCone, frame.ssrCone);
     frame.stats.push_back({"cone trace", k.ms, double(k.pixels), "pixels"});
     const CompositeStats m = RunComposite({frame.gbuffer.gbuffer, frame.view, settings.normalEncoding,
-                                           frame.direct.radiance, frame.ssrCone.reflected, frame.ssrTrace.confidence},
+                                           frame.direct.radiance, frame.ssrCone.reflected, frame.ssrTrace.confidence,
+                                           options.ssrTrace.roughnessCutoff},
                                           frame.composite);
     frame.stats.push_back({"composite", m.ms, double(m.pixels), "pixels"});
   }

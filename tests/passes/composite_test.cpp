@@ -29,7 +29,7 @@ struct CompositeFixture {
   }
   CompositeOutputs Run() const {
     CompositeOutputs out;
-    RunComposite({gbuffer, view, NormalEncoding::kOct24, direct, reflected, confidence}, out);
+    RunComposite({gbuffer, view, NormalEncoding::kOct24, direct, reflected, confidence, 0.7f}, out);
     return out;
   }
 };
@@ -54,6 +54,20 @@ TEST_CASE("composite: result = direct + reflected x specular weight x confidence
       }
     }
   }
+}
+
+TEST_CASE("composite: reflections fade out just below the roughness cut-off", "[composite]") {
+  CompositeFixture f;
+  auto indirectAt = [&](float roughness) {
+    f.gbuffer.word[1].MutableRow(1)[1] = PackNormalRoughness({0.0f, 0.0f, 1.0f}, roughness, NormalEncoding::kOct24);
+    return f.Run().indirect.c[0].ConstRow(1)[1];
+  };
+  const float full = indirectAt(0.5f);
+  CHECK(full > 0.0f);
+  CHECK(indirectAt(0.65f) > 0.0f);
+  CHECK(indirectAt(0.65f) < full);
+  CHECK(indirectAt(0.7f) == 0.0f);
+  CHECK(indirectAt(0.9f) == 0.0f);
 }
 
 TEST_CASE("composite: identical at 1, 2 and 3 threads", "[composite][determinism]") {
