@@ -1,5 +1,6 @@
 #include "core/parallel.h"
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,13 @@ void ParallelFor(std::string_view name, size_t count, const std::function<void(s
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string(name) + ": " + e.what());
   }
+}
+
+void ParallelForRowBands(std::string_view name, size_t rows,
+                         const std::function<void(size_t band, size_t yBegin, size_t yEnd)>& body) {
+  ParallelFor(name, RowBandCount(rows), [&](size_t band) {
+    body(band, band * kRowsPerBand, std::min(rows, (band + 1) * kRowsPerBand));
+  });
 }
 
 struct ThreadLimit::Impl {

@@ -14,6 +14,14 @@ namespace ssgi {
 // error messages. Items must be independent: no item may read what another writes.
 void ParallelFor(std::string_view name, size_t count, const std::function<void(size_t)>& body);
 
+// Runs body(band, yBegin, yEnd) for the fixed bands of kRowsPerBand image rows covering [0, rows):
+// the usual split of a full-screen pass. Bands depend only on `rows`, so a per-band partial result
+// (a count) combined in band order is deterministic.
+inline constexpr size_t kRowsPerBand = 16;
+inline size_t RowBandCount(size_t rows) { return (rows + kRowsPerBand - 1) / kRowsPerBand; }
+void ParallelForRowBands(std::string_view name, size_t rows,
+                         const std::function<void(size_t band, size_t yBegin, size_t yEnd)>& body);
+
 // Limits the threads every ParallelFor uses while the object lives; 0 means all hardware threads.
 class ThreadLimit {
  public:

@@ -3,7 +3,6 @@
 // uninitialised memory (DESIGN.md §11).
 #pragma once
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -24,12 +23,11 @@ void AdviseHugePages(void* data, size_t bytes);
 // kernel zeroing it triggers then run on every core.
 template <class T>
 Plane<T> MakePlane(size_t width, size_t height, T fill) {
-  constexpr size_t kRowsPerBand = 64;
   Plane<T> plane(width, height);
   AdviseHugePages(plane.bytes(), plane.bytes_per_row() * height);
   const size_t perRow = plane.bytes_per_row() / sizeof(T);
-  ParallelFor("plane.fill", (height + kRowsPerBand - 1) / kRowsPerBand, [&](size_t band) {
-    for (size_t y = band * kRowsPerBand; y < std::min(height, (band + 1) * kRowsPerBand); ++y) {
+  ParallelForRowBands("plane.fill", height, [&](size_t, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
       T* row = plane.MutableRow(y);
       for (size_t x = 0; x < perRow; ++x) row[x] = fill;
     }

@@ -9,21 +9,14 @@
 #include "passes/ssr_cone.h"
 
 namespace ssgi {
-namespace {
-
-constexpr int kRowsPerItem = 16;
-
-}  // namespace
 
 CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
   out.indirect = MakePlane3<float>(width, height, 0.0f);
   out.result = MakePlane3<float>(width, height, 0.0f);
-  const int items = (height + kRowsPerItem - 1) / kRowsPerItem;
-  ParallelFor("composite", size_t(items), [&](size_t item) {
-    const int yEnd = std::min(height, int(item + 1) * kRowsPerItem);
-    for (int y = int(item) * kRowsPerItem; y < yEnd; ++y) {
+  ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
       const uint32_t* w0 = in.gbuffer.word[0].ConstRow(y);
       const uint32_t* w1 = in.gbuffer.word[1].ConstRow(y);
       const uint32_t* w2 = in.gbuffer.word[2].ConstRow(y);

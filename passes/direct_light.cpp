@@ -9,11 +9,6 @@
 #include "core/stopwatch.h"
 
 namespace ssgi {
-namespace {
-
-constexpr int kRowsPerItem = 16;
-
-}  // namespace
 
 DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs& out) {
   Stopwatch stopwatch;
@@ -22,12 +17,10 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs&
   const NormalEncoding encoding = in.scene.settings.normalEncoding;
   const glm::vec3 background = in.scene.settings.background;
   out.radiance = MakePlane3<float>(width, height, 0.0f);
-  const int items = (height + kRowsPerItem - 1) / kRowsPerItem;
-  std::vector<size_t> shadedPerItem(items, 0);
+  std::vector<size_t> shadedPerBand(RowBandCount(size_t(height)), 0);
 
-  ParallelFor("direct_light", size_t(items), [&](size_t item) {
-    const int yEnd = std::min(height, int(item + 1) * kRowsPerItem);
-    for (int y = int(item) * kRowsPerItem; y < yEnd; ++y) {
+  ParallelForRowBands("direct_light", size_t(height), [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
       const uint32_t* w0 = in.gbuffer.word[0].ConstRow(y);
       const uint32_t* w1 = in.gbuffer.word[1].ConstRow(y);
       const uint32_t* w2 = in.gbuffer.word[2].ConstRow(y);
@@ -38,7 +31,7 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs&
         const float depth = UnpackDepth(w2[x]);
         glm::vec3 radiance = background;
         if (depth != kBackgroundDepth) {
-          ++shadedPerItem[item];
+          ++shadedPerBand[band];
           const ViewProjection::Ray ray = in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
           const glm::vec3 position = ray.origin + ray.direction * depth;
           const glm::vec3 toViewer = glm::normalize(-ray.direction);
@@ -61,7 +54,7 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs&
   });
 
   DirectLightStats stats;
-  for (size_t n : shadedPerItem) stats.pixels += n;
+  for (size_t n : shadedPerBand) stats.pixels += n;
   stats.ms = stopwatch.Lap();
   return stats;
 }

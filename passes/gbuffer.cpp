@@ -10,8 +10,6 @@
 namespace ssgi {
 namespace {
 
-constexpr int kResolveRows = 16;  // rows per parallel work item
-
 // Barycentrics (b1, b2) of the point where a ray meets the plane of (p0, p1, p2), not limited to
 // the triangle (Moller-Trumbore without the bounds test). False when the ray is parallel to it.
 bool RayPlaneBarycentrics(const ViewProjection::Ray& ray, const glm::vec3& p0, const glm::vec3& e1,
@@ -152,11 +150,9 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   for (size_t m = 0; m < scene.materials.size(); ++m)
     constantWord0[m] = PackAlbedoMetallic(scene.materials[m].baseColor, scene.materials[m].metallic);
   const glm::mat3 normalToView(view.view);  // lookAt is a rotation plus a translation
-  const int bands = (view.height + kResolveRows - 1) / kResolveRows;
-  std::vector<size_t> coveredPerBand(bands, 0);
-  ParallelFor("gbuffer.resolve", size_t(bands), [&](size_t band) {
-    const int yEnd = std::min(view.height, int(band + 1) * kResolveRows);
-    for (int y = int(band) * kResolveRows; y < yEnd; ++y) {
+  std::vector<size_t> coveredPerBand(RowBandCount(size_t(view.height)), 0);
+  ParallelForRowBands("gbuffer.resolve", size_t(view.height), [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (int y = int(yBegin); y < int(yEnd); ++y) {
       const uint32_t* ids = out.visibility.triangle.ConstRow(y);
       const float* keys = out.visibility.depthKey.ConstRow(y);
       uint32_t* w0 = out.gbuffer.word[0].MutableRow(y);
