@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/error.h"
+#include "core/image_compare.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
@@ -253,6 +254,43 @@ int Figures(const FiguresOptions& options) {
   return 0;
 }
 
+struct CompareOptions {
+  std::string test;
+  std::string reference;
+  std::string layer;
+  std::string heatmap;
+  double heatmapScale = 0.0;
+};
+
+// Error of a test image against a reference (DESIGN.md §10): RMSE and PSNR on linear values, the
+// largest error and where, and mean SSIM of the tonemapped luminance as the perceptual score.
+int Compare(const CompareOptions& options) {
+  if (!options.heatmap.empty() && ssgi::CheckOutputPath(options.heatmap) != ssgi::ImageFileKind::kPng)
+    throw ssgi::InputError(options.heatmap, "--heatmap writes a PNG: use a .png name");
+  const ssgi::FloatImage test =
+      ssgi::SelectLayer(ssgi::ReadFloatImage(options.test), options.layer, options.test);
+  const ssgi::FloatImage reference =
+      ssgi::SelectLayer(ssgi::ReadFloatImage(options.reference), options.layer, options.reference);
+  if (test.width != reference.width || test.height != reference.height || test.Channels() != reference.Channels())
+    throw ssgi::InputError(options.test, "is " + std::to_string(test.width) + "x" + std::to_string(test.height) +
+                                             " with " + std::to_string(test.Channels()) + " channels, the reference " +
+                                             std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                                             " with " + std::to_string(reference.Channels()));
+  const ssgi::ImageDifference d = ssgi::CompareImages(test, reference);
+  std::printf("%s vs %s (layer %s: %dx%d, %zu channels)\n", options.test.c_str(), options.reference.c_str(),
+              options.layer.empty() ? "RGB" : options.layer.c_str(), test.width, test.height, test.Channels());
+  std::printf("  RMSE       %.6g\n", d.rmse);
+  std::printf("  PSNR       %.2f dB (peak %.6g, the reference's largest value)\n", d.psnr, d.peak);
+  std::printf("  max error  %.6g at (%d, %d)\n", d.maxError, d.maxX, d.maxY);
+  std::printf("  SSIM       %.5f (mean SSIM of x/(1+x) tonemapped luminance; FLIP has no Debian 12 package)\n", d.ssim);
+  if (d.nonFinite > 0) std::printf("  non-finite %zu samples (excluded)\n", d.nonFinite);
+  if (!options.heatmap.empty()) {
+    ssgi::WritePng(options.heatmap, test.width, test.height, ssgi::ErrorHeatmap(test, reference, options.heatmapScale));
+    std::printf("wrote %s\n", options.heatmap.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -306,6 +344,19 @@ int main(int argc, char** argv) {
   figuresCommand->add_option("--size", figures.size, "Image size WIDTHxHEIGHT (default 1024x1024).");
   figuresCommand->add_option("--threads", figures.threads, "Worker threads (0 = all).")->check(CLI::Range(0, 1024));
 
+  CompareOptions compare;
+  CLI::App* compareCommand = app.add_subcommand(
+      "compare", "Compare a test image with a reference: RMSE, PSNR (linear HDR), max error and where, SSIM.");
+  compareCommand->add_option("test", compare.test, "Test image (.exr, .png, ...).")->required();
+  compareCommand->add_option("reference", compare.reference, "Reference image, same size.")->required();
+  compareCommand->add_option("--layer", compare.layer,
+                             "Channels to compare in both files: LAYER.R/G/B, or the single channel LAYER "
+                             "(e.g. result, direct, indirect, shadow.visibility of a --dump-gbuffer EXR). "
+                             "Default: R, G, B.");
+  compareCommand->add_option("--heatmap", compare.heatmap, "Write the per-pixel error as a heat map PNG.");
+  compareCommand->add_option("--heatmap-scale", compare.heatmapScale,
+                             "Error shown as white in the heat map (default: the largest error).");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -315,6 +366,7 @@ int main(int argc, char** argv) {
   try {
     if (*renderCommand) return Render(render);
     if (*figuresCommand) return Figures(figures);
+    if (*compareCommand) return Compare(compare);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi: error: %s\n", e.what());
     return 1;

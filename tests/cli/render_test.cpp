@@ -146,6 +146,30 @@ TEST_CASE("render: shadow passes run only when the scene calls for them", "[cli]
   CHECK(noCaster.output.find("shadow") == std::string::npos);
 }
 
+TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][compare]") {
+  ScratchDir dir("cli-compare");
+  for (const char* filter : {"hard", "ssabss"}) {
+    const CommandResult r = RunCli("render " + DefaultScene() + " --size 64x48 --shadow-filter " + filter + " -o " +
+                                   Quote(dir / (std::string(filter) + ".exr")) + " --dump-gbuffer " +
+                                   Quote(dir / (std::string(filter) + "_dump.exr")));
+    REQUIRE(r.exitCode == 0);
+  }
+  const CommandResult same = RunCli("compare " + Quote(dir / "hard.exr") + " " + Quote(dir / "hard.exr"));
+  CAPTURE(same.output);
+  CHECK(same.exitCode == 0);
+  CHECK(same.output.find("RMSE       0\n") != std::string::npos);
+  const CommandResult visibility = RunCli("compare " + Quote(dir / "hard_dump.exr") + " " +
+                                          Quote(dir / "ssabss_dump.exr") + " --layer shadow.visibility --heatmap " +
+                                          Quote(dir / "heat.png"));
+  CAPTURE(visibility.output);
+  CHECK(visibility.exitCode == 0);
+  CHECK(visibility.output.find("1 channels") != std::string::npos);
+  CHECK(ReadStoredImage(dir / "heat.png").width == 64);
+  const CommandResult missing = RunCli("compare " + Quote(dir / "hard.exr") + " " + Quote(dir / "nowhere.exr"));
+  CHECK(missing.exitCode == 1);
+  CHECK(missing.output.find("nowhere.exr") != std::string::npos);
+}
+
 TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
   ScratchDir dir("cli-default");
   const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";

@@ -1,0 +1,192 @@
+#include "core/image_compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/check.h"
+#include "core/error.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kSsimRadius = 5;  // 11x11 window
+constexpr double kSsimSigma = 1.5;
+constexpr double kSsimC1 = 0.01 * 0.01;
+constexpr double kSsimC2 = 0.03 * 0.03;
+
+bool Finite(float v) { return std::isfinite(v); }
+
+// Tonemapped luminance in [0, 1) per pixel; non-finite samples count as 0.
+std::vector<double> Luminance(const FloatImage& image) {
+  const size_t n = size_t(image.width) * size_t(image.height);
+  const size_t channels = image.Channels();
+  std::vector<double> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &image.pixels[i * channels];
+    double y = 0.0;
+    if (channels >= 3) {
+      y = 0.2126 * (Finite(p[0]) ? p[0] : 0.0) + 0.7152 * (Finite(p[1]) ? p[1] : 0.0) +
+          0.0722 * (Finite(p[2]) ? p[2] : 0.0);
+    } else {
+      y = Finite(p[0]) ? p[0] : 0.0;
+    }
+    y = std::max(y, 0.0);
+    out[i] = y / (1.0 + y);
+  }
+  return out;
+}
+
+// Separable Gaussian blur with clamp-to-edge addressing, fixed summation order.
+std::vector<double> Blur(const std::vector<double>& in, int width, int height, const std::vector<double>& kernel) {
+  std::vector<double> tmp(in.size()), out(in.size());
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double sum = 0.0;
+      for (int k = -kSsimRadius; k <= kSsimRadius; ++k)
+        sum += kernel[k + kSsimRadius] * in[size_t(y) * width + std::clamp(x + k, 0, width - 1)];
+      tmp[size_t(y) * width + x] = sum;
+    }
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double sum = 0.0;
+      for (int k = -kSsimRadius; k <= kSsimRadius; ++k)
+        sum += kernel[k + kSsimRadius] * tmp[size_t(std::clamp(y + k, 0, height - 1)) * width + x];
+      out[size_t(y) * width + x] = sum;
+    }
+  return out;
+}
+
+double MeanSsim(const FloatImage& a, const FloatImage& b) {
+  std::vector<double> kernel(2 * kSsimRadius + 1);
+  double total = 0.0;
+  for (int k = -kSsimRadius; k <= kSsimRadius; ++k) total += kernel[k + kSsimRadius] = std::exp(-k * k / (2 * kSsimSigma * kSsimSigma));
+  for (double& w : kernel) w /= total;
+  const std::vector<double> la = Luminance(a), lb = Luminance(b);
+  std::vector<double> aa(la.size()), bb(la.size()), ab(la.size());
+  for (size_t i = 0; i < la.size(); ++i) {
+    aa[i] = la[i] * la[i];
+    bb[i] = lb[i] * lb[i];
+    ab[i] = la[i] * lb[i];
+  }
+  const std::vector<double> muA = Blur(la, a.width, a.height, kernel), muB = Blur(lb, a.width, a.height, kernel);
+  const std::vector<double> sAA = Blur(aa, a.width, a.height, kernel), sBB = Blur(bb, a.width, a.height, kernel);
+  const std::vector<double> sAB = Blur(ab, a.width, a.height, kernel);
+  double sum = 0.0;
+  for (size_t i = 0; i < la.size(); ++i) {
+    const double varA = sAA[i] - muA[i] * muA[i], varB = sBB[i] - muB[i] * muB[i];
+    const double cov = sAB[i] - muA[i] * muB[i];
+    sum += ((2 * muA[i] * muB[i] + kSsimC1) * (2 * cov + kSsimC2)) /
+           ((muA[i] * muA[i] + muB[i] * muB[i] + kSsimC1) * (varA + varB + kSsimC2));
+  }
+  return sum / double(la.size());
+}
+
+}  // namespace
+
+FloatImage ReadFloatImage(const std::filesystem::path& file) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw InputError(file, "cannot read image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  FloatImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channelNames = spec.channelnames;
+  image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    throw InputError(file, "cannot read image: " + in->geterror());
+  return image;
+}
+
+FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const std::filesystem::path& file) {
+  auto find = [&](const std::string& name) {
+    const auto it = std::find(image.channelNames.begin(), image.channelNames.end(), name);
+    return it == image.channelNames.end() ? -1 : int(it - image.channelNames.begin());
+  };
+  std::vector<int> picked;
+  const std::string prefix = layer.empty() ? "" : layer + ".";
+  for (const char* c : {"R", "G", "B"})
+    if (find(prefix + c) >= 0) picked.push_back(find(prefix + c));
+  if (picked.size() != 3) {
+    picked.clear();
+    if (!layer.empty() && find(layer) >= 0) {
+      picked.push_back(find(layer));
+    } else if (layer.empty() && image.Channels() >= 3) {
+      picked = {0, 1, 2};
+    } else {
+      std::string names;
+      for (const std::string& n : image.channelNames) names += (names.empty() ? "" : ", ") + n;
+      throw InputError(file, "no channels for layer '" + layer + "' (the image has: " + names + ")");
+    }
+  }
+  FloatImage out;
+  out.width = image.width;
+  out.height = image.height;
+  for (int c : picked) out.channelNames.push_back(image.channelNames[c]);
+  const size_t n = size_t(image.width) * size_t(image.height);
+  out.pixels.resize(n * picked.size());
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < picked.size(); ++c) out.pixels[i * picked.size() + c] = image.pixels[i * image.Channels() + picked[c]];
+  return out;
+}
+
+ImageDifference CompareImages(const FloatImage& a, const FloatImage& b) {
+  SSGI_CHECK_EQ(a.width, b.width);
+  SSGI_CHECK_EQ(a.height, b.height);
+  SSGI_CHECK_EQ(a.Channels(), b.Channels());
+  ImageDifference d;
+  double sumSquares = 0.0, peak = 0.0;
+  size_t counted = 0;
+  const size_t channels = a.Channels();
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const float va = a.pixels[i], vb = b.pixels[i];
+    if (!Finite(va) || !Finite(vb)) {
+      ++d.nonFinite;
+      continue;
+    }
+    const double e = double(va) - double(vb);
+    sumSquares += e * e;
+    ++counted;
+    peak = std::max(peak, double(vb));
+    if (std::abs(e) > d.maxError) {
+      d.maxError = std::abs(e);
+      d.maxX = int((i / channels) % size_t(a.width));
+      d.maxY = int((i / channels) / size_t(a.width));
+    }
+  }
+  const double mse = counted > 0 ? sumSquares / double(counted) : 0.0;
+  d.rmse = std::sqrt(mse);
+  d.peak = peak = std::max(peak, 1e-12);
+  d.psnr = mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
+  d.ssim = MeanSsim(a, b);
+  return d;
+}
+
+std::vector<uint8_t> ErrorHeatmap(const FloatImage& a, const FloatImage& b, double scale) {
+  const size_t n = size_t(a.width) * size_t(a.height), channels = a.Channels();
+  std::vector<double> error(n, 0.0);
+  double maxError = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    double sum = 0.0;
+    for (size_t c = 0; c < channels; ++c) {
+      const float va = a.pixels[i * channels + c], vb = b.pixels[i * channels + c];
+      const double e = Finite(va) && Finite(vb) ? double(va) - double(vb) : 0.0;
+      sum += e * e;
+    }
+    error[i] = std::sqrt(sum);
+    maxError = std::max(maxError, error[i]);
+  }
+  if (scale <= 0.0) scale = maxError > 0.0 ? maxError : 1.0;
+  std::vector<uint8_t> rgb(n * 3);
+  for (size_t i = 0; i < n; ++i) {
+    // Black -> red -> yellow -> white in three equal thirds of the scale.
+    const double t = std::clamp(error[i] / scale, 0.0, 1.0) * 3.0;
+    const double channel[3] = {std::min(t, 1.0), std::clamp(t - 1.0, 0.0, 1.0), std::clamp(t - 2.0, 0.0, 1.0)};
+    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = uint8_t(channel[c] * 255.0 + 0.5);
+  }
+  return rgb;
+}
+
+}  // namespace ssgi

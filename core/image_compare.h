@@ -1,0 +1,47 @@
+// Image comparison for accuracy measurements (DESIGN.md §10): error metrics between a test image
+// and a reference, on linear HDR values, plus a perceptual score.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace ssgi {
+
+// A float image with named channels, interleaved, top row first.
+struct FloatImage {
+  int width = 0, height = 0;
+  std::vector<std::string> channelNames;
+  std::vector<float> pixels;  // width * height * channelNames.size()
+  size_t Channels() const { return channelNames.size(); }
+};
+
+// Reads an image file (any format OpenImageIO reads) as float. Throws InputError naming the file.
+FloatImage ReadFloatImage(const std::filesystem::path& file);
+
+// The channels of `layer` in `image`: "LAYER.R", "LAYER.G", "LAYER.B" when present, else the single
+// channel "LAYER"; an empty layer means R, G, B (or the first three channels). Throws InputError
+// naming `file` and the channels it has when the layer is missing.
+FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const std::filesystem::path& file);
+
+struct ImageDifference {
+  double rmse = 0.0;           // sqrt(mean over pixels and channels of (a - b)^2)
+  double peak = 0.0;           // max of b over pixels and channels (>= 1e-12)
+  double psnr = 0.0;           // 10 log10(peak^2 / mse); +inf when equal
+  double maxError = 0.0;       // max over pixels and channels of |a - b|
+  int maxX = 0, maxY = 0;      // where it is (first in row-major order)
+  double ssim = 1.0;           // mean SSIM (Wang et al. 2004) of the tonemapped luminance, 1 = identical
+  size_t nonFinite = 0;        // samples of a or b that are NaN or infinite (excluded from the metrics)
+};
+
+// Compares `a` (test) with `b` (reference): same size and channel count required (checked by the
+// caller). SSIM uses an 11x11 Gaussian window (sigma 1.5) with C1 = (0.01)^2, C2 = (0.03)^2 on
+// luminance (Rec. 709 weights of the first three channels, or the single channel) after
+// x / (1 + x) tonemapping, so HDR values compare on a bounded, perceptually ordered scale.
+ImageDifference CompareImages(const FloatImage& a, const FloatImage& b);
+
+// Per-pixel error |a - b| (Euclidean over channels) as an 8-bit RGB heat map, black (0) through red
+// and yellow to white (>= scale); scale <= 0 uses the maximum error.
+std::vector<uint8_t> ErrorHeatmap(const FloatImage& a, const FloatImage& b, double scale);
+
+}  // namespace ssgi

@@ -1,0 +1,92 @@
+#include "core/image_compare.h"
+
+#include <cmath>
+#include <random>
+
+#include <catch2/catch.hpp>
+
+#include "core/error.h"
+#include "tests/test_support.h"
+
+namespace ssgi {
+namespace {
+
+FloatImage Constant(int width, int height, float value, std::vector<std::string> channels = {"R", "G", "B"}) {
+  FloatImage image;
+  image.width = width;
+  image.height = height;
+  image.channelNames = std::move(channels);
+  image.pixels.assign(size_t(width) * size_t(height) * image.Channels(), value);
+  return image;
+}
+
+TEST_CASE("compare: identical images", "[compare]") {
+  const FloatImage a = Constant(16, 12, 0.5f);
+  const ImageDifference d = CompareImages(a, a);
+  CHECK(d.rmse == 0.0);
+  CHECK(std::isinf(d.psnr));
+  CHECK(d.maxError == 0.0);
+  CHECK(d.ssim == Approx(1.0).epsilon(1e-12));
+}
+
+TEST_CASE("compare: known differences give known metrics", "[compare]") {
+  const FloatImage reference = Constant(16, 12, 1.0f);
+  FloatImage offset = Constant(16, 12, 1.1f);
+  ImageDifference d = CompareImages(offset, reference);
+  CHECK(d.rmse == Approx(0.1).epsilon(1e-5));
+  CHECK(d.peak == 1.0);
+  CHECK(d.psnr == Approx(20.0).epsilon(1e-4));  // 10 log10(1 / 0.01)
+  CHECK(d.maxError == Approx(0.1).epsilon(1e-5));
+
+  FloatImage spot = reference;
+  spot.pixels[(2 * 16 + 3) * 3 + 1] = 1.5f;  // pixel (3, 2), green
+  d = CompareImages(spot, reference);
+  CHECK(d.maxError == Approx(0.5).epsilon(1e-6));
+  CHECK(d.maxX == 3);
+  CHECK(d.maxY == 2);
+  CHECK(d.rmse == Approx(std::sqrt(0.25 / (16.0 * 12.0 * 3.0))).epsilon(1e-5));
+
+  // Structure matters to SSIM more than a small uniform shift.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> noise(-0.5f, 0.5f);
+  FloatImage noisy = reference;
+  for (float& v : noisy.pixels) v += noise(rng);
+  const double ssimNoisy = CompareImages(noisy, reference).ssim;
+  const double ssimOffset = CompareImages(offset, reference).ssim;
+  CHECK(ssimNoisy < 0.9);
+  CHECK(ssimOffset > ssimNoisy);
+  CHECK(ssimOffset < 1.0);
+
+  FloatImage broken = reference;
+  broken.pixels[0] = std::nanf("");
+  broken.pixels[5] = std::numeric_limits<float>::infinity();
+  d = CompareImages(broken, reference);
+  CHECK(d.nonFinite == 2);
+  CHECK(d.rmse == 0.0);
+}
+
+TEST_CASE("compare: layers pick named channels and missing ones are an error", "[compare]") {
+  FloatImage dump = Constant(4, 4, 0.0f, {"direct.R", "direct.G", "direct.B", "shadow.visibility"});
+  for (size_t i = 0; i < 16; ++i) dump.pixels[i * 4 + 3] = 0.25f;
+  const FloatImage visibility = SelectLayer(dump, "shadow.visibility", "dump.exr");
+  CHECK(visibility.Channels() == 1);
+  CHECK(visibility.pixels[7] == 0.25f);
+  CHECK(SelectLayer(dump, "direct", "dump.exr").Channels() == 3);
+  const std::string message = test::InputErrorOf([&] { SelectLayer(dump, "indirect", "dump.exr"); });
+  CHECK(message.find("dump.exr") != std::string::npos);
+  CHECK(message.find("shadow.visibility") != std::string::npos);
+}
+
+TEST_CASE("compare: the heat map is black where equal and white at the scale", "[compare]") {
+  const FloatImage reference = Constant(2, 1, 0.0f);
+  FloatImage test = reference;
+  test.pixels[3] = 1.0f;  // pixel 1, red channel
+  const std::vector<uint8_t> heat = ErrorHeatmap(test, reference, 1.0);
+  CHECK(heat[0] == 0);
+  CHECK(heat[3] == 255);
+  CHECK(heat[4] == 255);
+  CHECK(heat[5] == 255);
+}
+
+}  // namespace
+}  // namespace ssgi
