@@ -51,7 +51,7 @@ struct RenderOptions {
   std::optional<std::string> shadows;
   std::optional<std::string> reflections;
   std::string shadowFilter = "ssabss";
-  int shadowMapSize = 2048;
+  ssgi::FrameOptions frame;  // quality knobs, bound to options directly
 };
 
 void ParseSize(const std::string& text, int& width, int& height) {
@@ -105,8 +105,7 @@ int Render(const RenderOptions& options) {
   if (options.exposure) scene.settings.exposureEv = *options.exposure;
   if (options.shadows) scene.settings.shadows = ParseEffectMode(*options.shadows);
   if (options.reflections) scene.settings.reflections = ParseEffectMode(*options.reflections);
-  ssgi::FrameOptions frameOptions;
-  frameOptions.shadowMap.resolution = options.shadowMapSize;
+  ssgi::FrameOptions frameOptions = options.frame;
   frameOptions.shadowFilter.filter = options.shadowFilter == "hard"     ? ssgi::ShadowFilter::kHard
                                      : options.shadowFilter == "sspcss" ? ssgi::ShadowFilter::kSspcss
                                                                         : ssgi::ShadowFilter::kSsabss;
@@ -329,8 +328,25 @@ int main(int argc, char** argv) {
                             "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito; default), sspcss (isotropic "
                             "screen-space PCSS, MohammadBagher et al. 2010) or hard (the shadow map's hard test).")
       ->check(CLI::IsMember({"hard", "sspcss", "ssabss"}));
-  renderCommand->add_option("--shadow-map-size", render.shadowMapSize, "Shadow map resolution in texels per side (default 2048).")
+  renderCommand->add_option("--shadow-map-size", render.frame.shadowMap.resolution,
+                            "Shadow map resolution in texels per side (default 2048).")
       ->check(CLI::Range(16, 16384));
+  renderCommand->add_option("--blocker-taps", render.frame.shadowMap.blockerSearchTaps,
+                            "PCSS blocker-search taps per pixel (default 16).")
+      ->check(CLI::Range(1, ssgi::kMaxBlockerSearchTaps));
+  renderCommand->add_option("--blur-radius", render.frame.shadowFilter.maxRadiusPixels,
+                            "Shadow blur radius clamp in pixels (default 24).")
+      ->check(CLI::Range(0, 256));
+  renderCommand->add_option("--blur-taps", render.frame.shadowFilter.taps,
+                            "Shadow blur taps per side of each 1-D pass (0 = one per pixel of the radius, the "
+                            "default).")
+      ->check(CLI::Range(0, 256));
+  renderCommand->add_option("--ssr-iterations", render.frame.ssrTrace.maxIterations,
+                            "Hi-Z steps per reflected ray (default 64).")
+      ->check(CLI::Range(1, 4096));
+  renderCommand->add_option("--cone-samples", render.frame.ssrCone.maxSamples,
+                            "Colour-pyramid samples per cone (default 7).")
+      ->check(CLI::Range(1, 64));
   renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "
                                                            "overrides the scene's.");
 

@@ -52,6 +52,11 @@ TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
     CHECK(std::count(result.output.begin(), result.output.end(), '\n') == 1);
   }
   RequireOnlyFiles(dir, {});
+  // Quality knobs out of range are command-line errors (exit 2), caught before any work.
+  const CommandResult knob = RunCli("render " + DefaultScene() + " --ssr-iterations 0 -o " + out);
+  CHECK(knob.exitCode == 2);
+  CHECK(knob.output.find("--ssr-iterations") != std::string::npos);
+  RequireOnlyFiles(dir, {});
 }
 
 TEST_CASE("render: a malformed scene names the file and line and writes nothing", "[cli]") {
