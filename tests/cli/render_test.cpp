@@ -175,6 +175,21 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
   CHECK(missing.output.find("nowhere.exr") != std::string::npos);
 }
 
+TEST_CASE("render: the real-scene files render where their models are present", "[cli][real_scenes]") {
+  ScratchDir dir("cli-real-scenes");
+  const fs::path shared = SourceDir().parent_path() / "shared" / "scenes";
+  if (!fs::exists(shared)) {
+    WARN("skipped: " << shared << " does not exist (the third-party models are not part of the repository)");
+    return;
+  }
+  for (const char* name : {"sponza", "bunny", "armadillo", "teapot"}) {
+    const CommandResult r = RunCli("render " + Quote(SourceDir() / "data" / "scenes" / (std::string(name) + ".json")) +
+                                   " --size 48x32 -o " + Quote(dir / (std::string(name) + ".png")));
+    CAPTURE(name, r.output);
+    CHECK(r.exitCode == 0);
+  }
+}
+
 TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
   ScratchDir dir("cli-default");
   const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";
