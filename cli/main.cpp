@@ -54,18 +54,6 @@ struct RenderOptions {
   ssgi::FrameOptions frame;  // quality knobs, bound to options directly
 };
 
-void ParseSize(const std::string& text, int& width, int& height) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-    throw ssgi::InputError("--size: expected WIDTHxHEIGHT such as 1024x768, got '" + text + "'");
-  if (w < 1 || h < 1 || w > ssgi::kMaxImageSize || h > ssgi::kMaxImageSize)
-    throw ssgi::InputError("--size: width and height must be in [1, " + std::to_string(ssgi::kMaxImageSize) +
-                           "], got " + text);
-  width = w;
-  height = h;
-}
-
 ssgi::EffectMode ParseEffectMode(const std::string& text) {
   return text == "on" ? ssgi::EffectMode::kOn : text == "off" ? ssgi::EffectMode::kOff : ssgi::EffectMode::kAuto;
 }
@@ -91,7 +79,7 @@ int Render(const RenderOptions& options) {
   if (!options.dumpBuffers.empty() && ssgi::CheckOutputPath(options.dumpBuffers) != ssgi::ImageFileKind::kExr)
     throw ssgi::InputError(options.dumpBuffers, "--dump-gbuffer writes a multi-channel EXR: use a .exr name");
   int width = 0, height = 0;
-  if (!options.size.empty()) ParseSize(options.size, width, height);
+  if (!options.size.empty()) ssgi::ParseImageSize(options.size, width, height);
 
   ssgi::Stopwatch load;
   ssgi::Scene scene = ssgi::LoadScene(scenePath);
@@ -175,7 +163,7 @@ int Figures(const FiguresOptions& options) {
   if (error) throw ssgi::InputError(folder, "cannot create the folder: " + error.message());
   ssgi::CheckOutputPath(folder / "albedo.png");
   int width = 0, height = 0;
-  ParseSize(options.size, width, height);
+  ssgi::ParseImageSize(options.size, width, height);
   ssgi::Scene scene = ssgi::LoadScene(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene));
   scene.settings.width = width;
   scene.settings.height = height;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <iterator>
@@ -588,6 +589,17 @@ Scene LoadScene(const fs::path& file) {
   if (ext == ".json") return LoadJsonScene(file);
   if (ext == ".obj") return LoadObjScene(file);
   throw InputError(file, "unsupported scene format '" + ext + "' (use .json or .obj)");
+}
+
+void ParseImageSize(const std::string& text, int& width, int& height) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw InputError("--size: expected WIDTHxHEIGHT such as 1024x768, got '" + text + "'");
+  if (w < 1 || h < 1 || w > kMaxImageSize || h > kMaxImageSize)
+    throw InputError("--size: width and height must be in [1, " + std::to_string(kMaxImageSize) + "], got " + text);
+  width = w;
+  height = h;
 }
 
 CameraDesc FrameMesh(const Mesh& mesh, int width, int height) {

@@ -70,6 +70,10 @@ struct Scene {
 // out-of-range values and image sizes outside [1, kMaxImageSize].
 Scene LoadScene(const std::filesystem::path& file);
 
+// Parses an image size "WIDTHxHEIGHT" (or "WxH" with a capital X), each side in [1, kMaxImageSize].
+// Throws InputError naming --size and the text otherwise.
+void ParseImageSize(const std::string& text, int& width, int& height);
+
 // The camera and light `ssgi render model.obj` uses: looks at the bounding sphere of `mesh` from the
 // front-right and above, with a directional light from the upper left.
 CameraDesc FrameMesh(const Mesh& mesh, int width, int height);

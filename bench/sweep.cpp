@@ -1,0 +1,154 @@
+// "What accuracy costs in time" (DESIGN.md §10): renders a scene under a list of quality settings,
+// measures each pass's median time over repeated frames and the final image's error against a
+// reference image (normally `ssgi reference`'s), and writes one CSV row per setting. Plot it with
+// bench/plot_sweep.py; bench/README.md says how.
+//
+//   ssgi_sweep --reference ref.exr [--scene scene.json] [--size 512x512] [--repeats 5] -o sweep.csv
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.h"
+#include "core/image_compare.h"
+#include "core/parallel.h"
+#include "passes/frame.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Setting {
+  std::string knob;   // which knob this row varies ("baseline" for the defaults)
+  std::string value;  // its value, as text
+  std::function<void(ssgi::Scene&, ssgi::FrameOptions&)> apply;
+};
+
+// One knob at a time around the defaults, plus the baseline: the axes the README's presets are
+// chosen from.
+std::vector<Setting> Settings() {
+  std::vector<Setting> settings{{"baseline", "defaults", [](ssgi::Scene&, ssgi::FrameOptions&) {}}};
+  for (int v : {8, 16, 32, 128})
+    settings.push_back({"ssr_iterations", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.ssrTrace.maxIterations = v;
+                        }});
+  for (int v : {1, 3, 12})
+    settings.push_back({"cone_samples", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.ssrCone.maxSamples = v;
+                        }});
+  for (int v : {512, 1024, 4096})
+    settings.push_back({"shadow_map_size", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.shadowMap.resolution = v;
+                        }});
+  for (int v : {4, 8, 32})
+    settings.push_back({"blocker_taps", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.shadowMap.blockerSearchTaps = v;
+                        }});
+  for (int v : {2, 4, 8})
+    settings.push_back({"blur_taps", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.shadowFilter.taps = v;
+                        }});
+  for (int v : {8, 48})
+    settings.push_back({"blur_radius", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.shadowFilter.maxRadiusPixels = v;
+                        }});
+  settings.push_back({"normal_encoding", "xyz8", [](ssgi::Scene& s, ssgi::FrameOptions&) {
+                        s.settings.normalEncoding = ssgi::NormalEncoding::kXyz8;
+                      }});
+  settings.push_back({"shadow_filter", "hard", [](ssgi::Scene&, ssgi::FrameOptions& o) {
+                        o.shadowFilter.filter = ssgi::ShadowFilter::kHard;
+                      }});
+  settings.push_back({"shadow_filter", "sspcss", [](ssgi::Scene&, ssgi::FrameOptions& o) {
+                        o.shadowFilter.filter = ssgi::ShadowFilter::kSspcss;
+                      }});
+  return settings;
+}
+
+ssgi::FloatImage ToFloatImage(const ssgi::Plane3<float>& planes) {
+  ssgi::FloatImage image;
+  image.width = int(planes.c[0].xsize());
+  image.height = int(planes.c[0].ysize());
+  image.channelNames = {"R", "G", "B"};
+  image.pixels.resize(size_t(image.width) * size_t(image.height) * 3);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c) image.pixels[(size_t(y) * image.width + x) * 3 + c] = planes.c[c].ConstRow(y)[x];
+  return image;
+}
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+int Run(const std::string& scenePath, const std::string& referencePath, int width, int height, int repeats,
+        int threads, const std::string& output) {
+  const ssgi::ThreadLimit limit(threads);
+  const ssgi::FloatImage reference =
+      ssgi::SelectLayer(ssgi::ReadFloatImage(referencePath), "", referencePath);
+  if (reference.width != width || reference.height != height)
+    throw ssgi::InputError(referencePath, "is " + std::to_string(reference.width) + "x" +
+                                              std::to_string(reference.height) + ", the sweep renders " +
+                                              std::to_string(width) + "x" + std::to_string(height));
+  const ssgi::Scene loaded = ssgi::LoadScene(scenePath);
+  std::ofstream csv(output);
+  if (!csv) throw ssgi::InputError(output, "cannot write");
+  csv << "knob,value,frame_ms,rmse,psnr_db,ssim,max_error";
+  std::vector<std::string> stages;
+  for (const Setting& setting : Settings()) {
+    ssgi::Scene scene = loaded;
+    scene.settings.width = width;
+    scene.settings.height = height;
+    ssgi::FrameOptions options;
+    setting.apply(scene, options);
+    std::map<std::string, std::vector<double>> times;
+    ssgi::ImageDifference difference;
+    for (int r = 0; r < repeats; ++r) {
+      const ssgi::Frame frame = ssgi::RenderFrame(scene, options);
+      for (const ssgi::StageStats& s : frame.stats) times[s.name].push_back(s.ms);
+      if (r == 0) difference = ssgi::CompareImages(ToFloatImage(frame.Result()), reference);
+      if (stages.empty()) {
+        for (const ssgi::StageStats& s : frame.stats) stages.push_back(s.name);
+        for (const std::string& name : stages) csv << ",ms " << name;
+        csv << "\n";
+      }
+    }
+    csv << setting.knob << "," << setting.value << "," << Median(times["frame total"]) << "," << difference.rmse << ","
+        << difference.psnr << "," << difference.ssim << "," << difference.maxError;
+    for (const std::string& name : stages) csv << "," << (times.count(name) ? Median(times[name]) : 0.0);
+    csv << "\n";
+    std::printf("%-16s %-8s %8.1f ms  RMSE %.5f  PSNR %6.2f dB  SSIM %.4f\n", setting.knob.c_str(),
+                setting.value.c_str(), Median(times["frame total"]), difference.rmse, difference.psnr,
+                difference.ssim);
+  }
+  std::printf("wrote %s\n", output.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ssgi_sweep: time and error against a reference for each quality setting, as CSV."};
+  std::string scene = SSGI_SOURCE_DATA_DIR "/default.json", reference, output = "sweep.csv", size = "512x512";
+  int repeats = 5, threads = 2;
+  app.add_option("--scene", scene, "Scene file (default: the built-in default scene).");
+  app.add_option("--reference", reference, "Reference image (RGB linear EXR of the same size).")->required();
+  app.add_option("--size", size, "Image size WIDTHxHEIGHT (default 512x512); must match the reference.");
+  app.add_option("--repeats", repeats, "Frames per setting; times are medians (default 5).")->check(CLI::Range(1, 100));
+  app.add_option("--threads", threads, "Worker threads (default 2).")->check(CLI::Range(0, 1024));
+  app.add_option("-o,--output", output, "CSV file to write (default sweep.csv).");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    int width = 0, height = 0;
+    ssgi::ParseImageSize(size, width, height);
+    return Run(scene, reference, width, height, repeats, threads, output);
+  } catch (const ssgi::InputError& e) {
+    std::fprintf(stderr, "ssgi_sweep: error: %s\n", e.what());
+    return 1;
+  }
+}
