@@ -100,6 +100,14 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   if (!csv) throw ssgi::InputError(output, "cannot write");
   csv << "knob,value,frame_ms,rmse,psnr_db,ssim,max_error";
   std::vector<std::string> stages;
+  {
+    // One discarded frame first, so the first setting's times do not include the process's first
+    // touch of every buffer.
+    ssgi::Scene warmUp = loaded;
+    warmUp.settings.width = width;
+    warmUp.settings.height = height;
+    ssgi::RenderFrame(warmUp, ssgi::FrameOptions{});
+  }
   for (const Setting& setting : Settings()) {
     ssgi::Scene scene = loaded;
     scene.settings.width = width;
