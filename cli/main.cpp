@@ -17,6 +17,7 @@
 #include "core/image_compare.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
+#include "core/reference.h"
 #include "core/stopwatch.h"
 #include "passes/frame.h"
 
@@ -241,6 +242,52 @@ int Figures(const FiguresOptions& options) {
   return 0;
 }
 
+struct ReferenceOptions {
+  std::string scene;
+  std::string output = "reference.exr";
+  std::string size;
+  int spp = 64;
+  int threads = 0;
+};
+
+// The Embree ground truth (DESIGN.md §10): one EXR holding the final image as R, G, B and the
+// matching buffers under the names --dump-gbuffer uses, so `ssgi compare --layer` pairs them.
+int Reference(const ReferenceOptions& options) {
+  const ssgi::ThreadLimit threadLimit(options.threads);
+  if (ssgi::CheckOutputPath(options.output) != ssgi::ImageFileKind::kExr)
+    throw ssgi::InputError(options.output, "the reference is written as a multi-channel EXR: use a .exr name");
+  ssgi::Scene scene = ssgi::LoadScene(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene));
+  if (!options.size.empty()) ssgi::ParseImageSize(options.size, scene.settings.width, scene.settings.height);
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  ssgi::Stopwatch stopwatch;
+  const ssgi::ReferenceOutputs ref = ssgi::RenderReference(
+      scene, ssgi::ReferenceParamsForSpp(options.spp), [&](size_t done, size_t rows) {
+        if (!terminal) return;
+        const int width = 40, filled = int(width * done / std::max<size_t>(rows, 1));
+        std::fprintf(stderr, "\r[%s%s] %3zu%%", std::string(size_t(filled), '#').c_str(),
+                     std::string(size_t(width - filled), '.').c_str(), done * 100 / std::max<size_t>(rows, 1));
+        if (done == rows) std::fprintf(stderr, "\n");
+      });
+  const double ms = stopwatch.Lap();
+  std::vector<ssgi::ExrChannel> channels;
+  auto add = [&](const std::string& name, const ssgi::Plane<float>& plane) {
+    channels.push_back({name, false, plane.ConstRow(0), size_t(plane.PixelsPerRow())});
+  };
+  const char* rgb[] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) add(rgb[c], ref.result.c[c]);
+  for (int c = 0; c < 3; ++c) {
+    add(std::string("result.") + rgb[c], ref.result.c[c]);
+    add(std::string("direct.") + rgb[c], ref.direct.c[c]);
+    add(std::string("indirect.") + rgb[c], ref.indirect.c[c]);
+  }
+  add("shadow.visibility", ref.lightVisibility);
+  add("depth", ref.depth);
+  ssgi::WriteExr(options.output, scene.settings.width, scene.settings.height, channels);
+  std::printf("reference %dx%d, %d spp: %.1f ms (%zu rays, BVH %.1f ms)\nwrote %s\n", scene.settings.width,
+              scene.settings.height, options.spp, ms, size_t(ref.stats.rays), ref.stats.buildMs, options.output.c_str());
+  return 0;
+}
+
 struct CompareOptions {
   std::string test;
   std::string reference;
@@ -348,6 +395,20 @@ int main(int argc, char** argv) {
   figuresCommand->add_option("--size", figures.size, "Image size WIDTHxHEIGHT (default 1024x1024).");
   figuresCommand->add_option("--threads", figures.threads, "Worker threads (0 = all).")->check(CLI::Range(0, 1024));
 
+  ReferenceOptions reference;
+  CLI::App* referenceCommand = app.add_subcommand(
+      "reference", "Ray trace the same light transport with Embree: the ground truth for `ssgi compare`.");
+  referenceCommand->add_option("scene", reference.scene, "Scene file or OBJ. Default: the built-in default scene.");
+  referenceCommand->add_option("-o,--output", reference.output,
+                               "Multi-channel EXR: R, G, B (the final image) and result.*, direct.*, indirect.*, "
+                               "shadow.visibility, depth (default reference.exr).");
+  referenceCommand->add_option("--size", reference.size, "Image size WIDTHxHEIGHT; overrides the scene's.");
+  referenceCommand->add_option("--spp", reference.spp,
+                               "Light and bounce samples per pixel (default 64; error falls as 1/sqrt(spp)).")
+      ->check(CLI::Range(1, 65536));
+  referenceCommand->add_option("--threads", reference.threads, "Worker threads (0 = all). Output is identical for any count.")
+      ->check(CLI::Range(0, 1024));
+
   CompareOptions compare;
   CLI::App* compareCommand = app.add_subcommand(
       "compare", "Compare a test image with a reference: RMSE, PSNR (linear HDR), max error and where, SSIM.");
@@ -371,6 +432,7 @@ int main(int argc, char** argv) {
     if (*renderCommand) return Render(render);
     if (*figuresCommand) return Figures(figures);
     if (*compareCommand) return Compare(compare);
+    if (*referenceCommand) return Reference(reference);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi: error: %s\n", e.what());
     return 1;

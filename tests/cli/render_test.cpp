@@ -190,6 +190,27 @@ TEST_CASE("render: the real-scene files render where their models are present", 
   }
 }
 
+TEST_CASE("reference: writes the final image and the matching buffers, comparable layer by layer", "[cli][reference]") {
+  ScratchDir dir("cli-reference");
+  const CommandResult ref =
+      RunCli("reference " + DefaultScene() + " --size 48x32 --spp 2 -o " + Quote(dir / "ref.exr"));
+  CAPTURE(ref.output);
+  REQUIRE(ref.exitCode == 0);
+  const StoredImage image = ReadStoredImage(dir / "ref.exr");
+  for (const char* name : {"R", "G", "B", "result.R", "direct.G", "indirect.B", "shadow.visibility", "depth"}) {
+    CAPTURE(name);
+    CHECK(std::find(image.channelNames.begin(), image.channelNames.end(), name) != image.channelNames.end());
+  }
+  REQUIRE(RunCli("render " + DefaultScene() + " --size 48x32 -o " + Quote(dir / "ours.png") + " --dump-gbuffer " +
+                 Quote(dir / "ours.exr"))
+              .exitCode == 0);
+  const CommandResult visibility = RunCli("compare " + Quote(dir / "ours.exr") + " " + Quote(dir / "ref.exr") +
+                                          " --layer shadow.visibility");
+  CAPTURE(visibility.output);
+  CHECK(visibility.exitCode == 0);
+  CHECK(RunCli("reference " + DefaultScene() + " -o " + Quote(dir / "ref.png")).exitCode == 1);
+}
+
 TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
   ScratchDir dir("cli-default");
   const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";

@@ -1,0 +1,559 @@
+#include "core/reference.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/brdf.h"
+#include "core/camera.h"
+#include "core/check.h"
+#include "core/gbuffer.h"
+#include "core/lighting.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+// Secondary rays start this far (times the scene's largest coordinate) off the surface, along its
+// geometric normal: about 80 float ulps of that coordinate, far above the rounding of a hit
+// position rebuilt from barycentrics, far below any feature a scene models.
+constexpr float kRayOffsetScale = 1e-5f;
+
+// PCG-XSH-RR 64/32 (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
+// Algorithms for Random Number Generation", pcg32_srandom_r / pcg32_random_r).
+class Pcg32 {
+ public:
+  Pcg32(uint64_t seed, uint64_t stream) : increment_((stream << 1u) | 1u) {
+    Next();
+    state_ += seed;
+    Next();
+  }
+  uint32_t Next() {
+    const uint64_t old = state_;
+    state_ = old * 6364136223846793005ull + increment_;
+    const uint32_t xorShifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+    const uint32_t rotation = uint32_t(old >> 59u);
+    return (xorShifted >> rotation) | (xorShifted << ((32u - rotation) & 31u));
+  }
+  // Uniform in [0, 1): the top 24 bits, exactly representable.
+  float Uniform() { return float(Next() >> 8) * 0x1p-24f; }
+
+ private:
+  uint64_t state_ = 0;
+  uint64_t increment_;
+};
+
+// SplitMix64's finaliser (Steele et al. 2014): decorrelates the seeds of neighbouring pixels.
+uint64_t Mix64(uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+// Orthonormal basis (t, b, n) around unit n (Duff et al. 2017, "Building an Orthonormal Basis,
+// Revisited", JCGT 6(1)): branch-free apart from the sign of n.z, accurate near the poles.
+struct Basis {
+  glm::vec3 t, b, n;
+  explicit Basis(const glm::vec3& normal) : n(normal) {
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (sign + n.z);
+    const float c = n.x * n.y * a;
+    t = {1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x};
+    b = {c, sign + n.y * n.y * a, -n.y};
+  }
+  glm::vec3 ToWorld(const glm::vec3& local) const { return t * local.x + b * local.y + n * local.z; }
+  glm::vec3 ToLocal(const glm::vec3& world) const {
+    return {glm::dot(world, t), glm::dot(world, b), glm::dot(world, n)};
+  }
+};
+
+// Primary and bounce rays see what a camera sees (single-sided back faces are invisible, as the
+// rasterizer culls them); shadow rays are stopped by both faces (as the shadow map draws both).
+// Both skip alpha cut-out holes.
+enum class RayKind { kCamera, kShadow };
+
+// Embree hands the filter the context pointer it was given, so the context carries what the
+// filter needs (Embree 3 manual, "rtcInitIntersectContext": the context may be extended).
+struct TraceContext {
+  RTCIntersectContext embree;  // first member: a TraceContext* is a valid RTCIntersectContext*
+  const Scene* scene;
+  RayKind kind;
+};
+
+float AlphaChannel(const Texture& texture, const glm::vec4& texel) {
+  // As the rasterizer's alpha test: grey+alpha and RGBA carry the mask in alpha, others in channel 0.
+  return texture.sourceChannels == 2 || texture.sourceChannels == 4 ? texel.w : texel.x;
+}
+
+glm::vec2 InterpolateUv(const Mesh& mesh, const uint32_t* idx, float u, float v) {
+  const glm::vec2 uv0 = mesh.uvs[idx[0]];
+  return uv0 + (mesh.uvs[idx[1]] - uv0) * u + (mesh.uvs[idx[2]] - uv0) * v;
+}
+
+glm::vec3 FaceNormal(const Mesh& mesh, const uint32_t* idx) {
+  const glm::vec3& p0 = mesh.positions[idx[0]];
+  return glm::cross(mesh.positions[idx[1]] - p0, mesh.positions[idx[2]] - p0);
+}
+
+// Rejects a candidate hit on a cut-out texel, and for camera rays on a culled back face. Embree
+// then continues the traversal past it, so the closest accepted hit wins whatever the BVH order.
+void FilterHits(const RTCFilterFunctionNArguments* args) {
+  const auto* context = reinterpret_cast<const TraceContext*>(args->context);
+  const Scene& scene = *context->scene;
+  for (unsigned int i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
+    const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
+    const Material& material = scene.materials[scene.mesh.materials[triangle]];
+    if (context->kind == RayKind::kCamera && !material.twoSided) {
+      const glm::vec3 direction(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                                RTCRayN_dir_z(args->ray, args->N, i));
+      if (glm::dot(FaceNormal(scene.mesh, idx), direction) > 0.0f) {
+        args->valid[i] = 0;
+        continue;
+      }
+    }
+    if (material.alphaTexture != kNoTexture) {
+      const Texture& texture = scene.textures[material.alphaTexture];
+      const glm::vec2 uv =
+          InterpolateUv(scene.mesh, idx, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+      if (AlphaChannel(texture, SampleTexture(texture, uv, 0.0f)) < material.alphaCutoff) args->valid[i] = 0;
+    }
+  }
+}
+
+struct Hit {
+  uint32_t triangle;
+  float u, v;  // Embree's barycentrics: weights (1 - u - v, u, v) of the triangle's vertices
+  float t;     // in units of the ray direction's length
+};
+
+// One Embree device and scene holding the scene's mesh as one triangle geometry, primitive i being
+// triangle i of the mesh.
+class RayTracer {
+ public:
+  explicit RayTracer(const Scene& scene) : scene_(scene) {
+    device_ = rtcNewDevice(nullptr);
+    if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
+    embreeScene_ = rtcNewScene(device_);
+    // Robust mode: watertight traversal, no ray slipping through a shared edge.
+    rtcSetSceneFlags(embreeScene_, RTC_SCENE_FLAG_ROBUST);
+    const Mesh& mesh = scene.mesh;
+    if (mesh.TriangleCount() > 0) {
+      RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      // Embree's own buffers, over-allocated for its 16-byte vertex loads (a packed
+      // std::vector<glm::vec3> shared in place would be read past its end).
+      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+          geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+      auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+          geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.TriangleCount()));
+      if (vertices == nullptr || indices == nullptr) throw std::runtime_error("Embree: cannot allocate the mesh");
+      std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
+      std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+      rtcSetGeometryIntersectFilterFunction(geometry, &FilterHits);
+      rtcSetGeometryOccludedFilterFunction(geometry, &FilterHits);
+      rtcCommitGeometry(geometry);
+      rtcAttachGeometry(embreeScene_, geometry);
+      rtcReleaseGeometry(geometry);
+    }
+    rtcCommitScene(embreeScene_);
+    const RTCError error = rtcGetDeviceError(device_);
+    if (error != RTC_ERROR_NONE) {
+      rtcReleaseScene(embreeScene_);
+      rtcReleaseDevice(device_);
+      throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(error)) + ")");
+    }
+  }
+  ~RayTracer() {
+    rtcReleaseScene(embreeScene_);
+    rtcReleaseDevice(device_);
+  }
+  RayTracer(const RayTracer&) = delete;
+  RayTracer& operator=(const RayTracer&) = delete;
+
+  // The closest accepted hit with t in [tnear, tfar]; false when there is none.
+  bool Intersect(RayKind kind, const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar,
+                 Hit& hit) const {
+    RTCRayHit rayHit{};
+    SetRay(rayHit.ray, origin, direction, tnear, tfar);
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    TraceContext context = MakeContext(kind);
+    rtcIntersect1(embreeScene_, &context.embree, &rayHit);
+    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit = {rayHit.hit.primID, rayHit.hit.u, rayHit.hit.v, rayHit.ray.tfar};
+    return true;
+  }
+
+  // Whether any accepted surface lies on the shadow ray with t in [tnear, tfar].
+  bool Occluded(const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) const {
+    RTCRay ray{};
+    SetRay(ray, origin, direction, tnear, tfar);
+    TraceContext context = MakeContext(RayKind::kShadow);
+    rtcOccluded1(embreeScene_, &context.embree, &ray);
+    return ray.tfar < 0.0f;  // Embree sets tfar to -inf on an occluded ray
+  }
+
+ private:
+  static void SetRay(RTCRay& ray, const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) {
+    ray.org_x = origin.x;
+    ray.org_y = origin.y;
+    ray.org_z = origin.z;
+    ray.dir_x = direction.x;
+    ray.dir_y = direction.y;
+    ray.dir_z = direction.z;
+    ray.tnear = tnear;
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+  }
+  TraceContext MakeContext(RayKind kind) const {
+    TraceContext context;
+    rtcInitIntersectContext(&context.embree);
+    context.scene = &scene_;
+    context.kind = kind;
+    return context;
+  }
+
+  const Scene& scene_;
+  RTCDevice device_ = nullptr;
+  RTCScene embreeScene_ = nullptr;
+};
+
+// A shaded point: what the G-buffer resolve computes, unquantised and in world space.
+struct Surface {
+  glm::vec3 position;
+  glm::vec3 normal;      // unit shading normal, on the side the ray came from
+  glm::vec3 faceNormal;  // unit geometric normal, on the side the ray came from
+  SurfaceMaterial material;
+  float alpha;           // GGX alpha, roughness^2 clamped to kMinGgxAlpha
+};
+
+// As passes/gbuffer.cpp's resolve, with Embree's barycentrics and texture level 0 (a ray has no
+// pixel footprint, and the reference wants the texels themselves).
+Surface ResolveSurface(const Scene& scene, const Hit& hit, const glm::vec3& rayDirection) {
+  const Mesh& mesh = scene.mesh;
+  const uint32_t* idx = &mesh.indices[3 * size_t(hit.triangle)];
+  const float w0 = 1.0f - hit.u - hit.v;
+  Surface s;
+  s.position = mesh.positions[idx[0]] * w0 + mesh.positions[idx[1]] * hit.u + mesh.positions[idx[2]] * hit.v;
+  glm::vec3 faceNormal = FaceNormal(mesh, idx);
+  const float faceLength = glm::length(faceNormal);
+  // Embree reports no hit on a zero-area triangle, so faceLength > 0; the guard keeps NaN out anyway.
+  faceNormal = faceLength > 0.0f ? faceNormal / faceLength : glm::vec3(0.0f, 1.0f, 0.0f);
+  glm::vec3 normal = mesh.normals[idx[0]] * w0 + mesh.normals[idx[1]] * hit.u + mesh.normals[idx[2]] * hit.v;
+  const float length = glm::length(normal);
+  normal = length > 0.0f && std::isfinite(length) ? normal / length : faceNormal;
+  // A two-sided surface seen from behind shades with the side that faces the ray.
+  if (glm::dot(faceNormal, rayDirection) > 0.0f) {
+    normal = -normal;
+    faceNormal = -faceNormal;
+  }
+  s.normal = normal;
+  s.faceNormal = faceNormal;
+
+  const Material& material = scene.materials[mesh.materials[hit.triangle]];
+  const glm::vec2 uv = InterpolateUv(mesh, idx, hit.u, hit.v);
+  s.material = {material.baseColor, material.metallic, material.roughness};
+  if (material.baseColorTexture != kNoTexture)
+    s.material.albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], uv, 0.0f));
+  if (material.metallicTexture != kNoTexture)
+    s.material.metallic *= SampleTexture(scene.textures[material.metallicTexture], uv, 0.0f).x;
+  if (material.roughnessTexture != kNoTexture)
+    s.material.roughness *= SampleTexture(scene.textures[material.roughnessTexture], uv, 0.0f).x;
+  s.alpha = std::max(s.material.roughness * s.material.roughness, kMinGgxAlpha);
+  return s;
+}
+
+// A light as the reference samples it: its prepared form plus what sampling needs.
+struct SampledLight {
+  PreparedLight light;
+  bool castShadows;
+  // Directional: 1 - cos of the cone's half-angle, and the estimator's normalisation
+  // 2 / (1 + cos), the cone's solid angle over its cosine-weighted solid angle pi sin^2, so that a
+  // surface facing the light receives exactly the scene's irradiance.
+  float oneMinusCosMax = 0.0f;
+  float coneNormalisation = 1.0f;
+  Basis frame{glm::vec3(0.0f, 0.0f, 1.0f)};  // around the direction to the light
+};
+
+std::vector<SampledLight> SampleableLights(const Scene& scene) {
+  const std::vector<PreparedLight> prepared = PrepareLights(scene, glm::mat4(1.0f));
+  std::vector<bool> castShadows;  // in PrepareLights order: directional lights, then spots
+  for (const DirectionalLight& l : scene.directionalLights) castShadows.push_back(l.castShadows);
+  for (const SpotLight& l : scene.spotLights) castShadows.push_back(l.castShadows);
+  std::vector<SampledLight> lights;
+  for (size_t i = 0; i < prepared.size(); ++i) {
+    SampledLight s{prepared[i], castShadows[i]};
+    if (!s.light.isSpot) {
+      // 1 - cos(atan(t)) = t^2 / (q (q + 1)), q = sqrt(1 + t^2): no cancellation for tiny suns.
+      const double t = s.light.tanAngularRadius;
+      const double q = std::sqrt(1.0 + t * t);
+      s.oneMinusCosMax = float(t * t / (q * (q + 1.0)));
+      s.coneNormalisation = float(2.0 / (1.0 + 1.0 / q));
+      s.frame = Basis(-s.light.direction);
+    }
+    lights.push_back(s);
+  }
+  return lights;
+}
+
+// One sample of a light seen from `position`: a direction, the distance to the emitter point along
+// it (infinity for a directional light) and the irradiance it carries on a surface facing it,
+// such that the mean over samples of BrdfCosine * irradiance estimates the reflected radiance.
+struct LightSample {
+  glm::vec3 toLight;
+  float distance;
+  glm::vec3 irradiance;
+};
+
+LightSample SampleLight(const SampledLight& s, const glm::vec3& position, float u1, float u2) {
+  const PreparedLight& light = s.light;
+  const float phi = 2.0f * kPi * u2;
+  if (!light.isSpot) {
+    // Uniform in the cone's solid angle (Pharr et al., PBR 3rd ed., §13.6.4, UniformSampleCone).
+    const float oneMinusCos = u1 * s.oneMinusCosMax;
+    const float cosTheta = 1.0f - oneMinusCos;
+    const float sinTheta = std::sqrt(std::max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
+    const glm::vec3 local(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+    return {glm::normalize(s.frame.ToWorld(local)), kInfinity, light.power * s.coneNormalisation};
+  }
+  // Spot: a Lambertian disc of `radius` centred on the light, facing the point, uniform in area
+  // (PBR §13.6.2, concentric mapping replaced by sqrt(u1): same density). Radiance
+  // L = intensity / (pi r^2) gives each sample the irradiance I cos(at the disc) / distance^2;
+  // the cone falloff is the one of core/lighting.h's Evaluate, from the disc's centre.
+  glm::vec3 toCentre = light.position - position;
+  const float centreDistance = glm::length(toCentre);
+  toCentre = centreDistance > 0.0f ? toCentre / centreDistance : -light.direction;
+  const float cone =
+      std::clamp((glm::dot(-toCentre, light.direction) - light.cosOuter) * light.coneScale, 0.0f, 1.0f);
+  const Basis disc(-toCentre);  // the disc's normal points at the shaded point
+  const float r = light.radius * std::sqrt(u1);
+  const glm::vec3 onDisc = light.position + disc.t * (r * std::cos(phi)) + disc.b * (r * std::sin(phi));
+  glm::vec3 toLight = onDisc - position;
+  const float distance2 = glm::dot(toLight, toLight);
+  const float distance = std::sqrt(distance2);
+  toLight = distance > 0.0f ? toLight / distance : toCentre;
+  const float cosAtDisc = std::max(0.0f, glm::dot(-toLight, disc.n));
+  // The raster path's clamp: inside the emitter's radius the inverse square stops growing.
+  const float falloff = cosAtDisc / std::max(distance2, std::max(light.radius * light.radius, 1e-8f));
+  return {toLight, distance, light.power * (cone * cone * falloff)};
+}
+
+struct Counters {
+  size_t rays = 0;
+};
+
+class Shader {
+ public:
+  Shader(const Scene& scene, const RayTracer& tracer, const ReferenceParams& params)
+      : scene_(scene), tracer_(tracer), params_(params), lights_(SampleableLights(scene)) {
+    float extent = 0.0f;
+    for (const glm::vec3& p : scene.mesh.positions)
+      extent = std::max(extent, std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
+    rayOffset_ = kRayOffsetScale * std::max(extent, 1.0f);
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      if (lights_[i].castShadows) {
+        firstShadowLight_ = i;
+        break;
+      }
+    }
+  }
+
+  // Direct light leaving `s` towards `toViewer` (unit), each light sampled `samples` times. When
+  // `visibleSamples` is given, it receives how many samples of the first shadow-casting light are
+  // unoccluded (each of them is traced, whatever the BRDF there).
+  glm::vec3 DirectLight(const Surface& s, const glm::vec3& toViewer, int samples, Pcg32& rng, Counters& counters,
+                        int* visibleSamples) const {
+    glm::vec3 radiance(0.0f);
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      const SampledLight& light = lights_[i];
+      const bool countVisibility = visibleSamples != nullptr && i == firstShadowLight_;
+      glm::vec3 sum(0.0f);
+      for (int k = 0; k < samples; ++k) {
+        const float u1 = rng.Uniform();
+        const float u2 = rng.Uniform();
+        const LightSample sample = SampleLight(light, s.position, u1, u2);
+        const glm::vec3 reflected =
+            BrdfCosine(s.material, s.alpha, s.normal, toViewer, sample.toLight) * sample.irradiance;
+        const bool contributes = reflected.x > 0.0f || reflected.y > 0.0f || reflected.z > 0.0f;
+        bool visible = true;
+        if (light.castShadows && (contributes || countVisibility)) {
+          const glm::vec3 origin = OffsetOrigin(s, sample.toLight);
+          // A spot's shadow ray ends just before the emitter point it aims at.
+          const float tfar = std::isinf(sample.distance) ? kInfinity : std::max(0.0f, sample.distance - rayOffset_);
+          visible = !tracer_.Occluded(origin, sample.toLight, 0.0f, tfar);
+          ++counters.rays;
+        }
+        if (countVisibility && visible) ++*visibleSamples;
+        if (visible) sum += reflected;
+      }
+      radiance += sum / float(samples);
+    }
+    return radiance;
+  }
+
+  // One GGX specular bounce of direct light at `s`: directions sampled from the distribution of
+  // visible normals, weight F G2 / G1(v) (Heitz 2018, "Sampling the GGX Distribution of Visible
+  // Normals", JCGT 7(4); G2 the height-correlated Smith of core/brdf.h). The
+  // specular lobe only: the screen-space path reflects with the split-sum specular weight alone.
+  glm::vec3 SpecularBounce(const Surface& s, const glm::vec3& toViewer, Pcg32& rng, Counters& counters) const {
+    const int samples = params_.bounceSamples;
+    const Basis frame(s.normal);
+    const glm::vec3 v = frame.ToLocal(toViewer);
+    glm::vec3 sum(0.0f);
+    if (samples == 0 || !(v.z > 0.0f)) return sum;  // the BRDF is 0 for a viewer below the surface
+    const glm::vec3 f0 = SpecularF0(s.material);
+    const float a = s.alpha;
+    const float a2 = a * a;
+    const float lambdaV = std::sqrt(a2 + (1.0f - a2) * v.z * v.z);
+    for (int k = 0; k < samples; ++k) {
+      const float u1 = rng.Uniform();  // named: argument evaluation order is unspecified
+      const float u2 = rng.Uniform();
+      const glm::vec3 h = SampleVisibleNormal(v, a, u1, u2);
+      const float vDotH = std::clamp(glm::dot(v, h), 0.0f, 1.0f);
+      const glm::vec3 l = h * (2.0f * vDotH) - v;
+      if (!(l.z > 0.0f)) continue;
+      // G2 / G1(v) = n.l (n.v + lambdaV) / (n.l lambdaV + n.v lambdaL): F V 4 n.l n.v / G1(v) with
+      // V = 0.5 / (n.l lambdaV + n.v lambdaL) and G1(v) = 2 n.v / (n.v + lambdaV), finite at grazing.
+      const float lambdaL = std::sqrt(a2 + (1.0f - a2) * l.z * l.z);
+      const float g2OverG1 = l.z * (v.z + lambdaV) / (l.z * lambdaV + v.z * lambdaL);
+      const glm::vec3 weight = SchlickFresnel(vDotH, f0) * g2OverG1;
+      const glm::vec3 direction = glm::normalize(frame.ToWorld(l));
+      Hit hit;
+      ++counters.rays;
+      if (!tracer_.Intersect(RayKind::kCamera, OffsetOrigin(s, direction), direction, 0.0f, kInfinity, hit)) {
+        sum += weight * scene_.settings.background;
+        continue;
+      }
+      const Surface next = ResolveSurface(scene_, hit, direction);
+      sum += weight * DirectLight(next, -direction, params_.bounceLightSamples, rng, counters, nullptr);
+    }
+    return sum / float(samples);
+  }
+
+  bool HasShadowLight() const { return firstShadowLight_ < lights_.size(); }
+
+ private:
+  // Heitz 2018's sampling routine (isotropic alpha): a microfacet normal in the local frame,
+  // distributed as D_v(h) = G1(v) max(0, v.h) D(h) / v.z.
+  static glm::vec3 SampleVisibleNormal(const glm::vec3& v, float alpha, float u1, float u2) {
+    const glm::vec3 vh = glm::normalize(glm::vec3(alpha * v.x, alpha * v.y, v.z));
+    const float lengthSquared = vh.x * vh.x + vh.y * vh.y;
+    const glm::vec3 t1 = lengthSquared > 0.0f ? glm::vec3(-vh.y, vh.x, 0.0f) / std::sqrt(lengthSquared)
+                                              : glm::vec3(1.0f, 0.0f, 0.0f);
+    const glm::vec3 t2 = glm::cross(vh, t1);
+    const float r = std::sqrt(u1);
+    const float phi = 2.0f * kPi * u2;
+    const float p1 = r * std::cos(phi);
+    const float s = 0.5f * (1.0f + vh.z);
+    const float p2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - p1 * p1)) + s * (r * std::sin(phi));
+    const glm::vec3 nh = t1 * p1 + t2 * p2 + vh * std::sqrt(std::max(0.0f, 1.0f - p1 * p1 - p2 * p2));
+    return glm::normalize(glm::vec3(alpha * nh.x, alpha * nh.y, std::max(0.0f, nh.z)));
+  }
+
+  // The start of a ray leaving `s` along `direction`: off the triangle's plane on the side the
+  // ray goes, so it cannot hit its own triangle again (including rays into the surface).
+  glm::vec3 OffsetOrigin(const Surface& s, const glm::vec3& direction) const {
+    return s.position + s.faceNormal * (glm::dot(s.faceNormal, direction) >= 0.0f ? rayOffset_ : -rayOffset_);
+  }
+
+  const Scene& scene_;
+  const RayTracer& tracer_;
+  const ReferenceParams& params_;
+  std::vector<SampledLight> lights_;
+  size_t firstShadowLight_ = std::numeric_limits<size_t>::max();
+  float rayOffset_ = 0.0f;
+};
+
+}  // namespace
+
+ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& params,
+                                 const ReferenceProgress& progress) {
+  SSGI_CHECK_GE(params.lightSamples, 1);
+  SSGI_CHECK_GE(params.bounceSamples, 0);
+  SSGI_CHECK_GE(params.bounceLightSamples, 1);
+  const int width = scene.settings.width, height = scene.settings.height;
+  const ViewProjection view = MakePerspective(scene.camera, width, height);
+  const glm::mat4 viewToWorld = glm::inverse(view.view);
+  const glm::vec3 cameraPosition(viewToWorld[3]);
+  const glm::mat3 viewToWorldRotation(viewToWorld);
+  const glm::vec3 background = scene.settings.background;
+
+  ReferenceOutputs out;
+  Stopwatch stopwatch;
+  const RayTracer tracer(scene);
+  out.stats.buildMs = stopwatch.Lap();
+
+  const Shader shader(scene, tracer, params);
+  out.direct = MakePlane3<float>(width, height, 0.0f);
+  out.indirect = MakePlane3<float>(width, height, 0.0f);
+  out.result = MakePlane3<float>(width, height, 0.0f);
+  out.lightVisibility = MakePlane<float>(width, height, 1.0f);
+  out.depth = MakePlane<float>(width, height, kBackgroundDepth);
+
+  const size_t bands = RowBandCount(size_t(height));
+  std::vector<Counters> counters(bands);
+  std::vector<size_t> covered(bands, 0);
+  std::mutex progressMutex;
+  size_t rowsDone = 0;
+  ParallelForRowBands("reference", size_t(height), [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      float* direct[3] = {out.direct.c[0].MutableRow(y), out.direct.c[1].MutableRow(y), out.direct.c[2].MutableRow(y)};
+      float* indirect[3] = {out.indirect.c[0].MutableRow(y), out.indirect.c[1].MutableRow(y),
+                            out.indirect.c[2].MutableRow(y)};
+      float* result[3] = {out.result.c[0].MutableRow(y), out.result.c[1].MutableRow(y), out.result.c[2].MutableRow(y)};
+      float* visibility = out.lightVisibility.MutableRow(y);
+      float* depth = out.depth.MutableRow(y);
+      for (int x = 0; x < width; ++x) {
+        // One stream per pixel, its samples drawn in a fixed order: the bytes depend on neither
+        // the thread count nor the order pixels run in.
+        const uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
+        Pcg32 rng(Mix64((uint64_t(params.seed) << 32) ^ pixel), pixel);
+        // The view ray has z = -1 in view space, so its t is the view depth and the camera's near
+        // plane is tnear: the same clipping as the rasterizer's.
+        const glm::vec3 rayDirection =
+            viewToWorldRotation * view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
+        Hit hit;
+        ++counters[band].rays;
+        glm::vec3 directLight = background, indirectLight(0.0f);
+        if (tracer.Intersect(RayKind::kCamera, cameraPosition, rayDirection, view.nearPlane, kInfinity, hit)) {
+          ++covered[band];
+          const glm::vec3 unitDirection = glm::normalize(rayDirection);
+          const Surface s = ResolveSurface(scene, hit, unitDirection);
+          int visible = 0;
+          directLight = shader.DirectLight(s, -unitDirection, params.lightSamples, rng, counters[band], &visible);
+          indirectLight = shader.SpecularBounce(s, -unitDirection, rng, counters[band]);
+          if (shader.HasShadowLight()) visibility[x] = float(visible) / float(params.lightSamples);
+          depth[x] = hit.t;
+        }
+        for (int c = 0; c < 3; ++c) {
+          direct[c][x] = directLight[c];
+          indirect[c][x] = indirectLight[c];
+          result[c][x] = directLight[c] + indirectLight[c];
+        }
+      }
+    }
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(progressMutex);
+      rowsDone += yEnd - yBegin;
+      progress(rowsDone, size_t(height));
+    }
+  });
+  for (size_t b = 0; b < bands; ++b) {
+    out.stats.rays += counters[b].rays;
+    out.stats.coveredPixels += covered[b];
+  }
+  out.stats.traceMs = stopwatch.Lap();
+  return out;
+}
+
+}  // namespace ssgi
