@@ -2,7 +2,7 @@
 """Plots a sweep CSV (bench/sweep.cpp): error against frame time, one point per quality setting,
 with the Pareto front (no other setting both faster and more accurate) drawn and labelled.
 
-    python3 bench/plot_sweep.py sweep.csv sweep.png [--metric rmse|psnr_db|ssim]
+    python3 bench/plot_sweep.py sweep.csv sweep.png [--metric rmse_display|rmse|psnr_db|ssim]
 
 Needs matplotlib (Debian: apt-get install python3-matplotlib)."""
 import argparse
@@ -26,7 +26,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("csv")
     parser.add_argument("png")
-    parser.add_argument("--metric", default="rmse", choices=["rmse", "psnr_db", "ssim"])
+    parser.add_argument("--metric", default="rmse_display", choices=["rmse_display", "rmse", "psnr_db", "ssim"])
     args = parser.parse_args()
     try:
         import matplotlib
@@ -38,18 +38,22 @@ def main():
         rows = list(csv.DictReader(f))
     if not rows:
         sys.exit("plot_sweep.py: error: %s has no rows" % args.csv)
-    lower_is_better = args.metric == "rmse"
+    lower_is_better = args.metric in ("rmse", "rmse_display")
     points = [(float(r["frame_ms"]), float(r[args.metric])) for r in rows]
     labels = ["%s=%s" % (r["knob"], r["value"]) if r["knob"] != "baseline" else "defaults" for r in rows]
+    presets = [i for i, r in enumerate(rows) if r["knob"] == "preset"]
     front = pareto_front(points, lower_is_better)
     fig, ax = plt.subplots(figsize=(8, 5), dpi=110)
     ax.scatter([p[0] for p in points], [p[1] for p in points], color="#999999", label="setting")
     ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "o-", color="#d62728", label="Pareto front")
+    ax.scatter([points[i][0] for i in presets], [points[i][1] for i in presets], marker="s", s=60,
+               facecolors="none", edgecolors="#1f77b4", label="--quality presets")
     for i, (t, e) in enumerate(points):
         ax.annotate(labels[i], (t, e), textcoords="offset points", xytext=(4, 3), fontsize=7,
                     color="#d62728" if i in front else "#555555")
     ax.set_xlabel("frame time (ms, median)")
-    ax.set_ylabel({"rmse": "RMSE against the reference (linear)", "psnr_db": "PSNR (dB)", "ssim": "SSIM"}[args.metric])
+    ax.set_ylabel({"rmse_display": "RMSE of x/(1+x) against the reference", "rmse": "RMSE against the reference (linear)",
+                   "psnr_db": "PSNR (dB)", "ssim": "SSIM"}[args.metric])
     ax.set_title("ssgi: error against time, one knob at a time")
     ax.grid(True, alpha=0.3)
     ax.legend()

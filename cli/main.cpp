@@ -52,7 +52,9 @@ struct RenderOptions {
   std::optional<std::string> shadows;
   std::optional<std::string> reflections;
   std::string shadowFilter = "ssabss";
-  ssgi::FrameOptions frame;  // quality knobs, bound to options directly
+  std::string quality = "high";
+  // Quality knobs given on the command line override the preset's.
+  std::optional<int> shadowMapSize, blockerTaps, blurRadius, blurTaps, ssrIterations, coneSamples;
 };
 
 ssgi::EffectMode ParseEffectMode(const std::string& text) {
@@ -94,7 +96,13 @@ int Render(const RenderOptions& options) {
   if (options.exposure) scene.settings.exposureEv = *options.exposure;
   if (options.shadows) scene.settings.shadows = ParseEffectMode(*options.shadows);
   if (options.reflections) scene.settings.reflections = ParseEffectMode(*options.reflections);
-  ssgi::FrameOptions frameOptions = options.frame;
+  ssgi::FrameOptions frameOptions = ssgi::QualityPreset(ssgi::ParseQuality(options.quality));
+  if (options.shadowMapSize) frameOptions.shadowMap.resolution = *options.shadowMapSize;
+  if (options.blockerTaps) frameOptions.shadowMap.blockerSearchTaps = *options.blockerTaps;
+  if (options.blurRadius) frameOptions.shadowFilter.maxRadiusPixels = *options.blurRadius;
+  if (options.blurTaps) frameOptions.shadowFilter.taps = *options.blurTaps;
+  if (options.ssrIterations) frameOptions.ssrTrace.maxIterations = *options.ssrIterations;
+  if (options.coneSamples) frameOptions.ssrCone.maxSamples = *options.coneSamples;
   frameOptions.shadowFilter.filter = options.shadowFilter == "hard"     ? ssgi::ShadowFilter::kHard
                                      : options.shadowFilter == "sspcss" ? ssgi::ShadowFilter::kSspcss
                                                                         : ssgi::ShadowFilter::kSsabss;
@@ -313,7 +321,7 @@ int Compare(const CompareOptions& options) {
   const ssgi::ImageDifference d = ssgi::CompareImages(test, reference);
   std::printf("%s vs %s (layer %s: %dx%d, %zu channels)\n", options.test.c_str(), options.reference.c_str(),
               options.layer.empty() ? "RGB" : options.layer.c_str(), test.width, test.height, test.Channels());
-  std::printf("  RMSE       %.6g\n", d.rmse);
+  std::printf("  RMSE       %.6g (linear), %.6g (of x/(1+x))\n", d.rmse, d.rmseDisplay);
   std::printf("  PSNR       %.2f dB (peak %.6g, the reference's largest value)\n", d.psnr, d.peak);
   std::printf("  max error  %.6g at (%d, %d)\n", d.maxError, d.maxX, d.maxY);
   std::printf("  SSIM       %.5f (mean SSIM of x/(1+x) tonemapped luminance; FLIP has no Debian 12 package)\n", d.ssim);
@@ -363,23 +371,27 @@ int main(int argc, char** argv) {
                             "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito; default), sspcss (isotropic "
                             "screen-space PCSS, MohammadBagher et al. 2010) or hard (the shadow map's hard test).")
       ->check(CLI::IsMember({"hard", "sspcss", "ssabss"}));
-  renderCommand->add_option("--shadow-map-size", render.frame.shadowMap.resolution,
+  renderCommand->add_option("--quality", render.quality,
+                            "Quality preset: low, medium, high (the default) or ultra (README 'Accuracy and time' "
+                            "gives each one's time and error). The knobs below override it.")
+      ->check(CLI::IsMember({"low", "medium", "high", "ultra"}));
+  renderCommand->add_option("--shadow-map-size", render.shadowMapSize,
                             "Shadow map resolution in texels per side (default 2048).")
       ->check(CLI::Range(16, 16384));
-  renderCommand->add_option("--blocker-taps", render.frame.shadowMap.blockerSearchTaps,
+  renderCommand->add_option("--blocker-taps", render.blockerTaps,
                             "PCSS blocker-search taps per pixel (default 16).")
       ->check(CLI::Range(1, ssgi::kMaxBlockerSearchTaps));
-  renderCommand->add_option("--blur-radius", render.frame.shadowFilter.maxRadiusPixels,
+  renderCommand->add_option("--blur-radius", render.blurRadius,
                             "Shadow blur radius clamp in pixels (default 24).")
       ->check(CLI::Range(0, 256));
-  renderCommand->add_option("--blur-taps", render.frame.shadowFilter.taps,
+  renderCommand->add_option("--blur-taps", render.blurTaps,
                             "Shadow blur taps per side of each 1-D pass (0 = one per pixel of the radius, the "
                             "default).")
       ->check(CLI::Range(0, 256));
-  renderCommand->add_option("--ssr-iterations", render.frame.ssrTrace.maxIterations,
+  renderCommand->add_option("--ssr-iterations", render.ssrIterations,
                             "Hi-Z steps per reflected ray (default 64).")
       ->check(CLI::Range(1, 4096));
-  renderCommand->add_option("--cone-samples", render.frame.ssrCone.maxSamples,
+  renderCommand->add_option("--cone-samples", render.coneSamples,
                             "Colour-pyramid samples per cone (default 7).")
       ->check(CLI::Range(1, 64));
   renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "

@@ -137,7 +137,7 @@ ImageDifference CompareImages(const FloatImage& a, const FloatImage& b) {
   SSGI_CHECK_EQ(a.height, b.height);
   SSGI_CHECK_EQ(a.Channels(), b.Channels());
   ImageDifference d;
-  double sumSquares = 0.0, peak = 0.0;
+  double sumSquares = 0.0, sumDisplaySquares = 0.0, peak = 0.0;
   size_t counted = 0;
   const size_t channels = a.Channels();
   for (size_t i = 0; i < a.pixels.size(); ++i) {
@@ -148,6 +148,9 @@ ImageDifference CompareImages(const FloatImage& a, const FloatImage& b) {
     }
     const double e = double(va) - double(vb);
     sumSquares += e * e;
+    const double da = std::max(double(va), 0.0), db = std::max(double(vb), 0.0);
+    const double displayError = da / (1.0 + da) - db / (1.0 + db);
+    sumDisplaySquares += displayError * displayError;
     ++counted;
     peak = std::max(peak, double(vb));
     if (std::abs(e) > d.maxError) {
@@ -158,6 +161,7 @@ ImageDifference CompareImages(const FloatImage& a, const FloatImage& b) {
   }
   const double mse = counted > 0 ? sumSquares / double(counted) : 0.0;
   d.rmse = std::sqrt(mse);
+  d.rmseDisplay = counted > 0 ? std::sqrt(sumDisplaySquares / double(counted)) : 0.0;
   d.peak = peak = std::max(peak, 1e-12);
   d.psnr = mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
   d.ssim = MeanSsim(a, b);

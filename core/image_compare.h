@@ -30,6 +30,9 @@ struct ImageDifference {
   double psnr = 0.0;           // 10 log10(peak^2 / mse); +inf when equal
   double maxError = 0.0;       // max over pixels and channels of |a - b|
   int maxX = 0, maxY = 0;      // where it is (first in row-major order)
+  // RMSE of x / (1 + x) per channel: bounded, so a few extreme HDR values (a reflected sun) cannot
+  // drown every other difference; the error the eye sees, roughly.
+  double rmseDisplay = 0.0;
   double ssim = 1.0;           // mean SSIM (Wang et al. 2004) of the tonemapped luminance, 1 = identical
   size_t nonFinite = 0;        // samples of a or b that are NaN or infinite (excluded from the metrics)
 };

@@ -1,5 +1,6 @@
 #include "passes/frame.h"
 
+#include "core/error.h"
 #include "core/image_io.h"
 #include "core/lighting.h"
 #include "core/stopwatch.h"
@@ -86,6 +87,45 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
       for (int c = 0; c < 3; ++c) rgb[(size_t(y) * width + x) * 3 + c] = uint8_t(w0[x] >> (8 * c));
   }
   return rgb;
+}
+
+FrameOptions QualityPreset(Quality quality) {
+  FrameOptions o;
+  switch (quality) {
+    case Quality::kLow:
+      o.shadowMap.resolution = 1024;
+      o.shadowMap.blockerSearchTaps = 8;
+      o.shadowFilter.maxRadiusPixels = 12;
+      o.shadowFilter.taps = 4;
+      o.ssrTrace.maxIterations = 16;
+      o.ssrCone.maxSamples = 3;
+      break;
+    case Quality::kMedium:
+      o.shadowMap.resolution = 1024;
+      o.shadowMap.blockerSearchTaps = 12;
+      o.shadowFilter.maxRadiusPixels = 16;
+      o.ssrTrace.maxIterations = 32;
+      o.ssrCone.maxSamples = 5;
+      break;
+    case Quality::kHigh:
+      break;
+    case Quality::kUltra:
+      o.shadowMap.resolution = 4096;
+      o.shadowMap.blockerSearchTaps = 32;
+      o.shadowFilter.maxRadiusPixels = 32;
+      o.ssrTrace.maxIterations = 128;
+      o.ssrCone.maxSamples = 12;
+      break;
+  }
+  return o;
+}
+
+Quality ParseQuality(const std::string& name) {
+  if (name == "low") return Quality::kLow;
+  if (name == "medium") return Quality::kMedium;
+  if (name == "high") return Quality::kHigh;
+  if (name == "ultra") return Quality::kUltra;
+  throw InputError("--quality: expected low, medium, high or ultra, got '" + name + "'");
 }
 
 bool SceneReflects(const Scene& scene, float roughnessCutoff) {

@@ -40,6 +40,13 @@ struct FrameOptions {
   SsrConeParams ssrCone;
 };
 
+// Quality presets (README "Accuracy and time"): each sets every quality knob of FrameOptions.
+// kHigh is FrameOptions' defaults.
+enum class Quality { kLow, kMedium, kHigh, kUltra };
+FrameOptions QualityPreset(Quality quality);
+// "low", "medium", "high", "ultra"; anything else throws InputError naming --quality.
+Quality ParseQuality(const std::string& name);
+
 struct Frame {
   ViewProjection view;
   GBufferOutputs gbuffer;

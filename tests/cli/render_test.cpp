@@ -162,7 +162,7 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
   const CommandResult same = RunCli("compare " + Quote(dir / "hard.exr") + " " + Quote(dir / "hard.exr"));
   CAPTURE(same.output);
   CHECK(same.exitCode == 0);
-  CHECK(same.output.find("RMSE       0\n") != std::string::npos);
+  CHECK(same.output.find("RMSE       0 (linear), 0 (of x/(1+x))\n") != std::string::npos);
   const CommandResult visibility = RunCli("compare " + Quote(dir / "hard_dump.exr") + " " +
                                           Quote(dir / "ssabss_dump.exr") + " --layer shadow.visibility --heatmap " +
                                           Quote(dir / "heat.png"));

@@ -37,6 +37,7 @@ TEST_CASE("compare: known differences give known metrics", "[compare]") {
   CHECK(d.peak == 1.0);
   CHECK(d.psnr == Approx(20.0).epsilon(1e-4));  // 10 log10(1 / 0.01)
   CHECK(d.maxError == Approx(0.1).epsilon(1e-5));
+  CHECK(d.rmseDisplay == Approx(1.1 / 2.1 - 0.5).epsilon(1e-5));
 
   FloatImage spot = reference;
   spot.pixels[(2 * 16 + 3) * 3 + 1] = 1.5f;  // pixel (3, 2), green
