@@ -56,6 +56,7 @@ TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
   const CommandResult knob = RunCli("render " + DefaultScene() + " --ssr-iterations 0 -o " + out);
   CHECK(knob.exitCode == 2);
   CHECK(knob.output.find("--ssr-iterations") != std::string::npos);
+  CHECK(RunCli("render " + DefaultScene() + " --quality extreme -o " + out).exitCode == 2);
   RequireOnlyFiles(dir, {});
 }
 
