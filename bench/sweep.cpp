@@ -5,6 +5,7 @@
 //
 //   ssgi_sweep --reference ref.exr [--scene scene.json] [--size 512x512] [--repeats 5] -o sweep.csv
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -27,6 +28,8 @@ struct Setting {
   std::string knob;   // which knob this row varies ("baseline" for the defaults)
   std::string value;  // its value, as text
   std::function<void(ssgi::Scene&, ssgi::FrameOptions&)> apply;
+  // Render at this fraction of the reference's size, then resample to it (bilinear) for the error.
+  double scale = 1.0;
 };
 
 // The quality presets, then one knob at a time around the defaults: the axes the presets are chosen
@@ -40,6 +43,10 @@ std::vector<Setting> Settings() {
   for (int v : {8, 16, 32, 128})
     settings.push_back({"ssr_iterations", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
                           o.ssrTrace.maxIterations = v;
+                        }});
+  for (int v : {0, 2, 4})
+    settings.push_back({"hiz_start_level", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
+                          o.ssrTrace.startLevel = v;
                         }});
   for (int v : {1, 3, 12})
     settings.push_back({"cone_samples", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
@@ -61,6 +68,8 @@ std::vector<Setting> Settings() {
     settings.push_back({"blur_radius", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
                           o.shadowFilter.maxRadiusPixels = v;
                         }});
+  for (double v : {0.5, 0.75})
+    settings.push_back({"resolution", std::to_string(int(v * 100)) + "%", [](ssgi::Scene&, ssgi::FrameOptions&) {}, v});
   settings.push_back({"normal_encoding", "xyz8", [](ssgi::Scene& s, ssgi::FrameOptions&) {
                         s.settings.normalEncoding = ssgi::NormalEncoding::kXyz8;
                       }});
@@ -114,8 +123,8 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   }
   for (const Setting& setting : Settings()) {
     ssgi::Scene scene = loaded;
-    scene.settings.width = width;
-    scene.settings.height = height;
+    scene.settings.width = std::max(1, int(std::lround(width * setting.scale)));
+    scene.settings.height = std::max(1, int(std::lround(height * setting.scale)));
     ssgi::FrameOptions options;
     setting.apply(scene, options);
     std::map<std::string, std::vector<double>> times;
@@ -123,7 +132,11 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     for (int r = 0; r < repeats; ++r) {
       const ssgi::Frame frame = ssgi::RenderFrame(scene, options);
       for (const ssgi::StageStats& s : frame.stats) times[s.name].push_back(s.ms);
-      if (r == 0) difference = ssgi::CompareImages(ToFloatImage(frame.Result()), reference);
+      if (r == 0) {
+        ssgi::FloatImage image = ToFloatImage(frame.Result());
+        if (image.width != width || image.height != height) image = ssgi::ResizeImage(image, width, height);
+        difference = ssgi::CompareImages(image, reference);
+      }
       if (stages.empty()) {
         for (const ssgi::StageStats& s : frame.stats) stages.push_back(s.name);
         for (const std::string& name : stages) csv << ",ms " << name;

@@ -54,7 +54,7 @@ struct RenderOptions {
   std::string shadowFilter = "ssabss";
   std::string quality = "high";
   // Quality knobs given on the command line override the preset's.
-  std::optional<int> shadowMapSize, blockerTaps, blurRadius, blurTaps, ssrIterations, coneSamples;
+  std::optional<int> shadowMapSize, blockerTaps, blurRadius, blurTaps, ssrIterations, hizStartLevel, coneSamples;
 };
 
 ssgi::EffectMode ParseEffectMode(const std::string& text) {
@@ -102,6 +102,7 @@ int Render(const RenderOptions& options) {
   if (options.blurRadius) frameOptions.shadowFilter.maxRadiusPixels = *options.blurRadius;
   if (options.blurTaps) frameOptions.shadowFilter.taps = *options.blurTaps;
   if (options.ssrIterations) frameOptions.ssrTrace.maxIterations = *options.ssrIterations;
+  if (options.hizStartLevel) frameOptions.ssrTrace.startLevel = *options.hizStartLevel;
   if (options.coneSamples) frameOptions.ssrCone.maxSamples = *options.coneSamples;
   frameOptions.shadowFilter.filter = options.shadowFilter == "hard"     ? ssgi::ShadowFilter::kHard
                                      : options.shadowFilter == "sspcss" ? ssgi::ShadowFilter::kSspcss
@@ -391,6 +392,10 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--ssr-iterations", render.ssrIterations,
                             "Hi-Z steps per reflected ray (default 64).")
       ->check(CLI::Range(1, 4096));
+  renderCommand->add_option("--hiz-start-level", render.hizStartLevel,
+                            "Hi-Z level a reflected ray continues at after leaving its own pixel (default 1; "
+                            "higher levels stride faster through open space; clamped to the top level).")
+      ->check(CLI::Range(0, 30));
   renderCommand->add_option("--cone-samples", render.coneSamples,
                             "Colour-pyramid samples per cone (default 7).")
       ->check(CLI::Range(1, 64));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include "core/check.h"
@@ -85,6 +87,25 @@ double MeanSsim(const FloatImage& a, const FloatImage& b) {
 }
 
 }  // namespace
+
+FloatImage ResizeImage(const FloatImage& image, int width, int height) {
+  SSGI_CHECK(width > 0 && height > 0);
+  const int channels = int(image.Channels());
+  // The source buffer wraps image.pixels read-only; OIIO's ImageBuf takes a non-const pointer.
+  OIIO::ImageBuf source(OIIO::ImageSpec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT),
+                        const_cast<float*>(image.pixels.data()));
+  const OIIO::ImageBuf resized =
+      OIIO::ImageBufAlgo::resize(source, "triangle", 0.0f, OIIO::ROI(0, width, 0, height, 0, 1, 0, channels), 1);
+  SSGI_CHECK(!resized.has_error());
+  FloatImage out;
+  out.width = width;
+  out.height = height;
+  out.channelNames = image.channelNames;
+  out.pixels.resize(size_t(width) * size_t(height) * size_t(channels));
+  SSGI_CHECK(resized.get_pixels(OIIO::ROI(0, width, 0, height, 0, 1, 0, channels), OIIO::TypeDesc::FLOAT,
+                                out.pixels.data()));
+  return out;
+}
 
 FloatImage ReadFloatImage(const std::filesystem::path& file) {
   auto in = OIIO::ImageInput::open(file.string());

@@ -24,6 +24,10 @@ FloatImage ReadFloatImage(const std::filesystem::path& file);
 // naming `file` and the channels it has when the layer is missing.
 FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const std::filesystem::path& file);
 
+// `image` resampled to width x height with a triangle (bilinear) filter, pixel centres aligned:
+// how a frame rendered below the reference's resolution is brought to it for comparison.
+FloatImage ResizeImage(const FloatImage& image, int width, int height);
+
 struct ImageDifference {
   double rmse = 0.0;           // sqrt(mean over pixels and channels of (a - b)^2)
   double peak = 0.0;           // max of b over pixels and channels (>= 1e-12)

@@ -90,7 +90,7 @@ class PixelTracer {
 
     ++counts.rays;
     const HiZRay ray{{float(x) + 0.5f, float(y) + 0.5f, 1.0f / d}, Project(q)};
-    const HiZMarch march = MarchHiZ(in_.hiz, ray, params_.maxIterations);
+    const HiZMarch march = MarchHiZ(in_.hiz, ray, params_.maxIterations, params_.startLevel);
     counts.iterations += uint64_t(march.iterations);
     if (!march.hit || !InsideImage(march.position, width_, height_) || !(march.position.z > 0.0f))
       return none;
@@ -139,8 +139,9 @@ void ShapeOutput(Plane<float>& plane, size_t width, size_t height) {
 
 }  // namespace
 
-HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations) {
+HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int startLevel) {
   SSGI_CHECK(!hiz.levels.empty());
+  SSGI_CHECK_GE(startLevel, 0);
   HiZMarch result;
   const int imageWidth = int(hiz.levels[0].xsize());
   const int imageHeight = int(hiz.levels[0].ysize());
@@ -216,7 +217,7 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations) {
       else pos.y = boundaryY + (positiveY ? kBoundaryNudge : -kBoundaryNudge);
       result.position = pos;
       if (!InsideImage(pos, width, height)) return result;
-      level = std::min(level + 1, topLevel);
+      level = std::min(result.iterations == 1 ? startLevel : level + 1, topLevel);
     }
   }
   return result;
@@ -233,6 +234,7 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   SSGI_CHECK_EQ(in.hiz.levels[0].xsize(), size_t(width));
   SSGI_CHECK_EQ(in.hiz.levels[0].ysize(), size_t(height));
   SSGI_CHECK_GE(params.maxIterations, 1);
+  SSGI_CHECK_GE(params.startLevel, 0);
   SSGI_CHECK_GT(params.thickness, 0.0f);
   SSGI_CHECK_GT(params.towardCameraFade, 0.0f);
   ShapeOutput(out.hitX, size_t(width), size_t(height));

@@ -20,6 +20,10 @@ namespace ssgi {
 
 struct SsrTraceParams {
   int maxIterations = 64;         // Hi-Z steps per ray (>= 1); a ray still marching then is a miss
+  // Pyramid level the march continues at once the ray has left its origin's level-0 cell (>= 0,
+  // clamped to the top level). Higher starts stride faster through open space but must descend
+  // again past the reflector's own neighbourhood; see docs/pipeline.md.
+  int startLevel = 1;
   float roughnessCutoff = 0.7f;   // perceptual roughness; pixels with roughness >= cutoff are not traced
   // Relative thickness assumed behind every depth sample: a hit where the ray's view depth exceeds
   // the surface's by up to thickness * d has full confidence, fading linearly to 0 at 2 * thickness * d
@@ -74,8 +78,9 @@ struct HiZMarch {
 };
 
 // Uludag's march: at level k the ray steps to the nearer of the current cell's boundary (then
-// k + 1) and the cell's closest-depth plane 1/d = max (then k - 1, a hit below level 0).
-HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations);
+// k + 1) and the cell's closest-depth plane 1/d = max (then k - 1, a hit below level 0). The first
+// step leaves the origin's level-0 cell; the march goes on at startLevel.
+HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int startLevel);
 
 // Reuses out's planes when their sizes already match, else allocates them.
 SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out);

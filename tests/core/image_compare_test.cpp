@@ -89,5 +89,26 @@ TEST_CASE("compare: the heat map is black where equal and white at the scale", "
   CHECK(heat[5] == 255);
 }
 
+// A linear ramp upsampled 2x with pixel centres aligned stays the same ramp, sampled at the new
+// centres: the resampling the sweep uses for its resolution rows.
+TEST_CASE("compare: resizing a ramp to twice its size interpolates it linearly", "[compare]") {
+  FloatImage ramp = Constant(8, 6, 0.0f);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) ramp.pixels[(size_t(y) * 8 + x) * 3 + c] = float(x) + 10.0f * float(c);
+  const FloatImage big = ResizeImage(ramp, 16, 12);
+  REQUIRE(big.width == 16);
+  REQUIRE(big.height == 12);
+  REQUIRE(big.channelNames == ramp.channelNames);
+  // Away from the borders (where the filter clamps), new pixel x sits at source x' = (x + 0.5) / 2 - 0.5.
+  for (int y = 0; y < 12; ++y)
+    for (int x = 2; x < 14; ++x)
+      for (int c = 0; c < 3; ++c)
+        CHECK(big.pixels[(size_t(y) * 16 + x) * 3 + c] ==
+              Approx((float(x) + 0.5f) / 2.0f - 0.5f + 10.0f * float(c)).margin(1e-4));
+  const FloatImage same = ResizeImage(Constant(5, 7, 0.25f), 13, 3);
+  for (float v : same.pixels) CHECK(v == Approx(0.25f).margin(1e-6));
+}
+
 }  // namespace
 }  // namespace ssgi

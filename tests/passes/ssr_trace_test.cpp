@@ -30,7 +30,7 @@ constexpr glm::vec3 kBoxLo{-0.8f, 0.0f, -0.4f};
 constexpr glm::vec3 kBoxHi{0.8f, 1.0f, 0.4f};
 
 // A mirror floor (roughness 0) with a box standing on it, seen from above and in front.
-Traced TraceMirrorFloor(int width, int height, NormalEncoding encoding) {
+Traced TraceMirrorFloor(int width, int height, NormalEncoding encoding, const SsrTraceParams& params = {}) {
   CameraDesc camera;
   camera.position = {0.0f, 1.2f, 4.0f};
   camera.target = {0.0f, 0.4f, 0.0f};
@@ -44,7 +44,7 @@ Traced TraceMirrorFloor(int width, int height, NormalEncoding encoding) {
   RunGBuffer({scene, t.view}, {encoding}, g);
   t.gbuffer = std::move(g.gbuffer);
   RunHiZ(t.gbuffer.word[2], t.hiz);
-  t.stats = RunSsrTrace({t.gbuffer, t.view, t.hiz, encoding}, {}, t.out);
+  t.stats = RunSsrTrace({t.gbuffer, t.view, t.hiz, encoding}, params, t.out);
   return t;
 }
 
@@ -68,10 +68,13 @@ void CheckOutputsWellFormed(const SsrTraceOutputs& out) {
   CHECK(bad == 0);
 }
 
-TEST_CASE("SSR hits on a mirror floor match the analytic reflection of the box's front face", "[ssr]") {
-  constexpr int kWidth = 256;
-  constexpr int kHeight = 192;
-  const Traced t = TraceMirrorFloor(kWidth, kHeight, NormalEncoding::kOct24);
+constexpr int kMirrorWidth = 256;
+constexpr int kMirrorHeight = 192;
+
+// Checks t's hits against the analytic mirror point on the box's front face.
+void CheckMirrorFloorHits(const Traced& t) {
+  constexpr int kWidth = kMirrorWidth;
+  constexpr int kHeight = kMirrorHeight;
   const glm::vec3 eye{0.0f, 1.2f, 4.0f};
   constexpr float kMargin = 0.03f;  // metres kept clear of the face's edges (ambiguous pixels)
 
@@ -108,6 +111,25 @@ TEST_CASE("SSR hits on a mirror floor match the analytic reflection of the box's
   CheckOutputsWellFormed(t.out);
 }
 
+TEST_CASE("SSR hits on a mirror floor match the analytic reflection of the box's front face", "[ssr]") {
+  CheckMirrorFloorHits(TraceMirrorFloor(kMirrorWidth, kMirrorHeight, NormalEncoding::kOct24));
+}
+
+// The max pyramid is conservative at every level, so where the march starts changes its cost, never
+// what it finds.
+TEST_CASE("SSR hits stay on the analytic mirror point at every Hi-Z start level", "[ssr]") {
+  double previousIterations = 0;
+  for (const int startLevel : {0, 2, 4, 7, 30}) {
+    CAPTURE(startLevel);
+    SsrTraceParams params;
+    params.startLevel = startLevel;
+    const Traced t = TraceMirrorFloor(kMirrorWidth, kMirrorHeight, NormalEncoding::kOct24, params);
+    CheckMirrorFloorHits(t);
+    CHECK(t.stats.meanIterations != previousIterations);
+    previousIterations = t.stats.meanIterations;
+  }
+}
+
 // A Hi-Z over a width x height depth image given by depth(x, y) in metres.
 HiZ MakeHiZ(int width, int height, const std::function<float(int, int)>& depth) {
   Plane<uint32_t> word = MakePlane<uint32_t>(size_t(width), size_t(height), 0u);
@@ -141,7 +163,7 @@ TEST_CASE("SSR march: axis-aligned rays find a wall and stop, degenerate rays te
       {{41.0f, 20.0f, iz}, {41.0f, -500.0f, iz}, 41, 4},   // -y from a pixel corner
   };
   for (const Case& c : cases) {
-    const HiZMarch m = MarchHiZ(hiz, {c.origin, c.end}, kCap);
+    const HiZMarch m = MarchHiZ(hiz, {c.origin, c.end}, kCap, 1);
     INFO("origin " << c.origin.x << ", " << c.origin.y << " iterations " << m.iterations);
     CHECK(m.hit);
     CHECK(m.iterations <= kCap);
@@ -158,7 +180,7 @@ TEST_CASE("SSR march: axis-aligned rays find a wall and stop, degenerate rays te
   for (const glm::vec3& o : origins) {
     for (const glm::vec3& d : offsets) {
       for (int cap : {1, 7, kCap}) {
-        const HiZMarch m = MarchHiZ(open, {o, o + d}, cap);
+        const HiZMarch m = MarchHiZ(open, {o, o + d}, cap, 1);
         CHECK_FALSE(m.hit);
         CHECK(m.iterations <= cap);
         CHECK(std::isfinite(m.position.x));
