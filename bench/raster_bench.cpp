@@ -11,7 +11,6 @@
 
 #include <benchmark/benchmark.h>
 #if defined(__GLIBC__)
-#include <malloc.h>
 #endif
 
 #include "bench/bench_scene.h"
@@ -54,31 +53,13 @@ const BenchScene& KnotScene(int64_t triangles) {
   return unknown;
 }
 
-// Whether a frame's buffers land on pages the process already has. glibc hands blocks above its mmap
-// threshold back to the kernel on free, so every frame that allocates its 8-24 MiB of planes afresh
-// (as Rasterize's caller and RunGBuffer do) pays a page fault and a kernel zero-fill per 4 KiB. That
-// is the cost of a single-frame CLI run; a renderer that keeps its buffers pays only the clear.
-// Returns false if the allocator cannot be told.
-bool UseFreshPages(bool fresh) {
-#if defined(__GLIBC__)
-  // 128 KiB is glibc's initial threshold, pinned so it cannot grow; 32 MiB is its maximum, and a
-  // heap that is never trimmed keeps the freed planes for the next frame.
-  constexpr int kFreshThreshold = 128 << 10, kReuseThreshold = 32 << 20;
-  return mallopt(M_MMAP_THRESHOLD, fresh ? kFreshThreshold : kReuseThreshold) == 1 &&
-         mallopt(M_TRIM_THRESHOLD, fresh ? kFreshThreshold : std::numeric_limits<int>::max()) == 1;
-#else
-  // Elsewhere the allocator's own policy stands; only the fresh-pages variant needs glibc.
-  return !fresh;
-#endif
-}
-
 // Skips the benchmark (and returns false) when its scene or its memory mode is unavailable.
 bool Begin(benchmark::State& state, const BenchScene& bench) {
   if (!bench.error.empty()) {
     state.SkipWithError(bench.error.c_str());
     return false;
   }
-  if (!UseFreshPages(state.range(2) != 0)) {
+  if (!RetainFreedMemory(state.range(2) == 0)) {
     state.SkipWithError("cannot set the allocator's page reuse (glibc mallopt)");
     return false;
   }

@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "core/image_compare.h"
 #include "core/parallel.h"
+#include "core/plane.h"
 #include "passes/frame.h"
 
 namespace {
@@ -82,16 +83,35 @@ std::vector<Setting> Settings() {
   return settings;
 }
 
-ssgi::FloatImage ToFloatImage(const ssgi::Plane3<float>& planes) {
+// One channel per plane: a single one is "Y", three are "R", "G", "B".
+ssgi::FloatImage ToFloatImage(const std::vector<const ssgi::Plane<float>*>& planes) {
   ssgi::FloatImage image;
-  image.width = int(planes.c[0].xsize());
-  image.height = int(planes.c[0].ysize());
-  image.channelNames = {"R", "G", "B"};
-  image.pixels.resize(size_t(image.width) * size_t(image.height) * 3);
+  image.width = int(planes[0]->xsize());
+  image.height = int(planes[0]->ysize());
+  image.channelNames = planes.size() == 1 ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
+  const size_t n = planes.size();
+  image.pixels.resize(size_t(image.width) * size_t(image.height) * n);
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < 3; ++c) image.pixels[(size_t(y) * image.width + x) * 3 + c] = planes.c[c].ConstRow(y)[x];
+      for (size_t c = 0; c < n; ++c) image.pixels[(size_t(y) * image.width + x) * n + c] = planes[c]->ConstRow(y)[x];
   return image;
+}
+
+ssgi::FloatImage ToFloatImage(const ssgi::Plane3<float>& rgb) { return ToFloatImage({&rgb.c[0], &rgb.c[1], &rgb.c[2]}); }
+
+// The error of `image` against `reference`, resampled to the reference's size first when the
+// setting rendered smaller.
+ssgi::ImageDifference ErrorAgainst(ssgi::FloatImage image, const ssgi::FloatImage& reference) {
+  if (image.width != reference.width || image.height != reference.height)
+    image = ssgi::ResizeImage(image, reference.width, reference.height);
+  return ssgi::CompareImages(image, reference);
+}
+
+// The reference's layer, or an empty image when the file lacks it (an RGB-only reference).
+ssgi::FloatImage OptionalLayer(const ssgi::FloatImage& file, const std::string& layer, const std::string& path) {
+  for (const std::string& name : file.channelNames)
+    if (name == layer || name.rfind(layer + ".", 0) == 0) return ssgi::SelectLayer(file, layer, path);
+  return {};
 }
 
 double Median(std::vector<double> values) {
@@ -100,10 +120,15 @@ double Median(std::vector<double> values) {
 }
 
 int Run(const std::string& scenePath, const std::string& referencePath, int width, int height, int repeats,
-        int threads, const std::string& output) {
+        int threads, const std::vector<std::string>& knobs, const std::string& output) {
+  ssgi::RetainFreedMemory();
   const ssgi::ThreadLimit limit(threads);
-  const ssgi::FloatImage reference =
-      ssgi::SelectLayer(ssgi::ReadFloatImage(referencePath), "", referencePath);
+  const ssgi::FloatImage referenceFile = ssgi::ReadFloatImage(referencePath);
+  const ssgi::FloatImage reference = ssgi::SelectLayer(referenceFile, "", referencePath);
+  // Per-pass ground truth, present in `ssgi reference` output: the shadow filter's visibility and
+  // the SSR's indirect light.
+  const ssgi::FloatImage referenceVisibility = OptionalLayer(referenceFile, "shadow.visibility", referencePath);
+  const ssgi::FloatImage referenceIndirect = OptionalLayer(referenceFile, "indirect", referencePath);
   if (reference.width != width || reference.height != height)
     throw ssgi::InputError(referencePath, "is " + std::to_string(reference.width) + "x" +
                                               std::to_string(reference.height) + ", the sweep renders " +
@@ -111,7 +136,10 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   const ssgi::Scene loaded = ssgi::LoadScene(scenePath);
   std::ofstream csv(output);
   if (!csv) throw ssgi::InputError(output, "cannot write");
-  csv << "knob,value,frame_ms,rmse,rmse_display,psnr_db,ssim,max_error";
+  // rmse_visibility: linear RMSE of the filtered light visibility against the traced one (blank when
+  // no shadows ran); rmse_display_indirect: display RMSE of the indirect light against the traced
+  // bounce (blank when no reflections ran).
+  csv << "knob,value,frame_ms,rmse,rmse_display,psnr_db,ssim,max_error,rmse_visibility,rmse_display_indirect";
   std::vector<std::string> stages;
   {
     // One discarded frame first, so the first setting's times do not include the process's first
@@ -122,6 +150,7 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     ssgi::RenderFrame(warmUp, ssgi::FrameOptions{});
   }
   for (const Setting& setting : Settings()) {
+    if (!knobs.empty() && std::find(knobs.begin(), knobs.end(), setting.knob) == knobs.end()) continue;
     ssgi::Scene scene = loaded;
     scene.settings.width = std::max(1, int(std::lround(width * setting.scale)));
     scene.settings.height = std::max(1, int(std::lround(height * setting.scale)));
@@ -129,13 +158,18 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     setting.apply(scene, options);
     std::map<std::string, std::vector<double>> times;
     ssgi::ImageDifference difference;
+    std::string visibilityError, indirectError;
     for (int r = 0; r < repeats; ++r) {
       const ssgi::Frame frame = ssgi::RenderFrame(scene, options);
       for (const ssgi::StageStats& s : frame.stats) times[s.name].push_back(s.ms);
       if (r == 0) {
-        ssgi::FloatImage image = ToFloatImage(frame.Result());
-        if (image.width != width || image.height != height) image = ssgi::ResizeImage(image, width, height);
-        difference = ssgi::CompareImages(image, reference);
+        difference = ErrorAgainst(ToFloatImage(frame.Result()), reference);
+        if (frame.shadowMap && !referenceVisibility.pixels.empty())
+          visibilityError =
+              std::to_string(ErrorAgainst(ToFloatImage({&frame.shadowVisibility.visibility}), referenceVisibility).rmse);
+        if (frame.reflections && !referenceIndirect.pixels.empty())
+          indirectError =
+              std::to_string(ErrorAgainst(ToFloatImage(frame.composite.indirect), referenceIndirect).rmseDisplay);
       }
       if (stages.empty()) {
         for (const ssgi::StageStats& s : frame.stats) stages.push_back(s.name);
@@ -144,12 +178,14 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
       }
     }
     csv << setting.knob << "," << setting.value << "," << Median(times["frame total"]) << "," << difference.rmse << ","
-        << difference.rmseDisplay << "," << difference.psnr << "," << difference.ssim << "," << difference.maxError;
+        << difference.rmseDisplay << "," << difference.psnr << "," << difference.ssim << "," << difference.maxError
+        << "," << visibilityError << "," << indirectError;
     for (const std::string& name : stages) csv << "," << (times.count(name) ? Median(times[name]) : 0.0);
     csv << "\n";
-    std::printf("%-16s %-8s %8.1f ms  RMSE %.5f  display RMSE %.5f  PSNR %6.2f dB  SSIM %.4f\n",
+    std::printf("%-16s %-8s %8.1f ms  RMSE %.5f  display RMSE %.5f  SSIM %.4f  visibility RMSE %-8s  indirect "
+                "display RMSE %s\n",
                 setting.knob.c_str(), setting.value.c_str(), Median(times["frame total"]), difference.rmse,
-                difference.rmseDisplay, difference.psnr, difference.ssim);
+                difference.rmseDisplay, difference.ssim, visibilityError.c_str(), indirectError.c_str());
   }
   std::printf("wrote %s\n", output.c_str());
   return 0;
@@ -166,12 +202,16 @@ int main(int argc, char** argv) {
   app.add_option("--size", size, "Image size WIDTHxHEIGHT (default 512x512); must match the reference.");
   app.add_option("--repeats", repeats, "Frames per setting; times are medians (default 5).")->check(CLI::Range(1, 100));
   app.add_option("--threads", threads, "Worker threads (default 2).")->check(CLI::Range(0, 1024));
+  std::vector<std::string> knobs;
+  app.add_option("--knobs", knobs, "Only these rows, by knob name (baseline, preset, ssr_iterations, ...); "
+                                   "default: all.")
+      ->delimiter(',');
   app.add_option("-o,--output", output, "CSV file to write (default sweep.csv).");
   CLI11_PARSE(app, argc, argv);
   try {
     int width = 0, height = 0;
     ssgi::ParseImageSize(size, width, height);
-    return Run(scene, reference, width, height, repeats, threads, output);
+    return Run(scene, reference, width, height, repeats, threads, knobs, output);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi_sweep: error: %s\n", e.what());
     return 1;

@@ -165,6 +165,7 @@ std::vector<uint8_t> SideBySide(const std::vector<const std::vector<uint8_t>*>& 
 // 0.9 (Figs. 7-9; the default scene's board materials), a crop comparing the hard, SSPCSS and SSABSS
 // shadow filters, and Table 1: the median frame time of direct only / + shadows / + shadows + GI.
 int Figures(const FiguresOptions& options) {
+  ssgi::RetainFreedMemory();  // Table 1 times frames rendered one after another, like a running renderer
   const ssgi::ThreadLimit threadLimit(options.threads);
   const int threads = options.threads > 0 ? options.threads : ssgi::HardwareThreads();
   const fs::path folder(options.folder);

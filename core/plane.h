@@ -19,6 +19,17 @@ using Plane = hwy::Image<T>;
 // on contents, and none where the kernel declines it.
 void AdviseHugePages(void* data, size_t bytes);
 
+// Whether a frame's planes land on pages the process already has. glibc hands blocks above its mmap
+// threshold back to the kernel on free, so a frame that allocates its planes afresh pays a page
+// fault and a kernel zero-fill per 4 KiB: the cost of a one-frame CLI run. With retain = true, large
+// freed blocks stay in the heap (mmap threshold at glibc's 32 MiB maximum, no trimming), so each new
+// frame reuses memory already faulted in, as a renderer that keeps its buffers would, and frame
+// times measure the passes: for the sweep, the benchmarks and the figures' Table 1. With retain =
+// false every plane is a fresh mmap (threshold pinned at glibc's initial 128 KiB). Returns false
+// where the allocator cannot be told (not glibc), for retain = true there only a loss of
+// steadiness. No effect on output.
+bool RetainFreedMemory(bool retain = true);
+
 // Rows are filled in parallel bands: the fill is a new plane's first touch, and the page faults and
 // kernel zeroing it triggers then run on every core.
 template <class T>

@@ -94,27 +94,23 @@ FrameOptions QualityPreset(Quality quality) {
   switch (quality) {
     case Quality::kLow:
       o.shadowMap.resolution = 1024;
-      o.shadowMap.blockerSearchTaps = 8;
-      o.shadowFilter.maxRadiusPixels = 12;
-      o.shadowFilter.taps = 4;
+      o.shadowMap.blockerSearchTaps = 4;
+      o.shadowFilter.maxRadiusPixels = 16;
+      o.shadowFilter.taps = 2;
       o.ssrTrace.maxIterations = 16;
-      o.ssrCone.maxSamples = 3;
+      o.ssrCone.maxSamples = 1;
       break;
     case Quality::kMedium:
-      o.shadowMap.resolution = 1024;
-      o.shadowMap.blockerSearchTaps = 12;
-      o.shadowFilter.maxRadiusPixels = 16;
+      o.shadowMap.blockerSearchTaps = 8;
+      o.shadowFilter.taps = 4;
       o.ssrTrace.maxIterations = 32;
-      o.ssrCone.maxSamples = 5;
+      o.ssrCone.maxSamples = 1;
       break;
     case Quality::kHigh:
       break;
     case Quality::kUltra:
       o.shadowMap.resolution = 4096;
-      o.shadowMap.blockerSearchTaps = 32;
-      o.shadowFilter.maxRadiusPixels = 32;
       o.ssrTrace.maxIterations = 128;
-      o.ssrCone.maxSamples = 12;
       break;
   }
   return o;
