@@ -126,6 +126,8 @@ int Render(const RenderOptions& options) {
   if (options.stats) {
     std::printf("scene %s: %zu triangles, %zu materials, %zu textures, load %.1f ms\n", scenePath.string().c_str(),
                 scene.mesh.TriangleCount(), scene.materials.size(), scene.textures.size(), loadMs);
+    if (scene.reorientedTriangles > 0)
+      std::printf("  %zu triangles wound against their neighbours were turned to match\n", scene.reorientedTriangles);
     PrintStats(frame.stats, w, h, threads);
     if (frame.shadowTiles > 0)
       std::printf("  shadow blur ran on %zu of %zu tiles (%.1f%%)\n", frame.shadowTilesBlurred, frame.shadowTiles,

@@ -3,12 +3,14 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -371,6 +373,101 @@ class NormalGenerator {
   std::vector<glm::vec3> smooth_;       // per position: the shared normal, or zero
 };
 
+size_t HashWords(std::initializer_list<uint64_t> words) {
+  size_t h = 0;
+  for (uint64_t v : words) h = (h ^ v) * 0x100000001b3ull;
+  return h;
+}
+
+struct PositionBitsHash {
+  size_t operator()(const std::array<uint32_t, 3>& bits) const { return HashWords({bits[0], bits[1], bits[2]}); }
+};
+
+// Makes the winding consistent where real scenes' meshes flip it (Sibenik has 59 such edges,
+// Dabrovic Sponza 4): a flipped triangle would be culled as a back face by the rasterizer and the
+// reference alike, and would turn its generated normals inside out. Triangles meeting across an
+// edge used by exactly two of them (positions compared by value, so duplicated vertices weld) must
+// traverse it in opposite directions; each connected set of triangles keeps the winding of the
+// larger part of its area, and the rest are turned (corners 1 and 2 swapped, attributes with them).
+// Non-manifold edges (three or more triangles) do not link, and a non-orientable set keeps the first
+// winding found. Returns the number of triangles turned.
+size_t OrientConsistently(const std::vector<float>& positions, std::vector<tinyobj::index_t>& corners) {
+  const size_t triangleCount = corners.size() / 3;
+  std::unordered_map<std::array<uint32_t, 3>, uint32_t, PositionBitsHash> weldedOf;
+  std::vector<uint32_t> welded(positions.size() / 3);
+  for (size_t p = 0; p < welded.size(); ++p) {
+    std::array<uint32_t, 3> bits;
+    for (int k = 0; k < 3; ++k) bits[size_t(k)] = std::bit_cast<uint32_t>(positions[3 * p + size_t(k)] + 0.0f);
+    welded[p] = weldedOf.emplace(bits, uint32_t(weldedOf.size())).first->second;
+  }
+  struct EdgeUse {
+    uint64_t key;        // the welded end points, lower first
+    uint32_t triangle;
+    bool forward;        // traversed from the lower end point to the higher
+  };
+  std::vector<EdgeUse> uses;
+  uses.reserve(corners.size());
+  for (size_t t = 0; t < triangleCount; ++t) {
+    for (size_t k = 0; k < 3; ++k) {
+      const uint32_t a = welded[size_t(corners[3 * t + k].vertex_index)];
+      const uint32_t b = welded[size_t(corners[3 * t + (k + 1) % 3].vertex_index)];
+      if (a != b) uses.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), uint32_t(t), a < b});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
+  });
+  // Links across manifold edges: `same` when both traverse it the same way (one must turn).
+  struct Link {
+    uint32_t other;
+    bool same;
+  };
+  std::vector<std::vector<Link>> links(triangleCount);
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i + 1;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i == 2 && uses[i].triangle != uses[i + 1].triangle) {
+      const bool same = uses[i].forward == uses[i + 1].forward;
+      links[uses[i].triangle].push_back({uses[i + 1].triangle, same});
+      links[uses[i + 1].triangle].push_back({uses[i].triangle, same});
+    }
+    i = j;
+  }
+  auto area = [&](size_t t) {
+    const auto position = [&](size_t corner) {
+      const size_t p = 3 * size_t(corners[corner].vertex_index);
+      return glm::dvec3(positions[p], positions[p + 1], positions[p + 2]);
+    };
+    return glm::length(glm::cross(position(3 * t + 1) - position(3 * t), position(3 * t + 2) - position(3 * t)));
+  };
+  constexpr uint8_t kUnvisited = 2;
+  std::vector<uint8_t> turned(triangleCount, kUnvisited);  // 1: opposite to the set's first triangle
+  size_t turnedCount = 0;
+  std::vector<uint32_t> component;
+  for (size_t seed = 0; seed < triangleCount; ++seed) {
+    if (turned[seed] != kUnvisited || links[seed].empty()) continue;
+    component.assign(1, uint32_t(seed));
+    turned[seed] = 0;
+    double areaAsSeed = 0.0, areaOpposite = 0.0;
+    for (size_t next = 0; next < component.size(); ++next) {
+      const uint32_t t = component[next];
+      (turned[t] ? areaOpposite : areaAsSeed) += area(t);
+      for (const Link& link : links[t]) {
+        if (turned[link.other] != kUnvisited) continue;
+        turned[link.other] = uint8_t(turned[t] ^ uint8_t(link.same));
+        component.push_back(link.other);
+      }
+    }
+    const uint8_t flip = areaOpposite > areaAsSeed ? 0 : 1;  // the minority's mark
+    for (const uint32_t t : component) {
+      if (turned[t] != flip) continue;
+      std::swap(corners[3 * size_t(t) + 1], corners[3 * size_t(t) + 2]);
+      ++turnedCount;
+    }
+  }
+  return turnedCount;
+}
+
 // The first line of tinyobjloader's error text and the OBJ line it names ("... line 12 ...").
 std::pair<int, std::string> ParseTinyObjError(const std::string& error) {
   int line = 0;
@@ -414,11 +511,8 @@ struct CornerKey {
 
 struct CornerKeyHash {
   size_t operator()(const CornerKey& k) const {
-    size_t h = 0;
-    for (uint64_t v : {uint64_t(uint32_t(k.position)), uint64_t(uint32_t(k.uv)), uint64_t(uint32_t(k.normal)),
-                       uint64_t(k.nx), uint64_t(k.ny), uint64_t(k.nz)})
-      h = (h ^ v) * 0x100000001b3ull;
-    return h;
+    return HashWords({uint64_t(uint32_t(k.position)), uint64_t(uint32_t(k.uv)), uint64_t(uint32_t(k.normal)),
+                      uint64_t(k.nx), uint64_t(k.ny), uint64_t(k.nz)});
   }
 };
 
@@ -475,6 +569,7 @@ ObjModel LoadObjModel(const fs::path& file) {
   if (corners.empty()) throw InputError(file, "the OBJ file has no faces");
   SSGI_CHECK_EQ(corners.size(), triangleMaterials.size() * 3);
 
+  model.reorientedTriangles = OrientConsistently(attrib.vertices, corners);
   const NormalGenerator generator(attrib.vertices, corners);
   Mesh& mesh = model.mesh;
   std::unordered_map<CornerKey, uint32_t, CornerKeyHash> vertexOf;

@@ -9,7 +9,9 @@
 // vertex. Corners without a usable normal get a generated one: the area-weighted normals of the
 // faces at that position whose normal is within kCreaseAngleDegrees of the corner's own face, so
 // hard edges stay hard and scans stay smooth. Smoothing groups (`s`) are ignored. Zero-area
-// triangles are kept (the rasterizer drops them) and get a finite normal.
+// triangles are kept (the rasterizer drops them) and get a finite normal. Inconsistent winding is
+// repaired first: across each edge two triangles share, the one wound against the larger part of
+// its connected surface is turned (OrientConsistently in obj_loader.cpp).
 //
 // Materials (README "Scene files"): Kd -> baseColor (linear, as written), Pm -> metallic,
 // Pr -> roughness. A value the MTL leaves out is 1 when its texture is given, so the texture is used
@@ -43,6 +45,7 @@ struct ObjMaterial {
 struct ObjModel {
   Mesh mesh;                           // object space; mesh.materials index `materials`; at least one triangle
   std::vector<ObjMaterial> materials;  // in MTL order, then kDefaultMaterialName if a face has none
+  size_t reorientedTriangles = 0;      // triangles whose winding was turned to match their neighbours
 };
 
 // Loads `file` and the MTL files it names with mtllib (relative to it, letter case ignored when the

@@ -494,6 +494,7 @@ void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, S
     auto model = models.find(key);
     if (model == models.end()) model = models.emplace(key, LoadObjModel(object.obj)).first;
     const ObjModel& m = model->second;
+    scene.reorientedTriangles += m.reorientedTriangles;
 
     for (const auto& [name, o] : object.named) {
       const bool found = std::any_of(m.materials.begin(), m.materials.end(),

@@ -62,6 +62,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   RenderSettings settings;
+  size_t reorientedTriangles = 0;  // triangles the OBJ loader turned to match their neighbours' winding
 };
 
 // Loads a scene: a .json scene file (README "Scene files") or a bare .obj file, which gets a camera

@@ -183,11 +183,20 @@ TEST_CASE("render: the real-scene files render where their models are present", 
     WARN("skipped: " << shared << " does not exist (the third-party models are not part of the repository)");
     return;
   }
-  for (const char* name : {"sponza", "bunny", "armadillo", "teapot"}) {
+  for (const char* name : {"sponza", "sibenik", "bunny", "armadillo", "teapot"}) {
+    const fs::path png = dir / (std::string(name) + ".png");
     const CommandResult r = RunCli("render " + Quote(SourceDir() / "data" / "scenes" / (std::string(name) + ".json")) +
-                                   " --size 48x32 -o " + Quote(dir / (std::string(name) + ".png")));
+                                   " --size 64x48 -o " + Quote(png));
     CAPTURE(name, r.output);
-    CHECK(r.exitCode == 0);
+    REQUIRE(r.exitCode == 0);
+    // Lit, not black (a light that cannot reach the view) and not blown out (a wrong scale).
+    const StoredImage image = ReadStoredImage(png);
+    double sum = 0.0;
+    for (uint8_t v : image.bytes) sum += v;
+    const double mean = sum / double(image.bytes.size());
+    CAPTURE(mean);
+    CHECK(mean > 15.0);
+    CHECK(mean < 220.0);
   }
 }
 

@@ -220,5 +220,33 @@ TEST_CASE("texture names match files case-insensitively", "[obj]") {
   CHECK(model.materials[0].material.baseColor == glm::vec3(1.0f));  // no Kd: the texture as is
 }
 
+// A folded strip of three quads (six triangles), every corner up-facing in the consistent file. The
+// flipped file winds one triangle the other way round, and writes the last quad with its own copies
+// of the shared vertices (as exporters do per object), which must still link by position.
+TEST_CASE("inconsistent winding is turned to match the larger part of the surface", "[obj]") {
+  test::ScratchDir dir("obj-winding");
+  const std::string vertices =
+      "v 0 0 0\nv 1 0 0\nv 2 0 0.4\nv 3 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0.4\nv 3 1 0\n"
+      "v 2 0 0.4\nv 2 1 0.4\n";  // 9, 10: copies of 3 and 7
+  test::WriteText(dir / "consistent.obj", vertices + "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\n");
+  test::WriteText(dir / "flipped.obj", vertices + "f 1 2 6\nf 1 6 5\nf 2 7 3\nf 2 7 6\nf 9 4 8\nf 9 8 10\n");
+  const ObjModel consistent = LoadObjModel(dir / "consistent.obj");
+  const ObjModel flipped = LoadObjModel(dir / "flipped.obj");
+  CHECK(consistent.reorientedTriangles == 0);
+  CHECK(flipped.reorientedTriangles == 1);
+  REQUIRE(flipped.mesh.TriangleCount() == 6);
+  for (size_t t = 0; t < 6; ++t) {
+    CAPTURE(t);
+    CHECK(FaceNormal(flipped.mesh, t).z > 0.5f);  // every triangle faces up again
+    CHECK(glm::dot(FaceNormal(flipped.mesh, t), FaceNormal(consistent.mesh, t)) > 0.9999f);
+  }
+  // Generated normals are those of the consistent file (smooth across the 22 degree folds), except
+  // along x = 2, where the copies are separate vertices to smooth over, as the OBJ has them.
+  for (size_t v = 0; v < flipped.mesh.positions.size(); ++v)
+    for (size_t c = 0; c < consistent.mesh.positions.size(); ++c)
+      if (consistent.mesh.positions[c] == flipped.mesh.positions[v] && flipped.mesh.positions[v].x != 2.0f)
+        CHECK(glm::dot(flipped.mesh.normals[v], consistent.mesh.normals[c]) > 0.99999f);
+}
+
 }  // namespace
 }  // namespace ssgi
