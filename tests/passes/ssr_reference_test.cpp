@@ -66,13 +66,8 @@ TEST_CASE("SSR and the Embree reference agree on a mirror floor reflecting a box
   double ssrSum = 0.0, referenceSum = 0.0;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
-      const glm::vec3 p = test::WorldPosition(frame.view, frame.gbuffer.gbuffer, x, y);
-      if (!(std::fabs(p.y) < 1e-3f) || !(p.z > kBoxHi.z)) continue;
-      glm::vec3 w = glm::normalize(p - kEye);
-      w.y = -w.y;
-      if (!(w.z < 0.0f)) continue;
-      const glm::vec3 q = p + w * ((kBoxHi.z - p.z) / w.z);
-      if (q.x < kBoxLo.x + kMargin || q.x > kBoxHi.x - kMargin || q.y < kMargin || q.y > kBoxHi.y - kMargin)
+      if (!test::MirrorPointOnBoxFront(kEye, test::WorldPosition(frame.view, frame.gbuffer.gbuffer, x, y), kBoxLo,
+                                       kBoxHi, kMargin))
         continue;
       const float ssr = Luminance(frame.composite.indirect, x, y);
       const float truth = Luminance(reference.indirect, x, y);

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -81,15 +82,10 @@ void CheckMirrorFloorHits(const Traced& t) {
   std::vector<float> errors;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
-      const glm::vec3 p = test::WorldPosition(t.view, t.gbuffer, x, y);
-      if (!(std::fabs(p.y) < 1e-3f) || !(p.z > kBoxHi.z)) continue;  // floor in front of the box
-      glm::vec3 w = glm::normalize(p - eye);
-      w.y = -w.y;  // mirror about y = 0
-      if (!(w.z < 0.0f)) continue;
-      const glm::vec3 q = p + w * ((kBoxHi.z - p.z) / w.z);
-      if (q.x < kBoxLo.x + kMargin || q.x > kBoxHi.x - kMargin || q.y < kMargin || q.y > kBoxHi.y - kMargin)
-        continue;
-      const glm::vec4 clip = t.view.viewProjection * glm::vec4(q, 1.0f);
+      const std::optional<glm::vec3> q =
+          test::MirrorPointOnBoxFront(eye, test::WorldPosition(t.view, t.gbuffer, x, y), kBoxLo, kBoxHi, kMargin);
+      if (!q) continue;
+      const glm::vec4 clip = t.view.viewProjection * glm::vec4(*q, 1.0f);
       const float sx = (clip.x / clip.w * 0.5f + 0.5f) * float(kWidth);
       const float sy = (0.5f - clip.y / clip.w * 0.5f) * float(kHeight);
       const float hx = t.out.hitX.ConstRow(size_t(y))[x];

@@ -47,6 +47,16 @@ glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, in
   return glm::vec3(glm::inverse(camera.view) * glm::vec4(p, 1.0f));
 }
 
+std::optional<glm::vec3> MirrorPointOnBoxFront(glm::vec3 eye, glm::vec3 p, glm::vec3 lo, glm::vec3 hi, float margin) {
+  if (!(std::fabs(p.y) < 1e-3f) || !(p.z > hi.z)) return std::nullopt;
+  glm::vec3 w = glm::normalize(p - eye);
+  w.y = -w.y;  // mirror about y = 0
+  if (!(w.z < 0.0f)) return std::nullopt;
+  const glm::vec3 q = p + w * ((hi.z - p.z) / w.z);
+  if (q.x < lo.x + margin || q.x > hi.x - margin || q.y < lo.y + margin || q.y > hi.y - margin) return std::nullopt;
+  return q;
+}
+
 Scene MakeScene(const CameraDesc& camera, int width, int height) {
   Scene scene;
   scene.camera = camera;

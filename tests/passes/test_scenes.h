@@ -1,6 +1,8 @@
 // Small scenes built in code for the pass tests: quads, boxes, a ground plane, sun directions.
 #pragma once
 
+#include <optional>
+
 #include <glm/glm.hpp>
 
 #include "core/camera.h"
@@ -28,6 +30,12 @@ DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees);
 
 // The world-space position of G-buffer pixel (x, y) seen by `camera` (word 2 depth).
 glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, int x, int y);
+
+// For a point p on the floor y = 0 seen from `eye`, in front of the box [lo, hi] standing on it:
+// where the mirror image of the view ray meets the box's front face z = hi.z, if it does at least
+// `margin` metres inside the face's edges (nearer ones are ambiguous pixels). nullopt otherwise,
+// and for any p that is not on the floor in front of the box.
+std::optional<glm::vec3> MirrorPointOnBoxFront(glm::vec3 eye, glm::vec3 p, glm::vec3 lo, glm::vec3 hi, float margin);
 
 // An empty scene of the given size with one two-sided default material.
 Scene MakeScene(const CameraDesc& camera, int width, int height);
