@@ -133,6 +133,10 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     throw ssgi::InputError(referencePath, "is " + std::to_string(reference.width) + "x" +
                                               std::to_string(reference.height) + ", the sweep renders " +
                                               std::to_string(width) + "x" + std::to_string(height));
+  const std::vector<Setting> settings = Settings();
+  for (const std::string& knob : knobs)
+    if (std::none_of(settings.begin(), settings.end(), [&](const Setting& s) { return s.knob == knob; }))
+      throw ssgi::InputError("--knobs", "no knob '" + knob + "' (the CSV's knob column names them)");
   const ssgi::Scene loaded = ssgi::LoadScene(scenePath);
   std::ofstream csv(output);
   if (!csv) throw ssgi::InputError(output, "cannot write");
@@ -149,7 +153,7 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     warmUp.settings.height = height;
     ssgi::RenderFrame(warmUp, ssgi::FrameOptions{});
   }
-  for (const Setting& setting : Settings()) {
+  for (const Setting& setting : settings) {
     if (!knobs.empty() && std::find(knobs.begin(), knobs.end(), setting.knob) == knobs.end()) continue;
     ssgi::Scene scene = loaded;
     scene.settings.width = std::max(1, int(std::lround(width * setting.scale)));

@@ -47,8 +47,10 @@ StoredImage ReadStoredImage(const std::filesystem::path& file) {
   return image;
 }
 
-CommandResult RunCli(const std::string& arguments) {
-  const std::string command = "'" + CliPath().string() + "' " + arguments + " 2>&1";
+CommandResult RunCli(const std::string& arguments) { return RunProgram(CliPath(), arguments); }
+
+CommandResult RunProgram(const std::filesystem::path& program, const std::string& arguments) {
+  const std::string command = "'" + program.string() + "' " + arguments + " 2>&1";
   CommandResult result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) throw std::runtime_error("popen failed: " + command);

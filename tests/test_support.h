@@ -54,6 +54,12 @@ std::string InputErrorOf(Action&& action) {
   return "";
 }
 
+// `path` in single quotes, for a command line.
+inline std::string Quote(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+// Runs `program` with `arguments` (already shell-quoted where needed).
+CommandResult RunProgram(const std::filesystem::path& program, const std::string& arguments);
+
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);
 

@@ -12,8 +12,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
 std::string DefaultScene() { return Quote(SourceDir() / "data" / "default.json"); }
 
 // Only the named files: no output and no temporary file may survive a failed render.
