@@ -4,18 +4,16 @@
 #include <cstdint>
 #include <exception>
 #include <iterator>
-#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
-#if defined(__GLIBC__)
-#endif
 
 #include "bench/bench_scene.h"
 #include "core/camera.h"
 #include "core/parallel.h"
+#include "core/plane.h"
 #include "core/procedural_mesh.h"
 #include "core/raster.h"
 #include "core/scene.h"

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -107,13 +108,6 @@ ssgi::ImageDifference ErrorAgainst(ssgi::FloatImage image, const ssgi::FloatImag
   return ssgi::CompareImages(image, reference);
 }
 
-// The reference's layer, or an empty image when the file lacks it (an RGB-only reference).
-ssgi::FloatImage OptionalLayer(const ssgi::FloatImage& file, const std::string& layer, const std::string& path) {
-  for (const std::string& name : file.channelNames)
-    if (name == layer || name.rfind(layer + ".", 0) == 0) return ssgi::SelectLayer(file, layer, path);
-  return {};
-}
-
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values[values.size() / 2];
@@ -127,8 +121,8 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   const ssgi::FloatImage reference = ssgi::SelectLayer(referenceFile, "", referencePath);
   // Per-pass ground truth, present in `ssgi reference` output: the shadow filter's visibility and
   // the SSR's indirect light.
-  const ssgi::FloatImage referenceVisibility = OptionalLayer(referenceFile, "shadow.visibility", referencePath);
-  const ssgi::FloatImage referenceIndirect = OptionalLayer(referenceFile, "indirect", referencePath);
+  const std::optional<ssgi::FloatImage> referenceVisibility = ssgi::FindLayer(referenceFile, "shadow.visibility");
+  const std::optional<ssgi::FloatImage> referenceIndirect = ssgi::FindLayer(referenceFile, "indirect");
   if (reference.width != width || reference.height != height)
     throw ssgi::InputError(referencePath, "is " + std::to_string(reference.width) + "x" +
                                               std::to_string(reference.height) + ", the sweep renders " +
@@ -168,12 +162,12 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
       for (const ssgi::StageStats& s : frame.stats) times[s.name].push_back(s.ms);
       if (r == 0) {
         difference = ErrorAgainst(ToFloatImage(frame.Result()), reference);
-        if (frame.shadowMap && !referenceVisibility.pixels.empty())
+        if (frame.shadowMap && referenceVisibility)
           visibilityError =
-              std::to_string(ErrorAgainst(ToFloatImage({&frame.shadowVisibility.visibility}), referenceVisibility).rmse);
-        if (frame.reflections && !referenceIndirect.pixels.empty())
+              std::to_string(ErrorAgainst(ToFloatImage({&frame.shadowVisibility.visibility}), *referenceVisibility).rmse);
+        if (frame.reflections && referenceIndirect)
           indirectError =
-              std::to_string(ErrorAgainst(ToFloatImage(frame.composite.indirect), referenceIndirect).rmseDisplay);
+              std::to_string(ErrorAgainst(ToFloatImage(frame.composite.indirect), *referenceIndirect).rmseDisplay);
       }
       if (stages.empty()) {
         for (const ssgi::StageStats& s : frame.stats) stages.push_back(s.name);

@@ -121,7 +121,7 @@ FloatImage ReadFloatImage(const std::filesystem::path& file) {
   return image;
 }
 
-FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const std::filesystem::path& file) {
+std::optional<FloatImage> FindLayer(const FloatImage& image, const std::string& layer) {
   auto find = [&](const std::string& name) {
     const auto it = std::find(image.channelNames.begin(), image.channelNames.end(), name);
     return it == image.channelNames.end() ? -1 : int(it - image.channelNames.begin());
@@ -137,9 +137,7 @@ FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const 
     } else if (layer.empty() && image.Channels() >= 3) {
       picked = {0, 1, 2};
     } else {
-      std::string names;
-      for (const std::string& n : image.channelNames) names += (names.empty() ? "" : ", ") + n;
-      throw InputError(file, "no channels for layer '" + layer + "' (the image has: " + names + ")");
+      return std::nullopt;
     }
   }
   FloatImage out;
@@ -151,6 +149,16 @@ FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const 
   for (size_t i = 0; i < n; ++i)
     for (size_t c = 0; c < picked.size(); ++c) out.pixels[i * picked.size() + c] = image.pixels[i * image.Channels() + picked[c]];
   return out;
+}
+
+FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const std::filesystem::path& file) {
+  std::optional<FloatImage> picked = FindLayer(image, layer);
+  if (!picked) {
+    std::string names;
+    for (const std::string& n : image.channelNames) names += (names.empty() ? "" : ", ") + n;
+    throw InputError(file, "no channels for layer '" + layer + "' (the image has: " + names + ")");
+  }
+  return std::move(*picked);
 }
 
 ImageDifference CompareImages(const FloatImage& a, const FloatImage& b) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ FloatImage ReadFloatImage(const std::filesystem::path& file);
 // channel "LAYER"; an empty layer means R, G, B (or the first three channels). Throws InputError
 // naming `file` and the channels it has when the layer is missing.
 FloatImage SelectLayer(const FloatImage& image, const std::string& layer, const std::filesystem::path& file);
+// The same channels, or nullopt when the layer is missing (an optional per-pass buffer).
+std::optional<FloatImage> FindLayer(const FloatImage& image, const std::string& layer);
 
 // `image` resampled to width x height with a triangle (bilinear) filter, pixel centres aligned:
 // how a frame rendered below the reference's resolution is brought to it for comparison.

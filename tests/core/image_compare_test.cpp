@@ -76,6 +76,9 @@ TEST_CASE("compare: layers pick named channels and missing ones are an error", "
   const std::string message = test::InputErrorOf([&] { SelectLayer(dump, "indirect", "dump.exr"); });
   CHECK(message.find("dump.exr") != std::string::npos);
   CHECK(message.find("shadow.visibility") != std::string::npos);
+  CHECK_FALSE(FindLayer(dump, "indirect"));
+  REQUIRE(FindLayer(dump, "shadow.visibility"));
+  CHECK(FindLayer(dump, "shadow.visibility")->pixels == visibility.pixels);
 }
 
 TEST_CASE("compare: the heat map is black where equal and white at the scale", "[compare]") {
