@@ -1,6 +1,7 @@
-// The ssgi command line. The only place an error becomes a message and an exit code (DESIGN.md §12):
-// exit 0 on success, 1 for bad input (scene, model, texture, output path, option value), 2 for a
-// command line CLI11 cannot parse, 3 for an unexpected internal failure.
+// The ssgi command line. The only place an error becomes a message and an exit code (DESIGN.md §12).
+// Every error is one printable line "ssgi: error: ..." on stderr; the exit code says whose it is:
+// 0 success, 1 bad input (scene, model, texture, output path, option value), 2 a command line that
+// does not parse (unknown command or option, missing or malformed value), 3 an internal failure.
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/command_line_errors.h"
 #include "core/error.h"
 #include "core/image_compare.h"
 #include "core/image_io.h"
@@ -68,6 +70,8 @@ void PrintStats(const std::vector<ssgi::StageStats>& stats, int width, int heigh
     std::printf("  %-20s %10.3f", s.name.c_str(), s.ms);
     if (s.items > 0.0 && s.ms > 0.0)
       std::printf("  %8.2f M %s/s (%.0f %s)", s.items / (s.ms * 1e3), s.itemUnit.c_str(), s.items, s.itemUnit.c_str());
+    else if (!s.itemUnit.empty())
+      std::printf("  %10s (%.0f %s)", s.items > 0.0 ? "" : "none", s.items, s.itemUnit.c_str());
     std::printf("\n");
   }
 }
@@ -448,9 +452,11 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {  // --help
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    std::fprintf(stderr, "ssgi: error: %s\n", ssgi::cli::DescribeParseError(app, e, argc, argv).c_str());
+    return 2;
   }
   try {
     if (*renderCommand) return Render(render);
@@ -458,10 +464,10 @@ int main(int argc, char** argv) {
     if (*compareCommand) return Compare(compare);
     if (*referenceCommand) return Reference(reference);
   } catch (const ssgi::InputError& e) {
-    std::fprintf(stderr, "ssgi: error: %s\n", e.what());
+    std::fprintf(stderr, "ssgi: error: %s\n", ssgi::cli::Printable(e.what()).c_str());
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "ssgi: internal error: %s\n", e.what());
+    std::fprintf(stderr, "ssgi: internal error: %s\n", ssgi::cli::Printable(e.what()).c_str());
     return 3;
   }
   return 0;

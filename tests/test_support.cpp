@@ -14,6 +14,7 @@ namespace ssgi::test {
 
 std::filesystem::path SourceDir() { return SSGI_SOURCE_DIR; }
 std::filesystem::path CliPath() { return SSGI_CLI_PATH; }
+std::filesystem::path ThirdPartyScenesDir() { return SourceDir().parent_path() / "shared" / "scenes"; }
 
 ScratchDir::ScratchDir(const std::string& name) {
   path_ = std::filesystem::temp_directory_path() / ("ssgi-test-" + name + "-" + std::to_string(::getpid()));

@@ -13,6 +13,10 @@ namespace ssgi::test {
 // The project's source folder (for data/) and the built ssgi executable.
 std::filesystem::path SourceDir();
 std::filesystem::path CliPath();
+// The third-party scenes (Sponza, Sibenik, bunny, ...) in ../shared/scenes beside the checkout, as
+// the scene files in data/scenes name them; not part of the repository, so tests that need them
+// skip with a warning where the folder is absent.
+std::filesystem::path ThirdPartyScenesDir();
 
 // A fresh empty folder under the system temp folder, removed when the object dies.
 class ScratchDir {

@@ -2,6 +2,7 @@
 // on failure, byte-identical output at any thread count, and the golden image of the default scene.
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 
 #include <catch2/catch.hpp>
 
@@ -150,6 +151,30 @@ TEST_CASE("render: shadow passes run only when the scene calls for them", "[cli]
   CHECK(noCaster.output.find("shadow") == std::string::npos);
 }
 
+TEST_CASE("render --stats: every stage row says what it processed, a stage that processed nothing says none",
+          "[cli]") {
+  ScratchDir dir("cli-stats-rows");
+  // The bare board: smooth enough to be traced, but no ray finds anything, so no cone runs.
+  const CommandResult r = RunCli("render " + Quote(SourceDir() / "data" / "board.obj") + " --size 64x48 --stats -o " +
+                                 Quote(dir / "board.png"));
+  CAPTURE(r.output);
+  REQUIRE(r.exitCode == 0);
+  std::istringstream lines(r.output);
+  int stageRows = 0;
+  for (std::string line; std::getline(lines, line);) {
+    for (const char* stage : {"g-buffer raster ", "g-buffer resolve ", "shadow map ", "blocker search ", "shadow filter ",
+                              "direct light ", "hi-z ", "colour pyramid ", "ssr trace ", "cone trace ", "composite ",
+                              "tonemap ", "frame total "}) {
+      if (line.rfind(std::string("  ") + stage, 0) != 0) continue;
+      CAPTURE(line);
+      ++stageRows;
+      CHECK((line.find("/s (") != std::string::npos || line.find("none (0 ") != std::string::npos));
+    }
+  }
+  CHECK(stageRows == 13);
+  CHECK_THAT(r.output, Catch::Contains("cone trace") && Catch::Contains("none (0 pixels)"));
+}
+
 TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][compare]") {
   ScratchDir dir("cli-compare");
   for (const char* filter : {"hard", "ssabss"}) {
@@ -176,7 +201,7 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
 
 TEST_CASE("render: the real-scene files render where their models are present", "[cli][real_scenes]") {
   ScratchDir dir("cli-real-scenes");
-  const fs::path shared = SourceDir().parent_path() / "shared" / "scenes";
+  const fs::path shared = ThirdPartyScenesDir();
   if (!fs::exists(shared)) {
     WARN("skipped: " << shared << " does not exist (the third-party models are not part of the repository)");
     return;
