@@ -43,11 +43,11 @@ const BenchScene& KnotScene(int64_t triangles) {
       scene.camera.position = {0.0f, -0.6f, 4.0f};
       scene.camera.target = {0.0f, 0.0f, 0.0f};
       scene.camera.fovYDegrees = 45.0f;
-      scenes[i] = BenchScene{std::move(scene), {}};
+      scenes[i] = BenchScene{std::move(scene), {}, {}};
     }
     return scenes[i];
   }
-  static const BenchScene unknown{{}, "no torus knot with that triangle count"};
+  static const BenchScene unknown{{}, {}, "no torus knot with that triangle count"};
   return unknown;
 }
 

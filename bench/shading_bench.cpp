@@ -19,12 +19,12 @@ struct ShadingInputs {
   DirectLightOutputs direct;
 };
 
-const ShadingInputs& Inputs(const Scene& scene) {
+const ShadingInputs& Inputs(const BenchScene& bench) {
   static const ShadingInputs inputs = [&] {
     ShadingInputs in;
-    in.view = MakePerspective(scene.camera, kSize, kSize);
-    RunGBuffer({scene, in.view}, {scene.settings.normalEncoding}, in.g);
-    RunDirectLight({in.g.gbuffer, in.view, scene}, in.direct);
+    in.view = MakePerspective(bench.scene.camera, kSize, kSize);
+    RunGBuffer({bench.scene, in.view}, {bench.config.normalEncoding}, in.g);
+    RunDirectLight({in.g.gbuffer, in.view, bench.scene}, bench.config.directLight, in.direct);
     return in;
   }();
   return inputs;
@@ -38,9 +38,9 @@ void BM_DirectLight(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const ShadingInputs& in = Inputs(bench.scene);
+  const ShadingInputs& in = Inputs(bench);
   DirectLightOutputs out;
-  for (auto _ : state) RunDirectLight({in.g.gbuffer, in.view, bench.scene}, out);
+  for (auto _ : state) RunDirectLight({in.g.gbuffer, in.view, bench.scene}, bench.config.directLight, out);
   ReportPixels(state);
 }
 
@@ -48,7 +48,7 @@ void BM_Tonemap(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const ShadingInputs& in = Inputs(bench.scene);
+  const ShadingInputs& in = Inputs(bench);
   TonemapOutputs out;
   for (auto _ : state) RunTonemap(in.direct.radiance, {}, out);
   ReportPixels(state);

@@ -23,15 +23,16 @@ struct ShadowInputs {
   size_t lightIndex = 0;
 };
 
-const ShadowInputs& Inputs(const Scene& scene) {
+const ShadowInputs& Inputs(const BenchScene& bench) {
   static const ShadowInputs inputs = [&] {
+    const Scene& scene = bench.scene;
     ShadowInputs in;
     in.view = MakePerspective(scene.camera, kSize, kSize);
-    RunGBuffer({scene, in.view}, {scene.settings.normalEncoding}, in.g);
+    RunGBuffer({scene, in.view}, {bench.config.normalEncoding}, in.g);
     in.lightIndex = ShadowCastingLights(scene).front();
     in.light = PrepareLights(scene, in.view.view)[in.lightIndex];
-    ShadowMapOutputs out{in.g.gbuffer.word[3], {}, {}};
-    RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out);
+    ShadowMapOutputs out;
+    RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out, in.g.gbuffer.word[3]);
     return in;
   }();
   return inputs;
@@ -41,13 +42,13 @@ void BM_ShadowMap(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const ShadowInputs& in = Inputs(bench.scene);
+  const ShadowInputs& in = Inputs(bench);
   ShadowMapParams params;
   params.resolution = int(state.range(1));
   Plane<uint32_t> term = MakePlane<uint32_t>(kSize, kSize, 0u);
-  ShadowMapOutputs out{term, {}, {}};
+  ShadowMapOutputs out;
   ShadowMapStats stats;
-  for (auto _ : state) stats = RunShadowMap({bench.scene, in.view, in.g.gbuffer, in.lightIndex}, params, out);
+  for (auto _ : state) stats = RunShadowMap({bench.scene, in.view, in.g.gbuffer, in.lightIndex}, params, out, term);
   state.counters["rasterMs"] = stats.rasterMs;
   state.counters["searchMs"] = stats.searchMs;
   state.counters["pixels"] = benchmark::Counter(double(stats.pixels), benchmark::Counter::kIsIterationInvariantRate);
@@ -57,13 +58,13 @@ void BM_ShadowFilter(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const ShadowInputs& in = Inputs(bench.scene);
+  const ShadowInputs& in = Inputs(bench);
   ShadowFilterParams params;
   params.filter = state.range(1) == 0 ? ShadowFilter::kSsabss : ShadowFilter::kSspcss;
   ShadowFilterOutputs out;
   ShadowFilterStats stats;
   for (auto _ : state)
-    stats = RunShadowFilter({in.g.gbuffer, in.view, in.light, bench.scene.settings.normalEncoding}, params, out);
+    stats = RunShadowFilter({in.g.gbuffer, in.view, in.light}, params, out);
   state.counters["tilesBlurred"] = double(stats.tilesBlurred);
   state.counters["pixels"] =
       benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);

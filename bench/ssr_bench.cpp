@@ -13,11 +13,11 @@ namespace {
 constexpr int kSize = 1024;
 
 // One whole frame of the default scene, whose buffers are the passes' inputs.
-const Frame& DefaultFrame(const Scene& scene) {
+const Frame& DefaultFrame(const BenchScene& bench) {
   static const Frame frame = [&] {
-    Scene copy = scene;
-    copy.settings.width = copy.settings.height = kSize;
-    return RenderFrame(copy, FrameOptions{});
+    FrameConfig config = bench.config;
+    config.width = config.height = kSize;
+    return RenderFrame(bench.scene, config);
   }();
   return frame;
 }
@@ -27,7 +27,7 @@ void Run(benchmark::State& state, Body&& body) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const Frame& frame = DefaultFrame(bench.scene);
+  const Frame& frame = DefaultFrame(bench);
   for (auto _ : state) body(frame);
   state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -45,7 +45,7 @@ void BM_ColorPyramid(benchmark::State& state) {
 void BM_SsrTrace(benchmark::State& state) {
   SsrTraceOutputs trace;
   Run(state, [&](const Frame& f) {
-    RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz, NormalEncoding::kOct24}, {}, trace);
+    RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz}, {}, trace);
   });
 }
 
@@ -57,7 +57,7 @@ void BM_SsrCone(benchmark::State& state) {
 void BM_Composite(benchmark::State& state) {
   CompositeOutputs out;
   Run(state, [&](const Frame& f) {
-    RunComposite({f.gbuffer.gbuffer, f.view, NormalEncoding::kOct24, f.direct.radiance, f.ssrCone.reflected,
+    RunComposite({f.gbuffer.gbuffer, f.view, f.direct.radiance, f.ssrCone.reflected,
                    f.ssrTrace.confidence, SsrTraceParams{}.roughnessCutoff},
                   out);
   });

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -29,59 +28,29 @@ namespace fs = std::filesystem;
 struct Setting {
   std::string knob;   // which knob this row varies ("baseline" for the defaults)
   std::string value;  // its value, as text
-  std::function<void(ssgi::Scene&, ssgi::FrameOptions&)> apply;
   // Render at this fraction of the reference's size, then resample to it (bilinear) for the error.
   double scale = 1.0;
 };
 
-// The quality presets, then one knob at a time around the defaults: the axes the presets are chosen
-// from.
+// The quality presets, then one knob at a time around the defaults (the axes the presets are
+// chosen from), all from the frame settings table, then the resolution rows.
 std::vector<Setting> Settings() {
-  std::vector<Setting> settings{{"baseline", "defaults", [](ssgi::Scene&, ssgi::FrameOptions&) {}}};
-  for (const char* preset : {"low", "medium", "high", "ultra"})
-    settings.push_back({"preset", preset, [preset](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o = ssgi::QualityPreset(ssgi::ParseQuality(preset));
-                        }});
-  for (int v : {8, 16, 32, 128})
-    settings.push_back({"ssr_iterations", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.ssrTrace.maxIterations = v;
-                        }});
-  for (int v : {0, 2, 4})
-    settings.push_back({"hiz_start_level", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.ssrTrace.startLevel = v;
-                        }});
-  for (int v : {1, 3, 12})
-    settings.push_back({"cone_samples", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.ssrCone.maxSamples = v;
-                        }});
-  for (int v : {512, 1024, 4096})
-    settings.push_back({"shadow_map_size", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.shadowMap.resolution = v;
-                        }});
-  for (int v : {4, 8, 32})
-    settings.push_back({"blocker_taps", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.shadowMap.blockerSearchTaps = v;
-                        }});
-  for (int v : {2, 4, 8})
-    settings.push_back({"blur_taps", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.shadowFilter.taps = v;
-                        }});
-  for (int v : {8, 48})
-    settings.push_back({"blur_radius", std::to_string(v), [v](ssgi::Scene&, ssgi::FrameOptions& o) {
-                          o.shadowFilter.maxRadiusPixels = v;
-                        }});
-  for (double v : {0.5, 0.75})
-    settings.push_back({"resolution", std::to_string(int(v * 100)) + "%", [](ssgi::Scene&, ssgi::FrameOptions&) {}, v});
-  settings.push_back({"normal_encoding", "xyz8", [](ssgi::Scene& s, ssgi::FrameOptions&) {
-                        s.settings.normalEncoding = ssgi::NormalEncoding::kXyz8;
-                      }});
-  settings.push_back({"shadow_filter", "hard", [](ssgi::Scene&, ssgi::FrameOptions& o) {
-                        o.shadowFilter.filter = ssgi::ShadowFilter::kHard;
-                      }});
-  settings.push_back({"shadow_filter", "sspcss", [](ssgi::Scene&, ssgi::FrameOptions& o) {
-                        o.shadowFilter.filter = ssgi::ShadowFilter::kSspcss;
-                      }});
+  std::vector<Setting> settings{{"baseline", "defaults"}};
+  for (const ssgi::QualityPreset& preset : ssgi::QualityPresets())
+    settings.push_back({"preset", std::string(preset.name)});
+  for (const ssgi::FrameSetting& knob : ssgi::FrameSettings())
+    for (std::string_view value : knob.sweep) settings.push_back({std::string(knob.name), std::string(value)});
+  for (double scale : {0.5, 0.75}) settings.push_back({"resolution", std::to_string(int(scale * 100)) + "%", scale});
   return settings;
+}
+
+// The setting's frame configuration on top of the scene file's.
+ssgi::FrameConfig Configure(const Setting& setting, ssgi::FrameConfig config, int width, int height) {
+  if (setting.knob == "preset") ssgi::ApplySetting(config, "quality", setting.value);
+  if (ssgi::FindFrameSetting(setting.knob)) ssgi::ApplySetting(config, setting.knob, setting.value);
+  config.width = std::max(1, int(std::lround(width * setting.scale)));
+  config.height = std::max(1, int(std::lround(height * setting.scale)));
+  return config;
 }
 
 // One channel per plane: a single one is "Y", three are "R", "G", "B".
@@ -131,7 +100,8 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   for (const std::string& knob : knobs)
     if (std::none_of(settings.begin(), settings.end(), [&](const Setting& s) { return s.knob == knob; }))
       throw ssgi::InputError("--knobs", "no knob '" + knob + "' (the CSV's knob column names them)");
-  const ssgi::Scene loaded = ssgi::LoadScene(scenePath);
+  const ssgi::SceneFile loaded = ssgi::LoadSceneFile(scenePath);
+  const ssgi::FrameConfig sceneConfig = ssgi::FrameConfigFromSceneFile(loaded);
   std::ofstream csv(output);
   if (!csv) throw ssgi::InputError(output, "cannot write");
   // rmse_visibility: linear RMSE of the filtered light visibility against the traced one (blank when
@@ -142,24 +112,18 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   {
     // One discarded frame first, so the first setting's times do not include the process's first
     // touch of every buffer.
-    ssgi::Scene warmUp = loaded;
-    warmUp.settings.width = width;
-    warmUp.settings.height = height;
-    ssgi::RenderFrame(warmUp, ssgi::FrameOptions{});
+    ssgi::RenderFrame(loaded.scene, Configure(settings.front(), sceneConfig, width, height));
   }
   for (const Setting& setting : settings) {
     if (!knobs.empty() && std::find(knobs.begin(), knobs.end(), setting.knob) == knobs.end()) continue;
-    ssgi::Scene scene = loaded;
-    scene.settings.width = std::max(1, int(std::lround(width * setting.scale)));
-    scene.settings.height = std::max(1, int(std::lround(height * setting.scale)));
-    ssgi::FrameOptions options;
-    setting.apply(scene, options);
+    const ssgi::FrameConfig config = Configure(setting, sceneConfig, width, height);
     std::map<std::string, std::vector<double>> times;
     ssgi::ImageDifference difference;
     std::string visibilityError, indirectError;
     for (int r = 0; r < repeats; ++r) {
-      const ssgi::Frame frame = ssgi::RenderFrame(scene, options);
-      for (const ssgi::StageStats& s : frame.stats) times[s.name].push_back(s.ms);
+      const ssgi::Frame frame = ssgi::RenderFrame(loaded.scene, config);
+      const std::vector<ssgi::StageStats> rows = ssgi::StageRows(frame.stats);
+      for (const ssgi::StageStats& s : rows) times[s.name].push_back(s.ms);
       if (r == 0) {
         difference = ErrorAgainst(ToFloatImage(frame.Result()), reference);
         if (frame.shadowMap && referenceVisibility)
@@ -170,7 +134,7 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
               std::to_string(ErrorAgainst(ToFloatImage(frame.composite.indirect), *referenceIndirect).rmseDisplay);
       }
       if (stages.empty()) {
-        for (const ssgi::StageStats& s : frame.stats) stages.push_back(s.name);
+        for (const ssgi::StageStats& s : rows) stages.push_back(s.name);
         for (const std::string& name : stages) csv << ",ms " << name;
         csv << "\n";
       }

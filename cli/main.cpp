@@ -42,25 +42,84 @@ fs::path DefaultScenePath() {
   return fs::path(SSGI_SOURCE_DATA_DIR) / "default.json";
 }
 
+// How --help shows a setting's value: "INT in [16, 16384]", "R,G,B".
+std::string ValueTypeName(const ssgi::FrameSetting& setting) {
+  auto bound = [](double v) { return ssgi::FormatSettingValue(v); };
+  switch (setting.kind) {
+    case ssgi::SettingKind::kInteger:
+      return "INT in [" + bound(setting.min) + ", " + bound(setting.max) + "]";
+    case ssgi::SettingKind::kNumber:
+      return "NUMBER";
+    case ssgi::SettingKind::kChoice:
+      return "TEXT";
+    case ssgi::SettingKind::kColor:
+      return "R,G,B";
+    case ssgi::SettingKind::kImageSize:
+      return "WIDTHxHEIGHT";
+  }
+  return "TEXT";
+}
+
+// The frame settings given on a command line, each an option derived from the settings table
+// (passes/frame_config.h); they override the scene file's render block.
+struct SettingOptions {
+  std::vector<std::pair<const ssgi::FrameSetting*, CLI::Option*>> options;
+
+  // Registers the settings named in `only`, or every setting with an option when `only` is empty.
+  void Register(CLI::App& command, std::initializer_list<std::string_view> only = {}) {
+    const ssgi::FrameConfig defaults;
+    for (const ssgi::FrameSetting& setting : ssgi::FrameSettings()) {
+      if (setting.option.empty()) continue;
+      if (only.size() > 0 && std::find(only.begin(), only.end(), setting.name) == only.end()) continue;
+      std::string help(setting.help);
+      if (setting.get) help += " Default: " + ssgi::FormatSettingValue(setting.get(defaults)) + ".";
+      if (setting.inSceneFile) help += " Overrides the scene file's render." + std::string(setting.name) + ".";
+      CLI::Option* option = command.add_option(std::string(setting.option))->description(help);
+      option->type_name(ValueTypeName(setting));
+      if (setting.kind == ssgi::SettingKind::kChoice) {
+        option->check(CLI::IsMember(std::vector<std::string>(setting.choices.begin(), setting.choices.end())));
+      } else {
+        option->check(CLI::Validator(
+            [&setting](std::string& text) {
+              try {
+                ssgi::ParseSettingText(setting, text);
+                return std::string();
+              } catch (const ssgi::InputError& e) {
+                return std::string(e.what());
+              }
+            },
+            "", std::string(setting.name)));
+      }
+      options.emplace_back(&setting, option);
+    }
+  }
+
+  // The given options on top of `config`, in the table's order (the preset before its knobs).
+  void ApplyTo(ssgi::FrameConfig& config) const {
+    for (const auto& [setting, option] : options)
+      if (option->count() > 0) ssgi::ApplySetting(config, setting->name, option->as<std::string>());
+  }
+};
+
 struct RenderOptions {
   std::string scene;
   std::string output;
-  std::string size;
   int threads = 0;
   bool stats = false;
   std::string dumpBuffers;
-  std::optional<std::string> normalEncoding;
-  std::optional<float> exposure;
-  std::optional<std::string> shadows;
-  std::optional<std::string> reflections;
-  std::string shadowFilter = "ssabss";
-  std::string quality = "high";
-  // Quality knobs given on the command line override the preset's.
-  std::optional<int> shadowMapSize, blockerTaps, blurRadius, blurTaps, ssrIterations, hizStartLevel, coneSamples;
+  SettingOptions settings;
 };
 
-ssgi::EffectMode ParseEffectMode(const std::string& text) {
-  return text == "on" ? ssgi::EffectMode::kOn : text == "off" ? ssgi::EffectMode::kOff : ssgi::EffectMode::kAuto;
+// The scene and how to render it: the scene file's render block, then the command line's settings.
+struct SceneAndConfig {
+  ssgi::Scene scene;
+  ssgi::FrameConfig config;
+};
+SceneAndConfig LoadSceneAndConfig(const fs::path& path, const SettingOptions& settings) {
+  ssgi::SceneFile file = ssgi::LoadSceneFile(path);
+  ssgi::FrameConfig config = ssgi::FrameConfigFromSceneFile(file);
+  settings.ApplyTo(config);
+  return {std::move(file.scene), config};
 }
 
 void PrintStats(const std::vector<ssgi::StageStats>& stats, int width, int height, int threads) {
@@ -85,36 +144,14 @@ int Render(const RenderOptions& options) {
   const ssgi::ImageFileKind kind = ssgi::CheckOutputPath(output);
   if (!options.dumpBuffers.empty() && ssgi::CheckOutputPath(options.dumpBuffers) != ssgi::ImageFileKind::kExr)
     throw ssgi::InputError(options.dumpBuffers, "--dump-gbuffer writes a multi-channel EXR: use a .exr name");
-  int width = 0, height = 0;
-  if (!options.size.empty()) ssgi::ParseImageSize(options.size, width, height);
 
   ssgi::Stopwatch load;
-  ssgi::Scene scene = ssgi::LoadScene(scenePath);
+  const auto [scene, config] = LoadSceneAndConfig(scenePath, options.settings);
   const double loadMs = load.Lap();
-  if (width > 0) {
-    scene.settings.width = width;
-    scene.settings.height = height;
-  }
-  if (options.normalEncoding)
-    scene.settings.normalEncoding = *options.normalEncoding == "xyz8" ? ssgi::NormalEncoding::kXyz8 : ssgi::NormalEncoding::kOct24;
-  if (options.exposure) scene.settings.exposureEv = *options.exposure;
-  if (options.shadows) scene.settings.shadows = ParseEffectMode(*options.shadows);
-  if (options.reflections) scene.settings.reflections = ParseEffectMode(*options.reflections);
-  ssgi::FrameOptions frameOptions = ssgi::QualityPreset(ssgi::ParseQuality(options.quality));
-  if (options.shadowMapSize) frameOptions.shadowMap.resolution = *options.shadowMapSize;
-  if (options.blockerTaps) frameOptions.shadowMap.blockerSearchTaps = *options.blockerTaps;
-  if (options.blurRadius) frameOptions.shadowFilter.maxRadiusPixels = *options.blurRadius;
-  if (options.blurTaps) frameOptions.shadowFilter.taps = *options.blurTaps;
-  if (options.ssrIterations) frameOptions.ssrTrace.maxIterations = *options.ssrIterations;
-  if (options.hizStartLevel) frameOptions.ssrTrace.startLevel = *options.hizStartLevel;
-  if (options.coneSamples) frameOptions.ssrCone.maxSamples = *options.coneSamples;
-  frameOptions.shadowFilter.filter = options.shadowFilter == "hard"     ? ssgi::ShadowFilter::kHard
-                                     : options.shadowFilter == "sspcss" ? ssgi::ShadowFilter::kSspcss
-                                                                        : ssgi::ShadowFilter::kSsabss;
 
-  ssgi::Frame frame = ssgi::RenderFrame(scene, frameOptions);
+  ssgi::Frame frame = ssgi::RenderFrame(scene, config);
   ssgi::Stopwatch write;
-  const int w = scene.settings.width, h = scene.settings.height;
+  const int w = config.width, h = config.height;
   if (kind == ssgi::ImageFileKind::kPng) {
     ssgi::WritePng(output, w, h, frame.display.rgb);
   } else {
@@ -124,7 +161,7 @@ int Render(const RenderOptions& options) {
                     {"G", false, result.c[1].ConstRow(0), size_t(result.c[1].PixelsPerRow())},
                     {"B", false, result.c[2].ConstRow(0), size_t(result.c[2].PixelsPerRow())}});
   }
-  if (!options.dumpBuffers.empty()) ssgi::WriteFrameBuffers(options.dumpBuffers, frame, scene.settings.normalEncoding);
+  if (!options.dumpBuffers.empty()) ssgi::WriteFrameBuffers(options.dumpBuffers, frame);
   const double writeMs = write.Lap();
 
   if (options.stats) {
@@ -132,14 +169,13 @@ int Render(const RenderOptions& options) {
                 scene.mesh.TriangleCount(), scene.materials.size(), scene.textures.size(), loadMs);
     if (scene.reorientedTriangles > 0)
       std::printf("  %zu triangles wound against their neighbours were turned to match\n", scene.reorientedTriangles);
-    PrintStats(frame.stats, w, h, threads);
-    if (frame.shadowTiles > 0)
-      std::printf("  shadow blur ran on %zu of %zu tiles (%.1f%%)\n", frame.shadowTilesBlurred, frame.shadowTiles,
-                  100.0 * double(frame.shadowTilesBlurred) / double(frame.shadowTiles));
-    if (frame.reflections)
-      std::printf("  ssr traced %zu rays (%.1f Hi-Z steps each) in %zu of %zu tiles (%.1f%%)\n", frame.ssrRays,
-                  frame.ssrMeanIterations, frame.ssrTilesTraced, frame.ssrTiles,
-                  100.0 * double(frame.ssrTilesTraced) / double(frame.ssrTiles));
+    PrintStats(ssgi::StageRows(frame.stats), w, h, threads);
+    if (const auto& f = frame.stats.shadowFilter; f && f->tiles > 0)
+      std::printf("  shadow blur ran on %zu of %zu tiles (%.1f%%)\n", f->tilesBlurred, f->tiles,
+                  100.0 * double(f->tilesBlurred) / double(f->tiles));
+    if (const auto& t = frame.stats.ssrTrace)
+      std::printf("  ssr traced %zu rays (%.1f Hi-Z steps each) in %zu of %zu tiles (%.1f%%)\n", t->rays,
+                  t->meanIterations, t->tilesTraced, t->tiles, 100.0 * double(t->tilesTraced) / double(t->tiles));
     std::printf("  %-20s %10.3f\n", "write image", writeMs);
   }
   std::printf("wrote %s\n", output.string().c_str());
@@ -149,8 +185,8 @@ int Render(const RenderOptions& options) {
 struct FiguresOptions {
   std::string folder;
   std::string scene;
-  std::string size = "1024x1024";
   int threads = 0;
+  SettingOptions settings;
 };
 
 // A horizontal strip of the same crop of several RGB images, separated by white bars.
@@ -179,18 +215,16 @@ int Figures(const FiguresOptions& options) {
   fs::create_directories(folder, error);
   if (error) throw ssgi::InputError(folder, "cannot create the folder: " + error.message());
   ssgi::CheckOutputPath(folder / "albedo.png");
-  int width = 0, height = 0;
-  ssgi::ParseImageSize(options.size, width, height);
-  ssgi::Scene scene = ssgi::LoadScene(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene));
-  scene.settings.width = width;
-  scene.settings.height = height;
+  auto [scene, config] = LoadSceneAndConfig(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene),
+                                            options.settings);
+  const int width = config.width, height = config.height;
 
   auto render = [&](ssgi::EffectMode shadows, ssgi::EffectMode reflections, ssgi::ShadowFilter filter) {
-    scene.settings.shadows = shadows;
-    scene.settings.reflections = reflections;
-    ssgi::FrameOptions frameOptions;
-    frameOptions.shadowFilter.filter = filter;
-    return ssgi::RenderFrame(scene, frameOptions);
+    ssgi::FrameConfig figure = config;
+    figure.shadows = shadows;
+    figure.reflections = reflections;
+    figure.shadowFilter.filter = filter;
+    return ssgi::RenderFrame(scene, figure);
   };
   auto write = [&](const std::string& name, int w, int h, const std::vector<uint8_t>& rgb) {
     ssgi::WritePng(folder / name, w, h, rgb);
@@ -246,7 +280,7 @@ int Figures(const FiguresOptions& options) {
     std::vector<double> times;
     for (int i = 0; i < kRepeats; ++i) {
       const ssgi::Frame frame = render(rows[r].shadows, rows[r].reflections, ShadowFilter::kSsabss);
-      times.push_back(frame.stats.back().ms);
+      times.push_back(frame.stats.totalMs);
     }
     std::sort(times.begin(), times.end());
     char line[160];
@@ -265,7 +299,7 @@ int Figures(const FiguresOptions& options) {
 struct ReferenceOptions {
   std::string scene;
   std::string output = "reference.exr";
-  std::string size;
+  SettingOptions settings;
   int spp = 64;
   int threads = 0;
 };
@@ -276,12 +310,16 @@ int Reference(const ReferenceOptions& options) {
   const ssgi::ThreadLimit threadLimit(options.threads);
   if (ssgi::CheckOutputPath(options.output) != ssgi::ImageFileKind::kExr)
     throw ssgi::InputError(options.output, "the reference is written as a multi-channel EXR: use a .exr name");
-  ssgi::Scene scene = ssgi::LoadScene(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene));
-  if (!options.size.empty()) ssgi::ParseImageSize(options.size, scene.settings.width, scene.settings.height);
+  const auto [scene, config] =
+      LoadSceneAndConfig(options.scene.empty() ? DefaultScenePath() : fs::path(options.scene), options.settings);
+  ssgi::ReferenceParams params = ssgi::ReferenceParamsForSpp(options.spp);
+  params.width = config.width;
+  params.height = config.height;
+  params.background = config.directLight.background;
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   ssgi::Stopwatch stopwatch;
   const ssgi::ReferenceOutputs ref = ssgi::RenderReference(
-      scene, ssgi::ReferenceParamsForSpp(options.spp), [&](size_t done, size_t rows) {
+      scene, params, [&](size_t done, size_t rows) {
         if (!terminal) return;
         const int width = 40, filled = int(width * done / std::max<size_t>(rows, 1));
         std::fprintf(stderr, "\r[%s%s] %3zu%%", std::string(size_t(filled), '#').c_str(),
@@ -302,9 +340,9 @@ int Reference(const ReferenceOptions& options) {
   }
   add("shadow.visibility", ref.lightVisibility);
   add("depth", ref.depth);
-  ssgi::WriteExr(options.output, scene.settings.width, scene.settings.height, channels);
-  std::printf("reference %dx%d, %d spp: %.1f ms (%zu rays, BVH %.1f ms)\nwrote %s\n", scene.settings.width,
-              scene.settings.height, options.spp, ms, size_t(ref.stats.rays), ref.stats.buildMs, options.output.c_str());
+  ssgi::WriteExr(options.output, config.width, config.height, channels);
+  std::printf("reference %dx%d, %d spp: %.1f ms (%zu rays, BVH %.1f ms)\nwrote %s\n", config.width,
+              config.height, options.spp, ms, size_t(ref.stats.rays), ref.stats.buildMs, options.output.c_str());
   return 0;
 }
 
@@ -360,7 +398,6 @@ int main(int argc, char** argv) {
   renderCommand->add_option("-o,--output", render.output,
                             "Output image: .png (8-bit sRGB after exposure and tonemap) or .exr (linear float "
                             "RGB radiance). Default: <scene name>.png in the current folder.");
-  renderCommand->add_option("--size", render.size, "Image size WIDTHxHEIGHT, each in [1, 16384]; overrides the scene's.");
   renderCommand->add_option("--threads", render.threads, "Worker threads (0 = all hardware threads). The image is "
                                                          "byte-identical for any count.")
       ->check(CLI::Range(0, 1024));
@@ -368,50 +405,7 @@ int main(int argc, char** argv) {
   renderCommand->add_option("--dump-gbuffer", render.dumpBuffers,
                             "Also write every intermediate buffer (raw and decoded G-buffer, visibility buffer, "
                             "shadow visibility, direct light) to this multi-channel .exr.");
-  renderCommand->add_option("--normal-encoding", render.normalEncoding,
-                            "G-buffer normal encoding: oct24 (octahedral 2x12 bits, default) or xyz8 (3x8 bits, "
-                            "the paper's). Overrides the scene's.")
-      ->check(CLI::IsMember({"oct24", "xyz8"}));
-  renderCommand->add_option("--shadows", render.shadows,
-                            "Shadows: auto (when a light casts them, the default), on, off. Overrides the scene's.")
-      ->check(CLI::IsMember({"auto", "on", "off"}));
-  renderCommand->add_option("--reflections", render.reflections,
-                            "Screen-space reflections (indirect light): auto (when a surface is smooth enough to "
-                            "reflect, the default), on, off. Overrides the scene's.")
-      ->check(CLI::IsMember({"auto", "on", "off"}));
-  renderCommand->add_option("--shadow-filter", render.shadowFilter,
-                            "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito; default), sspcss (isotropic "
-                            "screen-space PCSS, MohammadBagher et al. 2010) or hard (the shadow map's hard test).")
-      ->check(CLI::IsMember({"hard", "sspcss", "ssabss"}));
-  renderCommand->add_option("--quality", render.quality,
-                            "Quality preset: low, medium, high (the default) or ultra (README 'Accuracy and time' "
-                            "gives each one's time and error). The knobs below override it.")
-      ->check(CLI::IsMember({"low", "medium", "high", "ultra"}));
-  renderCommand->add_option("--shadow-map-size", render.shadowMapSize,
-                            "Shadow map resolution in texels per side (default 2048).")
-      ->check(CLI::Range(16, 16384));
-  renderCommand->add_option("--blocker-taps", render.blockerTaps,
-                            "PCSS blocker-search taps per pixel (default 16).")
-      ->check(CLI::Range(1, ssgi::kMaxBlockerSearchTaps));
-  renderCommand->add_option("--blur-radius", render.blurRadius,
-                            "Shadow blur radius clamp in pixels (default 24).")
-      ->check(CLI::Range(0, 256));
-  renderCommand->add_option("--blur-taps", render.blurTaps,
-                            "Shadow blur taps per side of each 1-D pass (0 = one per pixel of the radius, the "
-                            "default).")
-      ->check(CLI::Range(0, 256));
-  renderCommand->add_option("--ssr-iterations", render.ssrIterations,
-                            "Hi-Z steps per reflected ray (default 64).")
-      ->check(CLI::Range(1, 4096));
-  renderCommand->add_option("--hiz-start-level", render.hizStartLevel,
-                            "Hi-Z level a reflected ray continues at after leaving its own pixel (default 1; "
-                            "higher levels stride faster through open space; clamped to the top level).")
-      ->check(CLI::Range(0, 30));
-  renderCommand->add_option("--cone-samples", render.coneSamples,
-                            "Colour-pyramid samples per cone (default 7).")
-      ->check(CLI::Range(1, 64));
-  renderCommand->add_option("--exposure", render.exposure, "Exposure in EV (image x 2^EV before the tonemap); "
-                                                           "overrides the scene's.");
+  render.settings.Register(*renderCommand);
 
   FiguresOptions figures;
   CLI::App* figuresCommand = app.add_subcommand(
@@ -420,7 +414,7 @@ int main(int argc, char** argv) {
                  "indirect), shadow_filters.png (hard | SSPCSS | SSABSS, cropped) and table1.md (frame times).");
   figuresCommand->add_option("folder", figures.folder, "Output folder (created if missing).")->required();
   figuresCommand->add_option("--scene", figures.scene, "Scene file or OBJ. Default: the built-in default scene.");
-  figuresCommand->add_option("--size", figures.size, "Image size WIDTHxHEIGHT (default 1024x1024).");
+  figures.settings.Register(*figuresCommand, {"size"});
   figuresCommand->add_option("--threads", figures.threads, "Worker threads (0 = all).")->check(CLI::Range(0, 1024));
 
   ReferenceOptions reference;
@@ -430,7 +424,7 @@ int main(int argc, char** argv) {
   referenceCommand->add_option("-o,--output", reference.output,
                                "Multi-channel EXR: R, G, B (the final image) and result.*, direct.*, indirect.*, "
                                "shadow.visibility, depth (default reference.exr).");
-  referenceCommand->add_option("--size", reference.size, "Image size WIDTHxHEIGHT; overrides the scene's.");
+  reference.settings.Register(*referenceCommand, {"size", "background"});
   referenceCommand->add_option("--spp", reference.spp,
                                "Light and bounce samples per pixel (default 64; error falls as 1/sqrt(spp)).")
       ->check(CLI::Range(1, 65536));

@@ -22,8 +22,9 @@ float SignNotZero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
 
 }  // namespace
 
-GBuffer MakeGBuffer(int width, int height) {
+GBuffer MakeGBuffer(int width, int height, NormalEncoding encoding) {
   GBuffer g;
+  g.normalEncoding = encoding;
   g.word[0] = MakePlane<uint32_t>(width, height, 0u);
   g.word[1] = MakePlane<uint32_t>(width, height, 0u);
   g.word[2] = MakePlane<uint32_t>(width, height, PackDepth(kBackgroundDepth));

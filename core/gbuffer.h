@@ -15,7 +15,7 @@
 #include <glm/glm.hpp>
 
 #include "core/plane.h"
-#include "core/scene.h"
+#include "core/render_modes.h"
 
 namespace ssgi {
 
@@ -24,12 +24,15 @@ inline constexpr uint32_t kShadowLit = 0u;  // word 3 of a pixel with no blocker
 
 struct GBuffer {
   Plane<uint32_t> word[4];
+  // How word 1 stores the normal: set by the G-buffer pass, read by every pass that decodes it.
+  NormalEncoding normalEncoding = NormalEncoding::kOct24;
   int width() const { return int(word[0].xsize()); }
   int height() const { return int(word[0].ysize()); }
 };
 
-// A G-buffer of the given size, every pixel background: words 0, 1, 3 zero, depth +infinity.
-GBuffer MakeGBuffer(int width, int height);
+// A G-buffer of the given size and normal encoding, every pixel background: words 0, 1, 3 zero,
+// depth +infinity.
+GBuffer MakeGBuffer(int width, int height, NormalEncoding encoding);
 
 uint32_t PackAlbedoMetallic(glm::vec3 linearAlbedo, float metallic);
 glm::vec3 UnpackAlbedo(uint32_t word0);  // linear
@@ -41,6 +44,10 @@ uint32_t EncodeNormal(glm::vec3 unitNormal, NormalEncoding encoding);
 glm::vec3 DecodeNormal(uint32_t code24, NormalEncoding encoding);  // unit length
 
 uint32_t PackNormalRoughness(glm::vec3 unitNormal, float roughness, NormalEncoding encoding);
+// The unit view-space normal of word 1 (its low 24 bits).
+inline glm::vec3 UnpackNormal(uint32_t word1, NormalEncoding encoding) {
+  return DecodeNormal(word1 & 0xFFFFFFu, encoding);
+}
 float UnpackRoughness(uint32_t word1);
 
 inline uint32_t PackDepth(float viewDepth) {

@@ -431,7 +431,7 @@ class Shader {
       Hit hit;
       ++counters.rays;
       if (!tracer_.Intersect(RayKind::kCamera, OffsetOrigin(s, direction), direction, 0.0f, kInfinity, hit)) {
-        sum += weight * scene_.settings.background;
+        sum += weight * params_.background;
         continue;
       }
       const Surface next = ResolveSurface(scene_, hit, direction);
@@ -481,12 +481,12 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
   SSGI_CHECK_GE(params.lightSamples, 1);
   SSGI_CHECK_GE(params.bounceSamples, 0);
   SSGI_CHECK_GE(params.bounceLightSamples, 1);
-  const int width = scene.settings.width, height = scene.settings.height;
+  const int width = params.width, height = params.height;
   const ViewProjection view = MakePerspective(scene.camera, width, height);
   const glm::mat4 viewToWorld = glm::inverse(view.view);
   const glm::vec3 cameraPosition(viewToWorld[3]);
   const glm::mat3 viewToWorldRotation(viewToWorld);
-  const glm::vec3 background = scene.settings.background;
+  const glm::vec3 background = params.background;
 
   ReferenceOutputs out;
   Stopwatch stopwatch;

@@ -24,6 +24,9 @@
 namespace ssgi {
 
 struct ReferenceParams {
+  int width = kDefaultImageSide;  // image size in pixels, as the frame it is compared with
+  int height = kDefaultImageSide;
+  glm::vec3 background{0.0f};     // linear RGB radiance where a ray leaves the scene, as the frame's
   int lightSamples = 16;       // per light per pixel for the direct light, >= 1
   int bounceSamples = 16;      // GGX directions per pixel for the specular bounce, >= 0 (0: no bounce)
   int bounceLightSamples = 1;  // per light at each bounce hit, >= 1
@@ -46,7 +49,7 @@ struct ReferenceStats {
   size_t rays = 0;        // primary + shadow + bounce rays traced
 };
 
-// Every plane has scene.settings' size. Radiance is linear RGB towards the camera (W/(m^2 sr)),
+// Every plane has the params' size. Radiance is linear RGB towards the camera (W/(m^2 sr)),
 // finite and >= 0, pixel centres as in core/camera.h.
 struct ReferenceOutputs {
   Plane3<float> direct;         // direct light with area soft shadows; background pixels: the background
@@ -65,8 +68,8 @@ struct ReferenceOutputs {
 // affects the output.
 using ReferenceProgress = std::function<void(size_t rowsDone, size_t rows)>;
 
-// Renders the reference at scene.settings.width x height with the scene's camera, lights and
-// background. Parallel over fixed bands of rows (core/parallel.h).
+// Renders the reference at params.width x height with the scene's camera and lights and the
+// params' background. Parallel over fixed bands of rows (core/parallel.h).
 ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& params,
                                  const ReferenceProgress& progress = nullptr);
 

@@ -175,11 +175,15 @@ class ErrorReporter {
   ErrorReporter(fs::path file, std::unordered_map<std::string, int> lines)
       : file_(std::move(file)), lines_(std::move(lines)) {}
   // A key the file leaves out (a default that conflicts) is reported at its parent's line.
-  [[noreturn]] void Fail(std::string path, const std::string& problem) const {
+  [[noreturn]] void Fail(const std::string& path, const std::string& problem) const {
+    throw InputError(file_, LineOf(path), problem);
+  }
+  // The line of a message path, or of its nearest parent in the file; 0 when none is.
+  int LineOf(std::string path) const {
     for (;;) {
-      if (const auto line = lines_.find(path); line != lines_.end()) throw InputError(file_, line->second, problem);
+      if (const auto line = lines_.find(path); line != lines_.end()) return line->second;
       const size_t parent = path.find_last_of(".[");
-      if (parent == std::string::npos) throw InputError(file_, problem);
+      if (parent == std::string::npos) return 0;
       path.resize(parent);
     }
   }
@@ -379,33 +383,31 @@ void ReadLights(const ErrorReporter& errors, const Json& node, Scene& scene) {
   }
 }
 
-EffectMode ReadEffect(const ObjectReader& r, std::string_view key) {
-  const Json* value = r.Find(key);
-  if (value && value->is_boolean()) return value->get<bool>() ? EffectMode::kOn : EffectMode::kOff;
-  if (value && !value->is_string())
-    r.Fail(key, "must be \"auto\", \"on\", \"off\", true or false, got " + value->dump());
-  return r.Choice(key, EffectMode::kAuto,
-                  {{"auto", EffectMode::kAuto}, {"on", EffectMode::kOn}, {"off", EffectMode::kOff}});
+// The render block flattened to its values, nested objects ("effects") as dotted keys; the frame
+// configuration checks the keys and values (passes/frame_config.h).
+void ReadRenderBlock(const ErrorReporter& errors, const Json& node, const std::string& path,
+                     std::vector<RenderBlockEntry>& entries) {
+  if (!node.is_object()) errors.Fail(path, path + " must be an object, got " + node.type_name());
+  for (const auto& [key, value] : node.items()) {
+    const std::string keyPath = path + "." + key;
+    if (value.is_object()) {
+      ReadRenderBlock(errors, value, keyPath, entries);
+    } else {
+      entries.push_back({keyPath.substr(std::string_view("render.").size()), value.dump(), errors.LineOf(keyPath)});
+    }
+  }
 }
 
-RenderSettings ReadRender(const ErrorReporter& errors, const Json& node) {
-  const ObjectReader r(errors, node, "render",
-                       {"width", "height", "exposure_ev", "tonemap", "background", "normal_encoding", "effects"});
-  RenderSettings settings;
-  const Range sizeRange{1.0, double(kMaxImageSize), false, false};
-  settings.width = r.Integer("width", settings.width, sizeRange);
-  settings.height = r.Integer("height", settings.height, sizeRange);
-  settings.exposureEv = r.Number("exposure_ev", 0.0f);
-  settings.tonemap = r.Choice("tonemap", Tonemap::kAces, {{"aces", Tonemap::kAces}, {"clamp", Tonemap::kClamp}});
-  settings.background = r.Vec3("background", glm::vec3(0.0f), kNonNegative);
-  settings.normalEncoding = r.Choice("normal_encoding", NormalEncoding::kOct24,
-                                     {{"oct24", NormalEncoding::kOct24}, {"xyz8", NormalEncoding::kXyz8}});
-  if (const Json* effects = r.Find("effects")) {
-    const ObjectReader e(errors, *effects, "render.effects", {"shadows", "reflections"});
-    settings.shadows = ReadEffect(e, "shadows");
-    settings.reflections = ReadEffect(e, "reflections");
+// The image size a camera-less scene file is framed for: its render block's, where it gives a
+// valid one (a bad one is reported by the frame configuration), else the default.
+int FramingSide(const std::vector<RenderBlockEntry>& render, std::string_view key) {
+  for (const RenderBlockEntry& entry : render) {
+    if (entry.key != key) continue;
+    const Json value = Json::parse(entry.json);
+    if (value.is_number_integer() && value.get<int64_t>() >= 1 && value.get<int64_t>() <= kMaxImageSize)
+      return int(value.get<int64_t>());
   }
-  return settings;
+  return kDefaultImageSide;
 }
 
 MaterialOverride ReadOverride(const ErrorReporter& errors, const Json& node, const std::string& path) {
@@ -543,7 +545,7 @@ void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, S
   }
 }
 
-Scene LoadJsonScene(const fs::path& file) {
+SceneFile LoadJsonScene(const fs::path& file) {
   std::error_code error;
   if (!fs::is_regular_file(file, error)) throw InputError(file, "scene file not found");
   std::ifstream in(file, std::ios::binary);
@@ -554,9 +556,10 @@ Scene LoadJsonScene(const fs::path& file) {
   const ErrorReporter errors(file, std::move(document.lines));
   const ObjectReader root(errors, document.root, "", {"camera", "lights", "objects", "render"});
 
-  Scene scene;
+  SceneFile loaded;
+  Scene& scene = loaded.scene;
   scene.source = file;
-  if (const Json* render = root.Find("render")) scene.settings = ReadRender(errors, *render);
+  if (const Json* render = root.Find("render")) ReadRenderBlock(errors, *render, "render", loaded.render);
   std::optional<CameraDesc> camera;
   if (const Json* node = root.Find("camera")) camera = ReadCamera(errors, *node);
   if (const Json* lights = root.Find("lights")) {
@@ -568,24 +571,28 @@ Scene LoadJsonScene(const fs::path& file) {
   if (!objects) errors.Fail("", "objects is required");
   const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
   Bake(errors, ReadObjects(errors, *objects, folder), scene);
-  scene.camera = camera ? *camera : FrameMesh(scene.mesh, scene.settings.width, scene.settings.height);
-  return scene;
+  scene.camera = camera ? *camera
+                        : FrameMesh(scene.mesh, FramingSide(loaded.render, "width"), FramingSide(loaded.render, "height"));
+  return loaded;
 }
 
-Scene LoadObjScene(const fs::path& file) {
-  Scene scene;
+SceneFile LoadObjScene(const fs::path& file) {
+  SceneFile loaded;
+  Scene& scene = loaded.scene;
   scene.source = file;
   ObjectDesc object;
   object.obj = file;
   Bake(ErrorReporter(file, {}), {object}, scene);
   scene.directionalLights.push_back(DefaultLight());
-  scene.camera = FrameMesh(scene.mesh, scene.settings.width, scene.settings.height);
-  return scene;
+  scene.camera = FrameMesh(scene.mesh, kDefaultImageSide, kDefaultImageSide);
+  return loaded;
 }
 
 }  // namespace
 
-Scene LoadScene(const fs::path& file) {
+Scene LoadScene(const fs::path& file) { return LoadSceneFile(file).scene; }
+
+SceneFile LoadSceneFile(const fs::path& file) {
   const std::string ext = LowerExtension(file);
   if (ext == ".json") return LoadJsonScene(file);
   if (ext == ".obj") return LoadObjScene(file);
@@ -596,9 +603,9 @@ void ParseImageSize(const std::string& text, int& width, int& height) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-    throw InputError("--size: expected WIDTHxHEIGHT such as 1024x768, got '" + text + "'");
+    throw InputError("expected WIDTHxHEIGHT such as 1024x768, got '" + text + "'");
   if (w < 1 || h < 1 || w > kMaxImageSize || h > kMaxImageSize)
-    throw InputError("--size: width and height must be in [1, " + std::to_string(kMaxImageSize) + "], got " + text);
+    throw InputError("width and height must be in [1, " + std::to_string(kMaxImageSize) + "], got " + text);
   width = w;
   height = h;
 }

@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "core/material.h"
 #include "core/mesh.h"
+#include "core/render_modes.h"
 #include "core/texture.h"
 
 namespace ssgi {
@@ -33,25 +34,8 @@ struct SpotLight {
   bool castShadows = true;
 };
 
-enum class NormalEncoding { kXyz8, kOct24 };
-
-// "auto": run the effect when the scene calls for it (DESIGN.md §9); on / off force it.
-enum class EffectMode { kAuto, kOn, kOff };
-
-enum class Tonemap { kAces, kClamp };
-
-struct RenderSettings {
-  int width = 1024;
-  int height = 1024;
-  float exposureEv = 0.0f;              // image scaled by 2^exposureEv before the tonemap
-  Tonemap tonemap = Tonemap::kAces;
-  glm::vec3 background{0.0f};           // linear radiance of pixels no geometry covers
-  NormalEncoding normalEncoding = NormalEncoding::kOct24;
-  EffectMode shadows = EffectMode::kAuto;
-  EffectMode reflections = EffectMode::kAuto;
-};
-
 inline constexpr int kMaxImageSize = 16384;
+inline constexpr int kDefaultImageSide = 1024;  // width and height of a frame when nothing sets them
 
 struct Scene {
   std::filesystem::path source;  // the file it was loaded from
@@ -61,18 +45,34 @@ struct Scene {
   Mesh mesh;
   std::vector<Material> materials;
   std::vector<Texture> textures;
-  RenderSettings settings;
   size_t reorientedTriangles = 0;  // triangles the OBJ loader turned to match their neighbours' winding
 };
 
+// One value of a scene file's "render" block as written: how the file asks for its frames to be
+// rendered. The scene loader does not interpret it; the frame configuration's settings table does
+// (passes/frame_config.h), so a setting is declared in one place only.
+struct RenderBlockEntry {
+  std::string key;   // its path under "render": "width", "effects.shadows"
+  std::string json;  // the value, as JSON text
+  int line = 0;      // in the scene file
+};
+
+struct SceneFile {
+  Scene scene;
+  std::vector<RenderBlockEntry> render;  // empty for a bare OBJ or a file without a render block
+};
+
 // Loads a scene: a .json scene file (README "Scene files") or a bare .obj file, which gets a camera
-// framing its bounds and the default light. Throws InputError (file, line where known, problem) for
-// malformed JSON/OBJ/MTL, unknown or ill-typed keys, missing files or textures, non-finite vertices,
-// out-of-range values and image sizes outside [1, kMaxImageSize].
+// framing its bounds and the default light. A scene file without a camera is framed for the image
+// size its render block names (1024x1024 by default). Throws InputError (file, line where known,
+// problem) for malformed JSON/OBJ/MTL, unknown or ill-typed keys outside the render block, missing
+// files or textures, non-finite vertices and out-of-range values.
+SceneFile LoadSceneFile(const std::filesystem::path& file);
+// LoadSceneFile's scene, for callers that render it with a configuration of their own.
 Scene LoadScene(const std::filesystem::path& file);
 
 // Parses an image size "WIDTHxHEIGHT" (or "WxH" with a capital X), each side in [1, kMaxImageSize].
-// Throws InputError naming --size and the text otherwise.
+// Throws InputError with the problem and the text otherwise (callers say where the text came from).
 void ParseImageSize(const std::string& text, int& width, int& height);
 
 // The camera and light `ssgi render model.obj` uses: looks at the bounding sphere of `mesh` from the

@@ -25,7 +25,7 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out) {
         glm::vec3 indirect(0.0f);
         if (confidence[x] > 0.0f && UnpackDepth(w2[x]) != kBackgroundDepth) {
           const SurfaceMaterial material{UnpackAlbedo(w0[x]), UnpackMetallic(w0[x]), UnpackRoughness(w1[x])};
-          const glm::vec3 normal = DecodeNormal(w1[x] & 0xFFFFFFu, in.normalEncoding);
+          const glm::vec3 normal = UnpackNormal(w1[x], in.gbuffer.normalEncoding);
           const glm::vec3 toViewer = glm::normalize(-in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction);
           const float nDotV = std::clamp(glm::dot(normal, toViewer), 0.0f, 1.0f);
           const float fade = std::clamp((in.roughnessCutoff - material.roughness) / kRoughnessFadeWidth, 0.0f, 1.0f);

@@ -14,7 +14,6 @@ namespace ssgi {
 struct CompositeInputs {
   const GBuffer& gbuffer;          // words 0 (albedo, metallic), 1 (normal, roughness), 2 (depth)
   const ViewProjection& view;
-  NormalEncoding normalEncoding;
   const Plane3<float>& direct;     // linear RGB radiance
   const Plane3<float>& reflected;  // cone-traced radiance, 0 where nothing was hit
   const Plane<float>& confidence;  // [0, 1], 0 where nothing was hit

@@ -10,12 +10,13 @@
 
 namespace ssgi {
 
-DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs& out) {
+DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightParams& params,
+                                DirectLightOutputs& out) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
   const std::vector<PreparedLight> lights = PrepareLights(in.scene, in.view.view);
-  const NormalEncoding encoding = in.scene.settings.normalEncoding;
-  const glm::vec3 background = in.scene.settings.background;
+  const NormalEncoding encoding = in.gbuffer.normalEncoding;
+  const glm::vec3 background = params.background;
   out.radiance = MakePlane3<float>(width, height, 0.0f);
   std::vector<size_t> shadedPerBand(RowBandCount(size_t(height)), 0);
 
@@ -35,7 +36,7 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs&
           const ViewProjection::Ray ray = in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
           const glm::vec3 position = ray.origin + ray.direction * depth;
           const glm::vec3 toViewer = glm::normalize(-ray.direction);
-          const glm::vec3 normal = DecodeNormal(w1[x] & 0xFFFFFFu, encoding);
+          const glm::vec3 normal = UnpackNormal(w1[x], encoding);
           const SurfaceMaterial material{UnpackAlbedo(w0[x]), UnpackMetallic(w0[x]), UnpackRoughness(w1[x])};
           const float alpha = material.roughness * material.roughness;
           radiance = glm::vec3(0.0f);

@@ -13,11 +13,15 @@ namespace ssgi {
 struct DirectLightInputs {
   const GBuffer& gbuffer;
   const ViewProjection& view;  // the camera the G-buffer was rendered with
-  const Scene& scene;          // lights, background, normal encoding
+  const Scene& scene;          // the lights
   // The shadowed light (index in PrepareLights order) and its visibility in [0, 1] per pixel, from
   // a shadow filter; null when no light is shadowed. Other lights are unshadowed.
   const Plane<float>* lightVisibility = nullptr;
   size_t shadowedLight = 0;
+};
+
+struct DirectLightParams {
+  glm::vec3 background{0.0f};  // linear RGB radiance of pixels no geometry covers
 };
 
 struct DirectLightOutputs {
@@ -29,6 +33,7 @@ struct DirectLightStats {
   size_t pixels = 0;
 };
 
-DirectLightStats RunDirectLight(const DirectLightInputs& in, DirectLightOutputs& out);
+DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightParams& params,
+                                DirectLightOutputs& out);
 
 }  // namespace ssgi

@@ -7,75 +7,75 @@
 
 namespace ssgi {
 
-Frame RenderFrame(const Scene& scene, const FrameOptions& options) {
+Frame RenderFrame(const Scene& scene, const FrameConfig& config) {
   Frame frame;
+  FrameStats& stats = frame.stats;
   Stopwatch total;
-  const RenderSettings& settings = scene.settings;
-  frame.view = MakePerspective(scene.camera, settings.width, settings.height);
-  const double pixels = double(settings.width) * double(settings.height);
+  frame.view = MakePerspective(scene.camera, config.width, config.height);
+  stats.triangles = scene.mesh.TriangleCount();
+  stats.pixels = size_t(config.width) * size_t(config.height);
 
-  const GBufferStats g = RunGBuffer({scene, frame.view}, {settings.normalEncoding}, frame.gbuffer);
-  frame.stats.push_back({"g-buffer raster", g.rasterMs, double(scene.mesh.TriangleCount()), "triangles"});
-  frame.stats.push_back({"g-buffer resolve", g.resolveMs, double(g.coveredPixels), "pixels"});
+  stats.gbuffer = RunGBuffer({scene, frame.view}, {config.normalEncoding}, frame.gbuffer);
+  GBuffer& gbuffer = frame.gbuffer.gbuffer;
 
   // Shadows only where the scene calls for them (DESIGN.md §9): a light that casts them, and not
   // switched off. G-buffer word 3 has room for one light's term: the first shadow-casting light.
   const std::vector<size_t> shadowLights = ShadowCastingLights(scene);
-  const bool shadows = settings.shadows != EffectMode::kOff && !shadowLights.empty();
-  std::vector<PreparedLight> viewLights;
+  const bool shadows = config.shadows != EffectMode::kOff && !shadowLights.empty();
   if (shadows) {
     const size_t light = shadowLights.front();
-    frame.shadowMap.emplace(ShadowMapOutputs{frame.gbuffer.gbuffer.word[3], {}, {}});
-    const ShadowMapStats s =
-        RunShadowMap({scene, frame.view, frame.gbuffer.gbuffer, light}, options.shadowMap, *frame.shadowMap);
-    frame.stats.push_back({"shadow map", s.fitMs + s.rasterMs, double(s.triangles), "triangles"});
-    frame.stats.push_back({"blocker search", s.searchMs, double(s.pixels), "pixels"});
-    viewLights = PrepareLights(scene, frame.view.view);
-    const ShadowFilterStats f = RunShadowFilter(
-        {frame.gbuffer.gbuffer, frame.view, viewLights[light], settings.normalEncoding}, options.shadowFilter,
-        frame.shadowVisibility);
-    frame.stats.push_back({"shadow filter", f.ms, pixels, "pixels"});
-    frame.shadowTilesBlurred = f.tilesBlurred;
-    frame.shadowTiles = f.tiles;
+    frame.shadowMap.emplace();
+    stats.shadowMap =
+        RunShadowMap({scene, frame.view, gbuffer, light}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
+    const std::vector<PreparedLight> viewLights = PrepareLights(scene, frame.view.view);
+    stats.shadowFilter = RunShadowFilter({gbuffer, frame.view, viewLights[light]}, config.shadowFilter,
+                                         frame.shadowVisibility);
   }
 
-  DirectLightInputs directInputs{frame.gbuffer.gbuffer, frame.view, scene};
+  DirectLightInputs directInputs{gbuffer, frame.view, scene};
   if (shadows) {
     directInputs.lightVisibility = &frame.shadowVisibility.visibility;
     directInputs.shadowedLight = shadowLights.front();
   }
-  const DirectLightStats d = RunDirectLight(directInputs, frame.direct);
-  frame.stats.push_back({"direct light", d.ms, pixels, "pixels"});
+  stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
 
-  frame.reflections = settings.reflections == EffectMode::kOn ||
-                      (settings.reflections == EffectMode::kAuto && SceneReflects(scene, options.ssrTrace.roughnessCutoff));
+  frame.reflections = config.reflections == EffectMode::kOn ||
+                      (config.reflections == EffectMode::kAuto && SceneReflects(scene, config.ssrTrace.roughnessCutoff));
   if (frame.reflections) {
-    const HiZStats h = RunHiZ(frame.gbuffer.gbuffer.word[2], frame.hiz);
-    frame.stats.push_back({"hi-z", h.ms, double(h.texels), "texels"});
-    const ColorPyramidStats c = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
-    frame.stats.push_back({"colour pyramid", c.ms, double(c.texels), "texels"});
-    const SsrTraceStats t = RunSsrTrace({frame.gbuffer.gbuffer, frame.view, frame.hiz, settings.normalEncoding},
-                                        options.ssrTrace, frame.ssrTrace);
-    frame.stats.push_back({"ssr trace", t.ms, double(t.rays), "rays"});
-    frame.ssrRays = t.rays;
-    frame.ssrMeanIterations = t.meanIterations;
-    frame.ssrTilesTraced = t.tilesTraced;
-    frame.ssrTiles = t.tiles;
-    const SsrConeStats k =
-        RunSsrCone({frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace}, options.ssrCone, frame.ssrCone);
-    frame.stats.push_back({"cone trace", k.ms, double(k.pixels), "pixels"});
-    const CompositeStats m = RunComposite({frame.gbuffer.gbuffer, frame.view, settings.normalEncoding,
-                                           frame.direct.radiance, frame.ssrCone.reflected, frame.ssrTrace.confidence,
-                                           options.ssrTrace.roughnessCutoff},
-                                          frame.composite);
-    frame.stats.push_back({"composite", m.ms, double(m.pixels), "pixels"});
+    stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
+    stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+    stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
+    stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
+    stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
+                                    frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
+                                   frame.composite);
   }
 
-  Stopwatch tonemap;
-  RunTonemap(frame.Result(), {settings.exposureEv, settings.tonemap}, frame.display);
-  frame.stats.push_back({"tonemap", tonemap.Lap(), pixels, "pixels"});
-  frame.stats.push_back({"frame total", total.Lap(), pixels, "pixels"});
+  stats.tonemap = RunTonemap(frame.Result(), config.tonemap, frame.display);
+  stats.totalMs = total.Lap();
   return frame;
+}
+
+std::vector<StageStats> StageRows(const FrameStats& s) {
+  const double pixels = double(s.pixels);
+  std::vector<StageStats> rows;
+  rows.push_back({"g-buffer raster", s.gbuffer.rasterMs, double(s.triangles), "triangles"});
+  rows.push_back({"g-buffer resolve", s.gbuffer.resolveMs, double(s.gbuffer.coveredPixels), "pixels"});
+  if (s.shadowMap) {
+    rows.push_back({"shadow map", s.shadowMap->fitMs + s.shadowMap->rasterMs, double(s.shadowMap->triangles),
+                    "triangles"});
+    rows.push_back({"blocker search", s.shadowMap->searchMs, double(s.shadowMap->pixels), "pixels"});
+  }
+  if (s.shadowFilter) rows.push_back({"shadow filter", s.shadowFilter->ms, pixels, "pixels"});
+  rows.push_back({"direct light", s.directLight.ms, pixels, "pixels"});
+  if (s.hiz) rows.push_back({"hi-z", s.hiz->ms, double(s.hiz->texels), "texels"});
+  if (s.colorPyramid) rows.push_back({"colour pyramid", s.colorPyramid->ms, double(s.colorPyramid->texels), "texels"});
+  if (s.ssrTrace) rows.push_back({"ssr trace", s.ssrTrace->ms, double(s.ssrTrace->rays), "rays"});
+  if (s.ssrCone) rows.push_back({"cone trace", s.ssrCone->ms, double(s.ssrCone->pixels), "pixels"});
+  if (s.composite) rows.push_back({"composite", s.composite->ms, double(s.composite->pixels), "pixels"});
+  rows.push_back({"tonemap", s.tonemap.ms, double(s.tonemap.pixels), "pixels"});
+  rows.push_back({"frame total", s.totalMs, pixels, "pixels"});
+  return rows;
 }
 
 std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
@@ -89,48 +89,13 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
   return rgb;
 }
 
-FrameOptions QualityPreset(Quality quality) {
-  FrameOptions o;
-  switch (quality) {
-    case Quality::kLow:
-      o.shadowMap.resolution = 1024;
-      o.shadowMap.blockerSearchTaps = 4;
-      o.shadowFilter.maxRadiusPixels = 16;
-      o.shadowFilter.taps = 2;
-      o.ssrTrace.maxIterations = 16;
-      o.ssrCone.maxSamples = 1;
-      break;
-    case Quality::kMedium:
-      o.shadowMap.blockerSearchTaps = 8;
-      o.shadowFilter.taps = 4;
-      o.ssrTrace.maxIterations = 32;
-      o.ssrCone.maxSamples = 1;
-      break;
-    case Quality::kHigh:
-      break;
-    case Quality::kUltra:
-      o.shadowMap.resolution = 4096;
-      o.ssrTrace.maxIterations = 128;
-      break;
-  }
-  return o;
-}
-
-Quality ParseQuality(const std::string& name) {
-  if (name == "low") return Quality::kLow;
-  if (name == "medium") return Quality::kMedium;
-  if (name == "high") return Quality::kHigh;
-  if (name == "ultra") return Quality::kUltra;
-  throw InputError("--quality: expected low, medium, high or ultra, got '" + name + "'");
-}
-
 bool SceneReflects(const Scene& scene, float roughnessCutoff) {
   for (const Material& m : scene.materials)
     if (m.roughness < roughnessCutoff || m.roughnessTexture != kNoTexture) return true;
   return false;
 }
 
-void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding) {
+void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame) {
   const GBuffer& g = frame.gbuffer.gbuffer;
   const int width = g.width(), height = g.height();
   // Decoded G-buffer planes, so a port can compare values as well as bits.
@@ -146,7 +111,7 @@ void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, No
       const float depth = UnpackDepth(w2);
       const bool background = depth == kBackgroundDepth;
       const glm::vec3 albedo = UnpackAlbedo(w0);
-      const glm::vec3 normal = background ? glm::vec3(0.0f) : DecodeNormal(w1 & 0xFFFFFFu, encoding);
+      const glm::vec3 normal = background ? glm::vec3(0.0f) : UnpackNormal(w1, g.normalEncoding);
       const float values[kDecoded] = {albedo.x, albedo.y, albedo.z, UnpackMetallic(w0), normal.x, normal.y, normal.z,
                                       UnpackRoughness(w1), depth, UnpackHardShadow(w3) ? 1.0f : 0.0f,
                                       UnpackBlockerDistance(w3)};

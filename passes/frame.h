@@ -11,6 +11,7 @@
 #include "core/camera.h"
 #include "core/plane.h"
 #include "core/scene.h"
+#include "passes/frame_config.h"
 #include "passes/color_pyramid.h"
 #include "passes/composite.h"
 #include "passes/direct_light.h"
@@ -24,30 +25,33 @@
 
 namespace ssgi {
 
-// One row of `--stats`: a stage's wall time and what it processed.
+// What each pass of a frame did, as the passes report it; a pass that did not run is absent.
+struct FrameStats {
+  GBufferStats gbuffer;
+  std::optional<ShadowMapStats> shadowMap;
+  std::optional<ShadowFilterStats> shadowFilter;
+  DirectLightStats directLight;
+  std::optional<HiZStats> hiz;
+  std::optional<ColorPyramidStats> colorPyramid;
+  std::optional<SsrTraceStats> ssrTrace;
+  std::optional<SsrConeStats> ssrCone;
+  std::optional<CompositeStats> composite;
+  TonemapStats tonemap;
+  double totalMs = 0.0;
+  size_t triangles = 0;  // submitted to the G-buffer raster
+  size_t pixels = 0;     // of the image
+};
+
+// One stage of FrameStats as a row of a table (`--stats`, the sweep's CSV columns): its wall time
+// and what it processed.
 struct StageStats {
   std::string name;
   double ms = 0.0;
-  double items = 0.0;      // triangles or pixels processed, 0 when not meaningful
-  std::string itemUnit;    // "triangles", "pixels"
+  double items = 0.0;    // what it processed, in itemUnit
+  std::string itemUnit;  // "triangles", "pixels", "texels", "rays"
 };
-
-// Pass parameters that are not part of a scene: quality knobs and comparison modes.
-struct FrameOptions {
-  ShadowMapParams shadowMap;
-  ShadowFilterParams shadowFilter;
-  SsrTraceParams ssrTrace;
-  SsrConeParams ssrCone;
-};
-
-// Quality presets (README "Accuracy and time"), chosen from the sweep's measured Pareto fronts on
-// the default scene and Sponza: each knob is cut where the time it saves costs least error. kHigh
-// is FrameOptions' defaults (the paper's settings); kUltra adds what still lowered the error (the
-// shadow map's resolution above all); knobs that bought nothing measurable stay at the defaults.
-enum class Quality { kLow, kMedium, kHigh, kUltra };
-FrameOptions QualityPreset(Quality quality);
-// "low", "medium", "high", "ultra"; anything else throws InputError naming --quality.
-Quality ParseQuality(const std::string& name);
+// The stages that ran, in pipeline order, ending with "frame total".
+std::vector<StageStats> StageRows(const FrameStats& stats);
 
 struct Frame {
   ViewProjection view;
@@ -56,7 +60,6 @@ struct Frame {
   // such light's shadow map (its term is G-buffer word 3) and its filtered visibility.
   std::optional<ShadowMapOutputs> shadowMap;
   ShadowFilterOutputs shadowVisibility;
-  size_t shadowTiles = 0, shadowTilesBlurred = 0;  // blur-area control: tiles in the image, tiles blurred
   DirectLightOutputs direct;
   // Present when the scene has a surface smooth enough to reflect and reflections are not off.
   bool reflections = false;
@@ -65,11 +68,8 @@ struct Frame {
   SsrTraceOutputs ssrTrace;
   SsrConeOutputs ssrCone;
   CompositeOutputs composite;
-  size_t ssrTiles = 0, ssrTilesTraced = 0;  // 32x32 tiles in the image, tiles with a traced ray
-  size_t ssrRays = 0;
-  double ssrMeanIterations = 0.0;
   TonemapOutputs display;  // 8-bit sRGB of the final image
-  std::vector<StageStats> stats;
+  FrameStats stats;
 
   // The final linear HDR image: result = direct + indirect (direct alone without reflections).
   const Plane3<float>& Result() const { return reflections ? composite.result : direct.radiance; }
@@ -79,8 +79,8 @@ struct Frame {
 // (roughness below the trace's cut-off, or a roughness texture that may make it so).
 bool SceneReflects(const Scene& scene, float roughnessCutoff);
 
-// Renders the scene at scene.settings' size and options.
-Frame RenderFrame(const Scene& scene, const FrameOptions& options);
+// Renders the scene as the configuration says.
+Frame RenderFrame(const Scene& scene, const FrameConfig& config);
 
 // The G-buffer's albedo as 8-bit sRGB RGB rows (background black): the paper's "albedo" image.
 std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);
@@ -93,6 +93,6 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);
 // when shadows ran), the direct light ("direct.R/G/B") and, when reflections ran, the trace
 // ("ssr.hitX", "ssr.hitY", "ssr.confidence"), the cone-traced radiance ("ssr.reflected.R/G/B"), the
 // indirect light ("indirect.R/G/B") and the result ("result.R/G/B").
-void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame, NormalEncoding encoding);
+void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame);
 
 }  // namespace ssgi

@@ -144,7 +144,7 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility);
   stats.rasterMs = stopwatch.Lap();
 
-  out.gbuffer = MakeGBuffer(view.width, view.height);
+  out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
   // Word 0 of a material without colour or metallic textures is the same at every pixel.
   std::vector<uint32_t> constantWord0(scene.materials.size());
   for (size_t m = 0; m < scene.materials.size(); ++m)

@@ -168,7 +168,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
         }
         Texel& t = f.texels[i];
         t.position = depth * in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
-        t.normal = DecodeNormal(normals[x] & 0xFFFFFFu, in.normalEncoding);
+        t.normal = UnpackNormal(normals[x], in.gbuffer.normalEncoding);
         t.geometry = true;
         f.hard[i] = UnpackHardShadow(terms[x]) ? 0.0f : 1.0f;
         const float radius = PenumbraRadiusPixels(in.light, t, UnpackBlockerDistance(terms[x]),

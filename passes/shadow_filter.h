@@ -36,7 +36,6 @@ struct ShadowFilterInputs {
   const GBuffer& gbuffer;        // reads words 1 (normal), 2 (view depth), 3 (hard flag + blocker distance)
   const ViewProjection& view;    // the perspective camera the G-buffer was rendered with
   const PreparedLight& light;    // in VIEW space (PrepareLights(scene, view.view)); the light word 3 describes
-  NormalEncoding normalEncoding; // decodes word 1
 };
 
 struct ShadowFilterOutputs {

@@ -204,7 +204,7 @@ template <bool kOrthographic>
 uint32_t SearchBlockers(const SearchSetup& s, const glm::vec3& p, uint32_t word1) {
   const ViewProjection& light = s.light;
   const float resolution = float(light.width);
-  const glm::vec3 n = s.normalToLight * DecodeNormal(word1 & 0xFFFFFFu, s.encoding);
+  const glm::vec3 n = s.normalToLight * UnpackNormal(word1, s.encoding);
   const float depth = -p.z;
   if (!(depth > light.nearPlane)) return kShadowLit;
   // Distance from the light along its ray: orthographic, from the view's origin plane.
@@ -292,15 +292,16 @@ std::vector<size_t> ShadowCastingLights(const Scene& scene) {
   return lights;
 }
 
-ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out) {
+ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
+                            Plane<uint32_t>& shadowTerm) {
   const Scene& scene = in.scene;
   const GBuffer& gbuffer = in.gbuffer;
   const int width = gbuffer.width(), height = gbuffer.height();
   SSGI_CHECK(!in.camera.orthographic);
   SSGI_CHECK_EQ(in.camera.width, width);
   SSGI_CHECK_EQ(in.camera.height, height);
-  SSGI_CHECK_EQ(int(out.shadowTerm.xsize()), width);
-  SSGI_CHECK_EQ(int(out.shadowTerm.ysize()), height);
+  SSGI_CHECK_EQ(int(shadowTerm.xsize()), width);
+  SSGI_CHECK_EQ(int(shadowTerm.ysize()), height);
   SSGI_CHECK_GE(params.resolution, 1);
   SSGI_CHECK_LE(params.resolution, kMaxImageSize);
   SSGI_CHECK_GE(params.blockerSearchTaps, 1);
@@ -339,7 +340,7 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
 
   out.shadowMap = MakeVisibilityBuffer(params.resolution, params.resolution, RasterOutput::kDepthOnly);
   if (stats.pixels == 0) {
-    for (int y = 0; y < height; ++y) std::fill_n(out.shadowTerm.MutableRow(y), width, kShadowLit);
+    for (int y = 0; y < height; ++y) std::fill_n(shadowTerm.MutableRow(y), width, kShadowLit);
     return stats;
   }
 
@@ -367,7 +368,7 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
       light.tanAngularRadius,
       light.radius,
       params.maxBlockerDistance,
-      scene.settings.normalEncoding,
+      in.gbuffer.normalEncoding,
   };
   const auto search = lightView.orthographic ? &SearchBlockers<true> : &SearchBlockers<false>;
   ParallelFor("shadow_map.blocker_search", size_t(bands), [&](size_t band) {
@@ -375,7 +376,7 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
     for (int y = int(band) * kRowsPerItem; y < yEnd; ++y) {
       const uint32_t* w1 = gbuffer.word[1].ConstRow(y);
       const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
-      uint32_t* term = out.shadowTerm.MutableRow(y);
+      uint32_t* term = shadowTerm.MutableRow(y);
       const ReceiverPositions::Row row = positions.AtRow(y);
       for (int x = 0; x < width; ++x) {
         const float depth = UnpackDepth(w2[x]);

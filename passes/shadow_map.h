@@ -35,7 +35,7 @@ struct ShadowMapParams {
 };
 
 struct ShadowMapInputs {
-  const Scene& scene;           // mesh, materials, lights; settings.normalEncoding decodes word 1
+  const Scene& scene;           // mesh, materials, lights
   const ViewProjection& camera; // the perspective camera the G-buffer was rendered with
   const GBuffer& gbuffer;       // reads word 1 (normal) and word 2 (view depth) only
   size_t light;                 // index in PrepareLights order (directional lights, then spots);
@@ -43,10 +43,6 @@ struct ShadowMapInputs {
 };
 
 struct ShadowMapOutputs {
-  // The shadow term of every G-buffer pixel (PackShadowTerm): written for every pixel, kShadowLit
-  // for background and for receivers outside the shadow map. Same size as the G-buffer; may be the
-  // G-buffer's own word[3] (the pass never reads word 3).
-  Plane<uint32_t>& shadowTerm;
   // Reversed-Z depth keys seen from the light, resolution x resolution, 0 where nothing was drawn
   // (read with lightView.DepthFromKey). Kept for dumps and the SSABSS pass.
   VisibilityBuffer shadowMap;
@@ -63,7 +59,11 @@ struct ShadowMapStats {
   size_t pixels = 0;      // receivers searched (G-buffer pixels with geometry)
 };
 
-ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out);
+// shadowTerm: the shadow term of every G-buffer pixel (PackShadowTerm), written for every pixel,
+// kShadowLit for background and for receivers outside the shadow map. Same size as the G-buffer;
+// normally the G-buffer's own word[3] (the pass never reads word 3).
+ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
+                            Plane<uint32_t>& shadowTerm);
 
 // Indices (PrepareLights order) of the lights that cast shadows, in that order. The first one is the
 // light whose shadow term the G-buffer's word 3 holds.

@@ -74,7 +74,7 @@ class PixelTracer {
     if (!(UnpackRoughness(word1) < params_.roughnessCutoff)) return none;
 
     const glm::vec3 p = in_.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction * d;
-    const glm::vec3 n = DecodeNormal(word1 & 0xFFFFFFu, in_.normalEncoding);
+    const glm::vec3 n = UnpackNormal(word1, in_.gbuffer.normalEncoding);
     const glm::vec3 v = p / std::sqrt(glm::dot(p, p));
     const glm::vec3 r = v - 2.0f * glm::dot(v, n) * n;
     // Rays toward the camera: the max pyramid has no back side, so fade them (see the header).
@@ -100,7 +100,7 @@ class PixelTracer {
     const float hitDepth = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(hy))[hx]);
     if (!(hitDepth < kBackgroundDepth)) return none;
     const glm::vec3 hitNormal =
-        DecodeNormal(in_.gbuffer.word[1].ConstRow(size_t(hy))[hx] & 0xFFFFFFu, in_.normalEncoding);
+        UnpackNormal(in_.gbuffer.word[1].ConstRow(size_t(hy))[hx], in_.gbuffer.normalEncoding);
     // Back faces and surfaces the ray only grazes cannot reflect light back along r.
     if (glm::dot(hitNormal, r) >= 0.0f) return none;
 

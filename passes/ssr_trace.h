@@ -13,7 +13,6 @@
 #include "core/camera.h"
 #include "core/gbuffer.h"
 #include "core/plane.h"
-#include "core/scene.h"
 #include "passes/hiz.h"
 
 namespace ssgi {
@@ -43,7 +42,6 @@ struct SsrTraceInputs {
   const GBuffer& gbuffer;        // words 1 (normal, roughness) and 2 (view depth)
   const ViewProjection& view;    // the perspective camera of the G-buffer's size
   const HiZ& hiz;                // RunHiZ of gbuffer.word[2]
-  NormalEncoding normalEncoding; // the G-buffer's word-1 encoding
 };
 
 struct SsrTraceOutputs {

@@ -5,6 +5,7 @@
 
 #include "core/color.h"
 #include "core/parallel.h"
+#include "core/stopwatch.h"
 
 namespace ssgi {
 
@@ -17,7 +18,8 @@ void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap 
   }
 }
 
-void RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out) {
+TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out) {
+  Stopwatch stopwatch;
   const size_t width = radiance.c[0].xsize(), height = radiance.c[0].ysize();
   const float scale = std::exp2(params.exposureEv);
   out.rgb.assign(width * height * 3, 0);
@@ -29,6 +31,7 @@ void RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, Tone
     for (size_t x = 0; x < width; ++x)
       for (int c = 0; c < 3; ++c) row[3 * x + c] = codes[c * width + x];
   });
+  return {stopwatch.Lap(), width * height};
 }
 
 }  // namespace ssgi

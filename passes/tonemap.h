@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/plane.h"
-#include "core/scene.h"
+#include "core/render_modes.h"
 
 namespace ssgi {
 
@@ -27,7 +27,12 @@ struct TonemapOutputs {
   std::vector<uint8_t> rgb;  // interleaved R, G, B rows, top row first, width * height * 3 bytes
 };
 
-void RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out);
+struct TonemapStats {
+  double ms = 0.0;
+  size_t pixels = 0;
+};
+
+TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out);
 
 // One channel of one row: codes[i] = sRGB code of the tonemapped radiance[i] * scale.
 void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes);

@@ -95,7 +95,7 @@ TEST_CASE("8-bit sRGB encoding is round(LinearToSrgb(x) * 255) for every float i
 }
 
 TEST_CASE("a fresh G-buffer is background everywhere, padding included", "[gbuffer]") {
-  const GBuffer g = MakeGBuffer(5, 3);
+  const GBuffer g = MakeGBuffer(5, 3, NormalEncoding::kOct24);
   for (int w = 0; w < 4; ++w) {
     const size_t perRow = g.word[w].bytes_per_row() / 4;
     for (size_t y = 0; y < 3; ++y)

@@ -28,8 +28,20 @@ using test::AddBox;
 using test::AddGround;
 using test::AddQuad;
 using test::LightDirection;
+using test::ConfigOf;
 using test::MakeScene;
+using test::Sized;
 using test::Sun;
+using test::TestScene;
+
+// The reference of a test scene at the size and background it is rendered with.
+ReferenceOutputs RenderReferenceOf(const TestScene& scene, ReferenceParams params,
+                                   const ReferenceProgress& progress = nullptr) {
+  params.width = scene.width;
+  params.height = scene.height;
+  params.background = scene.background;
+  return RenderReference(scene, params, progress);
+}
 
 CameraDesc Camera(glm::vec3 position, glm::vec3 target, float fovYDegrees) {
   CameraDesc c;
@@ -84,8 +96,8 @@ constexpr uint32_t kCutOutMaterial = 3;
 
 // Ground (two-sided, material 0), a box, a single-sided quad facing away from the camera (invisible
 // to it), a cut-out quad, a torus knot; a sun and a spot light.
-Scene FeatureScene(int width, int height) {
-  Scene scene = MakeScene(Camera({0.6f, 2.2f, 4.5f}, {0.0f, 0.4f, 0.0f}, 45.0f), width, height);
+TestScene FeatureScene(int width, int height) {
+  TestScene scene = MakeScene(Camera({0.6f, 2.2f, 4.5f}, {0.0f, 0.4f, 0.0f}, 45.0f), width, height);
   scene.materials[0].baseColor = glm::vec3(0.7f);
   scene.materials[0].roughness = 0.4f;
   AddGround(scene.mesh, 3.0f);
@@ -105,7 +117,7 @@ Scene FeatureScene(int width, int height) {
   spot.radius = 0.15f;
   spot.intensity = glm::vec3(6.0f, 5.0f, 4.0f);
   scene.spotLights.push_back(spot);
-  scene.settings.background = {0.05f, 0.06f, 0.08f};
+  scene.background = {0.05f, 0.06f, 0.08f};
   return scene;
 }
 
@@ -154,14 +166,14 @@ void CheckWellFormed(const ReferenceOutputs& out) {
 }
 
 TEST_CASE("reference primary visibility matches the rasterizer", "[reference]") {
-  const Scene scene = FeatureScene(160, 120);
+  const TestScene scene = FeatureScene(160, 120);
   const ViewProjection view = MakePerspective(scene.camera, 160, 120);
   GBufferOutputs g;
   RunGBuffer({scene, view}, GBufferParams{}, g);
   ReferenceParams params;
   params.lightSamples = 1;
   params.bounceSamples = 0;
-  const ReferenceOutputs ref = RenderReference(scene, params);
+  const ReferenceOutputs ref = RenderReferenceOf(scene, params);
 
   size_t agree = 0, background = 0, depthAgree = 0, bothCovered = 0, cutOut = 0, away = 0;
   for (int y = 0; y < 120; ++y) {
@@ -195,7 +207,7 @@ TEST_CASE("reference primary visibility matches the rasterizer", "[reference]") 
 }
 
 TEST_CASE("reference direct light on an open plane is the analytic BRDF value", "[reference]") {
-  Scene scene = MakeScene(Camera({0.0f, 3.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 40.0f), 48, 36);
+  TestScene scene = MakeScene(Camera({0.0f, 3.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 40.0f), 48, 36);
   scene.materials[0].baseColor = glm::vec3(0.8f, 0.5f, 0.3f);
   scene.materials[0].roughness = 1.0f;
   AddGround(scene.mesh, 50.0f);
@@ -205,8 +217,8 @@ TEST_CASE("reference direct light on an open plane is the analytic BRDF value", 
   const SurfaceMaterial material{scene.materials[0].baseColor, 0.0f, 1.0f};
   const glm::vec3 up(0.0f, 1.0f, 0.0f);
 
-  const auto check = [&](const Scene& s, const auto& expectedAt) {
-    const ReferenceOutputs out = RenderReference(s, params);
+  const auto check = [&](const TestScene& s, const auto& expectedAt) {
+    const ReferenceOutputs out = RenderReferenceOf(s, params);
     const ViewProjection view = MakePerspective(s.camera, 48, 36);
     const glm::mat4 viewToWorld = glm::inverse(view.view);
     double worst = 0.0;
@@ -260,14 +272,14 @@ TEST_CASE("reference soft shadow of a floating slab", "[reference]") {
   // umbra under its centre, penumbra 0.5 +- 0.52 tan(5 deg) = 0.5 +- 0.045 from its centre line
   // (the outer boundary from its top edge, the inner from its bottom edge). The camera looks under
   // the slab from just below it.
-  Scene scene = MakeScene(Camera({0.0f, 0.45f, 1.6f}, {0.0f, 0.0f, 0.0f}, 50.0f), 96, 72);
+  TestScene scene = MakeScene(Camera({0.0f, 0.45f, 1.6f}, {0.0f, 0.0f, 0.0f}, 50.0f), 96, 72);
   AddGround(scene.mesh, 4.0f);
   AddBox(scene.mesh, {-0.5f, 0.5f, -0.5f}, {0.5f, 0.52f, 0.5f});
   scene.directionalLights.push_back(Sun({0.0f, -1.0f, 0.0f}, 10.0f));
   ReferenceParams params;
   params.lightSamples = 32;
   params.bounceSamples = 0;
-  const ReferenceOutputs out = RenderReference(scene, params);
+  const ReferenceOutputs out = RenderReferenceOf(scene, params);
   const ViewProjection view = MakePerspective(scene.camera, 96, 72);
   const glm::mat4 viewToWorld = glm::inverse(view.view);
 
@@ -301,8 +313,8 @@ TEST_CASE("reference soft shadow of a floating slab", "[reference]") {
   CHECK(penumbra > 10);
 }
 
-Scene ConvergenceScene() {
-  Scene scene = MakeScene(Camera({0.5f, 1.8f, 3.0f}, {0.0f, 0.3f, 0.0f}, 45.0f), 32, 24);
+TestScene ConvergenceScene() {
+  TestScene scene = MakeScene(Camera({0.5f, 1.8f, 3.0f}, {0.0f, 0.3f, 0.0f}, 45.0f), 32, 24);
   scene.materials[0].roughness = 0.5f;
   AddGround(scene.mesh, 3.0f);
   Mesh box;
@@ -311,15 +323,15 @@ Scene ConvergenceScene() {
   Append(scene.mesh, Translated(MakeTorusKnot(64, 8), {0.5f, 0.5f, 0.0f}, 0.3f),
          AddMaterial(scene, {0.8f, 0.2f, 0.1f}, 0.0f, 0.4f, false));
   scene.directionalLights.push_back(Sun(LightDirection(45.0f, 20.0f), 8.0f));
-  scene.settings.background = {0.2f, 0.25f, 0.3f};
+  scene.background = {0.2f, 0.25f, 0.3f};
   return scene;
 }
 
 TEST_CASE("reference error falls as 1/sqrt(samples)", "[reference]") {
-  const Scene scene = ConvergenceScene();
+  const TestScene scene = ConvergenceScene();
   ReferenceParams truthParams = ReferenceParamsForSpp(1024);
   truthParams.seed = 1000;  // independent of the streams below
-  const ReferenceOutputs truth = RenderReference(scene, truthParams);
+  const ReferenceOutputs truth = RenderReferenceOf(scene, truthParams);
   // The mean squared error over a few independent renders: one render's error is dominated by its
   // few brightest samples and would make the ratio itself noisy.
   constexpr int kRenders = 4;
@@ -329,7 +341,7 @@ TEST_CASE("reference error falls as 1/sqrt(samples)", "[reference]") {
     for (int i = 0; i < kRenders; ++i) {
       ReferenceParams params = ReferenceParamsForSpp(spp);
       params.seed = uint32_t(spp * kRenders + i);
-      const double e = Rmse(RenderReference(scene, params).result, truth.result);
+      const double e = Rmse(RenderReferenceOf(scene, params).result, truth.result);
       meanSquared += e * e / kRenders;
     }
     rmse.push_back(std::sqrt(meanSquared));
@@ -345,7 +357,7 @@ TEST_CASE("reference error falls as 1/sqrt(samples)", "[reference]") {
 }
 
 TEST_CASE("reference output is identical at 1, 2 and 3 threads", "[reference]") {
-  Scene scene = FeatureScene(67, 45);
+  TestScene scene = FeatureScene(67, 45);
   ReferenceParams params = ReferenceParamsForSpp(4);
   params.seed = 7;
   std::vector<ReferenceOutputs> outs;
@@ -353,7 +365,7 @@ TEST_CASE("reference output is identical at 1, 2 and 3 threads", "[reference]") 
     const ThreadLimit limit(threads);
     size_t calls = 0, lastRows = 0;
     bool increasing = true;
-    outs.push_back(RenderReference(scene, params, [&](size_t rowsDone, size_t rows) {
+    outs.push_back(RenderReferenceOf(scene, params, [&](size_t rowsDone, size_t rows) {
       increasing = increasing && rowsDone > lastRows && rows == 45;
       lastRows = rowsDone;
       ++calls;
@@ -378,7 +390,7 @@ TEST_CASE("reference output is identical at 1, 2 and 3 threads", "[reference]") 
 TEST_CASE("reference output is finite in degenerate set-ups", "[reference]") {
   ReferenceParams params = ReferenceParamsForSpp(4);
   SECTION("grazing sun, point-sized spot inside the geometry, mirrors") {
-    Scene scene = FeatureScene(40, 30);
+    TestScene scene = FeatureScene(40, 30);
     scene.materials[0].roughness = 0.0f;  // mirror ground
     scene.materials[0].metallic = 1.0f;
     scene.directionalLights[0] = Sun(LightDirection(89.99f, 10.0f), 0.0f);
@@ -390,24 +402,24 @@ TEST_CASE("reference output is finite in degenerate set-ups", "[reference]") {
     onSurface.direction = {0.0f, 1.0f, 0.0f};
     onSurface.outerConeDegrees = 89.0f;
     scene.spotLights.push_back(onSurface);
-    const ReferenceOutputs out = RenderReference(scene, params);
+    const ReferenceOutputs out = RenderReferenceOf(scene, params);
     CheckWellFormed(out);
   }
   SECTION("no lights, no geometry") {
-    Scene scene = MakeScene(Camera({0.0f, 1.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 45.0f), 9, 7);
-    scene.settings.background = {0.1f, 0.2f, 0.3f};
-    const ReferenceOutputs out = RenderReference(scene, params);
+    TestScene scene = MakeScene(Camera({0.0f, 1.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, 45.0f), 9, 7);
+    scene.background = {0.1f, 0.2f, 0.3f};
+    const ReferenceOutputs out = RenderReferenceOf(scene, params);
     CheckWellFormed(out);
     CHECK(out.direct.c[2].ConstRow(3)[4] == 0.3f);
     CHECK(out.result.c[2].ConstRow(3)[4] == 0.3f);
     CHECK(out.stats.coveredPixels == 0);
   }
   SECTION("1x1 image, roughness 0 everywhere, camera inside a box") {
-    Scene scene = MakeScene(Camera({0.0f, 0.5f, 0.0f}, {0.0f, 0.5f, -1.0f}, 90.0f), 1, 1);
+    TestScene scene = MakeScene(Camera({0.0f, 0.5f, 0.0f}, {0.0f, 0.5f, -1.0f}, 90.0f), 1, 1);
     scene.materials[0].roughness = 0.0f;
     AddBox(scene.mesh, {-1.0f, 0.0f, -1.0f}, {1.0f, 1.0f, 1.0f});
     scene.spotLights.push_back(SpotLight{});
-    const ReferenceOutputs out = RenderReference(scene, params);
+    const ReferenceOutputs out = RenderReferenceOf(scene, params);
     CheckWellFormed(out);
     CHECK(out.stats.coveredPixels == 1);  // two-sided: the inside of the box is visible
   }
@@ -447,15 +459,13 @@ TEST_CASE("an inconsistently wound OBJ renders like the consistent one in both t
     ReferenceOutputs reference;
   };
   auto render = [&](const char* name) {
-    Scene scene = LoadScene(dir / name);
-    scene.settings.width = 160;
-    scene.settings.height = 120;
+    TestScene scene = Sized(LoadScene(dir / name), 160, 120);
     Rendered r;
     RunGBuffer({scene, MakePerspective(scene.camera, 160, 120)}, GBufferParams{}, r.g);
     ReferenceParams params;
     params.lightSamples = 4;
     params.bounceSamples = 0;
-    r.reference = RenderReference(scene, params);
+    r.reference = RenderReferenceOf(scene, params);
     return r;
   };
   const Rendered consistent = render("consistent.obj");
@@ -500,19 +510,17 @@ TEST_CASE("a scene renders the same at any scale, in the frame and in the refere
   auto render = [&](float scale) {
     const std::string name = "grid_" + std::to_string(int(std::log10(scale))) + ".obj";
     test::WriteText(dir / name, WavyGridObj(false, scale));
-    Scene scene = LoadScene(dir / name);
-    scene.settings.width = 160;
-    scene.settings.height = 120;
+    TestScene scene = Sized(LoadScene(dir / name), 160, 120);
     scene.materials[0].roughness = 0.2f;  // smooth enough to reflect: every pass runs
     Rendered r;
-    const Frame frame = RenderFrame(scene, FrameOptions{});
+    const Frame frame = RenderFrame(scene, ConfigOf(scene));
     REQUIRE(frame.shadowMap);
     REQUIRE(frame.reflections);
     r.display = frame.display.rgb;
     ReferenceParams params;
     params.lightSamples = 4;
     params.bounceSamples = 1;
-    r.reference = RenderReference(scene, params);
+    r.reference = RenderReferenceOf(scene, params);
     return r;
   };
   const Rendered metres = render(1.0f);

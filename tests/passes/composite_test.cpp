@@ -12,7 +12,7 @@ namespace {
 // A hand-made 8x4 G-buffer: smooth metal facing the camera on the left half, background on the right.
 struct CompositeFixture {
   ViewProjection view = MakePerspective(CameraDesc{}, 8, 4);
-  GBuffer gbuffer = MakeGBuffer(8, 4);
+  GBuffer gbuffer = MakeGBuffer(8, 4, NormalEncoding::kOct24);
   Plane3<float> direct = MakePlane3<float>(8, 4, 0.25f);
   Plane3<float> reflected = MakePlane3<float>(8, 4, 2.0f);
   Plane<float> confidence = MakePlane<float>(8, 4, 0.5f);
@@ -29,7 +29,7 @@ struct CompositeFixture {
   }
   CompositeOutputs Run() const {
     CompositeOutputs out;
-    RunComposite({gbuffer, view, NormalEncoding::kOct24, direct, reflected, confidence, 0.7f}, out);
+    RunComposite({gbuffer, view, direct, reflected, confidence, 0.7f}, out);
     return out;
   }
 };

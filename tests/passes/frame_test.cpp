@@ -2,28 +2,45 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/error.h"
+#include "tests/passes/test_scenes.h"
 
 namespace ssgi {
 namespace {
 
-TEST_CASE("quality presets: high is the defaults and every knob grows from low to ultra", "[frame]") {
-  const FrameOptions defaults;
-  const FrameOptions high = QualityPreset(Quality::kHigh);
-  CHECK(high.shadowMap.resolution == defaults.shadowMap.resolution);
-  CHECK(high.ssrTrace.maxIterations == defaults.ssrTrace.maxIterations);
-  const Quality order[] = {Quality::kLow, Quality::kMedium, Quality::kHigh, Quality::kUltra};
-  for (int i = 0; i + 1 < 4; ++i) {
-    const FrameOptions a = QualityPreset(order[i]), b = QualityPreset(order[i + 1]);
-    CAPTURE(i);
-    CHECK(a.shadowMap.resolution <= b.shadowMap.resolution);
-    CHECK(a.shadowMap.blockerSearchTaps <= b.shadowMap.blockerSearchTaps);
-    CHECK(a.shadowFilter.maxRadiusPixels <= b.shadowFilter.maxRadiusPixels);
-    CHECK(a.ssrTrace.maxIterations <= b.ssrTrace.maxIterations);
-    CHECK(a.ssrCone.maxSamples <= b.ssrCone.maxSamples);
-  }
-  CHECK(ParseQuality("ultra") == Quality::kUltra);
-  CHECK_THROWS_AS(ParseQuality("extreme"), InputError);
+std::vector<std::string> StageNames(const Frame& frame) {
+  std::vector<std::string> names;
+  for (const StageStats& row : StageRows(frame.stats)) names.push_back(row.name);
+  return names;
+}
+
+TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[frame]") {
+  CameraDesc camera;
+  camera.position = {0.0f, 2.0f, 4.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  test::TestScene scene = test::MakeScene(camera, 48, 32);
+  test::AddGround(scene.mesh, 5.0f);
+  test::AddBox(scene.mesh, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f});
+  scene.directionalLights.push_back(test::Sun(test::LightDirection(30.0f, 40.0f), 2.0f));
+  scene.materials[0].roughness = 0.2f;
+
+  FrameConfig config = test::ConfigOf(scene);
+  const Frame all = RenderFrame(scene, config);
+  CHECK(StageNames(all) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "shadow map",
+                                                    "blocker search", "shadow filter", "direct light", "hi-z",
+                                                    "colour pyramid", "ssr trace", "cone trace", "composite",
+                                                    "tonemap", "frame total"});
+  CHECK(all.stats.tonemap.pixels == 48 * 32);
+  CHECK(all.stats.gbuffer.coveredPixels > 0);
+  REQUIRE(all.stats.ssrTrace);
+  CHECK(all.stats.ssrTrace->rays > 0);
+
+  config.shadows = EffectMode::kOff;
+  config.reflections = EffectMode::kOff;
+  const Frame direct = RenderFrame(scene, config);
+  CHECK(StageNames(direct) ==
+        std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "direct light", "tonemap", "frame total"});
+  CHECK(!direct.stats.shadowMap);
+  CHECK(!direct.stats.composite);
 }
 
 }  // namespace

@@ -21,6 +21,7 @@ using test::AddGround;
 using test::AddQuad;
 using test::LightDirection;
 using test::MakeScene;
+using test::TestScene;
 
 void AddSun(Scene& scene, glm::vec3 direction, float angularDiameterDegrees) {
   scene.directionalLights.push_back(test::Sun(direction, angularDiameterDegrees));
@@ -37,7 +38,7 @@ CameraDesc Camera(glm::vec3 position, glm::vec3 target, glm::vec3 up, float fovY
 
 // The G-buffer with word 3 from the shadow map, ready to filter.
 struct Rendered {
-  Scene scene;
+  test::TestScene scene;
   ViewProjection camera;
   GBufferOutputs g;
   PreparedLight light;
@@ -52,13 +53,13 @@ struct Rendered {
   }
 };
 
-Rendered Render(Scene scene) {
+Rendered Render(test::TestScene scene) {
   Rendered r;
   r.scene = std::move(scene);
-  r.camera = MakePerspective(r.scene.camera, r.scene.settings.width, r.scene.settings.height);
-  RunGBuffer({r.scene, r.camera}, {r.scene.settings.normalEncoding}, r.g);
-  ShadowMapOutputs out{r.g.gbuffer.word[3], {}, {}};
-  RunShadowMap({r.scene, r.camera, r.g.gbuffer, 0}, {}, out);
+  r.camera = MakePerspective(r.scene.camera, r.scene.width, r.scene.height);
+  RunGBuffer({r.scene, r.camera}, {r.scene.normalEncoding}, r.g);
+  ShadowMapOutputs out;
+  RunShadowMap({r.scene, r.camera, r.g.gbuffer, 0}, {}, out, r.g.gbuffer.word[3]);
   r.light = PrepareLights(r.scene, r.camera.view)[0];
   return r;
 }
@@ -68,7 +69,7 @@ Plane<float> Filter(const Rendered& r, ShadowFilter filter, int maxRadius = 24) 
   params.filter = filter;
   params.maxRadiusPixels = maxRadius;
   ShadowFilterOutputs out;
-  RunShadowFilter({r.g.gbuffer, r.camera, r.light, r.scene.settings.normalEncoding}, params, out);
+  RunShadowFilter({r.g.gbuffer, r.camera, r.light}, params, out);
   return std::move(out.visibility);
 }
 
@@ -116,8 +117,8 @@ constexpr double kRampTenToNinety = 0.8;
 
 // A 2 cm slab at height h over the half space z < 0, lit from straight above: its edge's shadow lies
 // along x at z = 0, with the PCSS penumbra width w = (h + 0.01) * 2 tan(angular radius).
-Scene SlabScene(const CameraDesc& camera, float height, float angularDiameter) {
-  Scene scene = MakeScene(camera, 256, 192);
+TestScene SlabScene(const CameraDesc& camera, float height, float angularDiameter) {
+  TestScene scene = MakeScene(camera, 256, 192);
   AddGround(scene.mesh, 5.0f);
   AddBox(scene.mesh, {-2.0f, height, -2.0f}, {2.0f, height + 0.02f, 0.0f});
   AddSun(scene, {0.0f, -1.0f, 0.0f}, angularDiameter);
@@ -178,7 +179,7 @@ TEST_CASE("shadow filter: no bleeding across a depth discontinuity", "[shadow_fi
   // up to x = 1.44 - 0.1. A lit box floats between the camera and that umbra; its left silhouette is
   // seen against umbra ground whose kernels (about 10 pixels) reach over it.
   const CameraDesc camera = Camera({1.0f, 2.3f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 45.0f);
-  Scene scene = MakeScene(camera, 256, 192);
+  TestScene scene = MakeScene(camera, 256, 192);
   AddGround(scene.mesh, 6.0f);
   AddBox(scene.mesh, {-3.0f, 2.5f, -3.0f}, {0.0f, 2.52f, 3.0f});
   const glm::vec3 lo(0.8f, 1.2f, -0.2f), hi(1.2f, 1.5f, 0.2f);
@@ -218,7 +219,7 @@ TEST_CASE("shadow filter: contact hardening", "[shadow_filter]") {
   // over the PCSS search ring (a few cm of wall), not the 2 cm to the wall's edge, so the true contact
   // is not resolvable closer than that (docs/pipeline.md §Shadow map, known limits).
   const CameraDesc camera = Camera({0.3f, 0.9f, 0.0f}, {0.3f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 45.0f);
-  Scene scene = MakeScene(camera, 256, 192);
+  TestScene scene = MakeScene(camera, 256, 192);
   AddGround(scene.mesh, 5.0f);
   AddQuad(scene.mesh, {0.0f, 0.0f, -0.3f}, {0.0f, 0.0f, 0.6f}, {0.0f, 0.6f, 0.0f});
   AddSun(scene, LightDirection(45.0f, 0.0f), 4.0f);
@@ -253,7 +254,7 @@ TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
   const int w = 37, h = 23;
   CameraDesc desc;
   const ViewProjection camera = MakePerspective(desc, w, h);
-  GBuffer g = MakeGBuffer(w, h);
+  GBuffer g = MakeGBuffer(w, h, NormalEncoding::kOct24);
   const float distances[] = {0.0f, 1e-30f, 0.3f, 1e30f, std::numeric_limits<float>::max(),
                              std::numeric_limits<float>::infinity()};
   uint32_t seed = 12345u;
@@ -290,7 +291,7 @@ TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
         for (int taps : {0, 1, 5}) {
           ShadowFilterParams params{filter, maxRadius, taps};
           ShadowFilterOutputs out;
-          RunShadowFilter({g, camera, light, NormalEncoding::kOct24}, params, out);
+          RunShadowFilter({g, camera, light}, params, out);
           CAPTURE(int(filter), maxRadius, taps, light.isSpot);
           CHECK(ValidVisibility(g, out.visibility));
         }
@@ -299,7 +300,7 @@ TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
   // penumbrae exceed the radius clamp.
   const CameraDesc top = Camera({0.0f, 0.45f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, 45.0f);
   for (float angle : {89.0f, 0.0f}) {
-    Scene scene = SlabScene(top, 0.5f, angle > 0.0f ? 2.0f : 20.0f);
+    TestScene scene = SlabScene(top, 0.5f, angle > 0.0f ? 2.0f : 20.0f);
     scene.directionalLights[0].direction = LightDirection(angle, 30.0f);
     const Rendered r = Render(std::move(scene));
     for (int maxRadius : {2, 24}) {
@@ -318,10 +319,10 @@ bool SameBits(const Plane<float>& a, const Plane<float>& b) {
 
 TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile skipping", "[shadow_filter]") {
   const CameraDesc camera = Camera({0.6f, 1.2f, 1.6f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 45.0f);
-  Scene sun = SlabScene(camera, 0.5f, 6.0f);
+  TestScene sun = SlabScene(camera, 0.5f, 6.0f);
   AddBox(sun.mesh, {0.3f, 0.0f, 0.2f}, {0.6f, 0.4f, 0.5f});
   sun.directionalLights[0].direction = LightDirection(35.0f, 60.0f);
-  Scene spot = sun;
+  TestScene spot = sun;
   spot.directionalLights.clear();
   SpotLight light;
   light.position = {0.5f, 2.0f, 0.8f};
@@ -329,14 +330,14 @@ TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile 
   light.outerConeDegrees = 60.0f;
   light.radius = 0.15f;
   spot.spotLights.push_back(light);
-  for (Scene* scene : {&sun, &spot}) {
+  for (TestScene* scene : {&sun, &spot}) {
     const Rendered r = Render(*scene);
     for (ShadowFilter filter : {ShadowFilter::kSsabss, ShadowFilter::kSspcss})
       for (int taps : {0, 3}) {
         ShadowFilterParams params;
         params.filter = filter;
         params.taps = taps;
-        const ShadowFilterInputs in{r.g.gbuffer, r.camera, r.light, r.scene.settings.normalEncoding};
+        const ShadowFilterInputs in{r.g.gbuffer, r.camera, r.light};
         ShadowFilterOutputs everyTile;
         const ShadowFilterStats all = RunShadowFilterEveryTile(in, params, everyTile);
         CHECK(all.tilesBlurred == all.tiles);

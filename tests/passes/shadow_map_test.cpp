@@ -20,6 +20,7 @@ using test::AddGround;
 using test::AddQuad;
 using test::LightDirection;
 using test::MakeScene;
+using test::TestScene;
 
 using test::Sun;
 
@@ -35,12 +36,12 @@ struct Rendered {
   glm::vec3 World(int x, int y) const { return test::WorldPosition(camera, g.gbuffer, x, y); }
 };
 
-Rendered Render(const Scene& scene, const ShadowMapParams& params = {}, size_t light = 0) {
+Rendered Render(const test::TestScene& scene, const ShadowMapParams& params = {}, size_t light = 0) {
   Rendered r;
-  r.camera = MakePerspective(scene.camera, scene.settings.width, scene.settings.height);
-  RunGBuffer({scene, r.camera}, {scene.settings.normalEncoding}, r.g);
-  ShadowMapOutputs out{r.g.gbuffer.word[3], {}, {}};
-  r.stats = RunShadowMap({scene, r.camera, r.g.gbuffer, light}, params, out);
+  r.camera = MakePerspective(scene.camera, scene.width, scene.height);
+  RunGBuffer({scene, r.camera}, {scene.normalEncoding}, r.g);
+  ShadowMapOutputs out;
+  r.stats = RunShadowMap({scene, r.camera, r.g.gbuffer, light}, params, out, r.g.gbuffer.word[3]);
   r.shadowMap = std::move(out.shadowMap);
   r.lightView = out.lightView;
   return r;
@@ -94,8 +95,8 @@ TEST_CASE("shadow map: a lit plane has no acne at any light angle", "[shadow]") 
     for (int resolution : {2048, 512, 97}) {
       for (float angle : {0.0f, 30.0f, 60.0f, 80.0f}) {
         for (float azimuth : {0.0f, 37.0f, 200.0f}) {
-          Scene scene = MakeScene(camera, 160, 120);
-          scene.settings.normalEncoding = encoding;
+          TestScene scene = MakeScene(camera, 160, 120);
+          scene.normalEncoding = encoding;
           AddGround(scene.mesh, 20.0f);
           scene.directionalLights.push_back(Sun(LightDirection(angle, azimuth), 5.0f));
           ShadowMapParams params;
@@ -126,7 +127,7 @@ TEST_CASE("shadow map: a slab above a plane gives the hard flag and the blocker 
   CameraDesc camera;  // below the slab, looking at its shadow
   camera.position = {centre.x, 0.3f, 2.0f};
   camera.target = centre;
-  Scene scene = MakeScene(camera, 400, 300);
+  TestScene scene = MakeScene(camera, 400, 300);
   AddGround(scene.mesh, 5.0f);
   AddBox(scene.mesh, lo, hi);
   scene.directionalLights.push_back(Sun(dir, 2.0f));
@@ -185,7 +186,7 @@ TEST_CASE("shadow map: a caster resting on the plane shadows from the contact (n
   // A solid box, whose light-facing faces are far from the ground beside its base, and a wall of
   // zero thickness, the strict case: the blocker's depth meets the receiver's at the contact.
   for (bool wall : {false, true}) {
-    Scene scene = MakeScene(camera, 400, 400);
+    TestScene scene = MakeScene(camera, 400, 400);
     AddGround(scene.mesh, 5.0f);
     if (wall) {
       AddQuad(scene.mesh, {0.5f, 0.0f, -0.5f}, {0.0f, 0.0f, 1.0f}, {0.0f, 0.5f, 0.0f});
@@ -231,7 +232,7 @@ TEST_CASE("shadow map: casters outside the camera's view still cast", "[shadow]"
   camera.target = {0.0f, 0.0f, 0.0f};
   camera.up = {0.0f, 0.0f, -1.0f};
   camera.fovYDegrees = 40.0f;
-  Scene scene = MakeScene(camera, 64, 64);
+  TestScene scene = MakeScene(camera, 64, 64);
   AddGround(scene.mesh, 5.0f);
   AddBox(scene.mesh, {-1.5f, 1.0f, -1.0f}, {-1.0f, 1.5f, 1.0f});
   scene.directionalLights.push_back(Sun(LightDirection(45.0f, 0.0f), 1.0f));
@@ -252,7 +253,7 @@ TEST_CASE("shadow map: spot light blocker distance along the light's rays", "[sh
   CameraDesc camera;
   camera.position = {0.0f, 0.4f, 3.0f};
   camera.target = {0.0f, 0.0f, 0.0f};
-  Scene scene = MakeScene(camera, 200, 150);
+  TestScene scene = MakeScene(camera, 200, 150);
   AddGround(scene.mesh, 5.0f);
   AddBox(scene.mesh, lo, hi);
   SpotLight spot;
@@ -300,9 +301,7 @@ TEST_CASE("shadow map: spot light blocker distance along the light's rays", "[sh
 }
 
 TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {
-  Scene scene = LoadScene(test::SourceDir() / "data" / "default.json");
-  scene.settings.width = 161;
-  scene.settings.height = 119;
+  TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), 161, 119);
   SpotLight spot;
   spot.position = {0.5f, 2.5f, 1.0f};
   spot.direction = glm::normalize(glm::vec3(-0.2f, -1.0f, -0.4f));
@@ -337,7 +336,7 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
   camera.position = {0.3f, 1.5f, 3.0f};
   camera.target = {0.0f, 0.2f, 0.0f};
   auto boxScene = [&](int width, int height) {
-    Scene scene = MakeScene(camera, width, height);
+    TestScene scene = MakeScene(camera, width, height);
     AddGround(scene.mesh, 4.0f);
     AddBox(scene.mesh, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.6f, 0.3f});
     return scene;
@@ -345,7 +344,7 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
   SECTION("grazing, horizontal and upward lights") {
     for (glm::vec3 dir : {LightDirection(89.9f, 10.0f), LightDirection(90.0f, 0.0f), glm::vec3(0.0f, 0.0f, -1.0f),
                           glm::vec3(0.0f, 1.0f, 0.0f), LightDirection(179.0f, 45.0f)}) {
-      Scene scene = boxScene(97, 61);
+      TestScene scene = boxScene(97, 61);
       scene.directionalLights.push_back(Sun(dir, 10.0f));
       CAPTURE(dir.x, dir.y, dir.z);
       CHECK(AllValid(Render(scene)));
@@ -354,7 +353,7 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
   SECTION("tiny images and maps: every pixel is a border pixel") {
     for (int size : {1, 2, 7}) {
       for (int resolution : {1, 3, 64}) {
-        Scene scene = boxScene(size, size + 1);
+        TestScene scene = boxScene(size, size + 1);
         scene.directionalLights.push_back(Sun(LightDirection(40.0f, 30.0f), 3.0f));
         ShadowMapParams params;
         params.resolution = resolution;
@@ -365,7 +364,7 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
   }
   SECTION("one tap and many taps, huge light") {
     for (int taps : {1, 2, kMaxBlockerSearchTaps}) {
-      Scene scene = boxScene(64, 48);
+      TestScene scene = boxScene(64, 48);
       scene.directionalLights.push_back(Sun(LightDirection(20.0f, 0.0f), 60.0f));
       ShadowMapParams params;
       params.blockerSearchTaps = taps;
@@ -375,7 +374,7 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
     }
   }
   SECTION("empty scene") {
-    Scene scene = MakeScene(camera, 33, 17);
+    TestScene scene = MakeScene(camera, 33, 17);
     scene.directionalLights.push_back(Sun(LightDirection(30.0f, 0.0f), 1.0f));
     ShadowMapParams params;
     params.resolution = 64;
@@ -386,7 +385,7 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
   }
   SECTION("receivers outside a spot light's map are lit") {
     for (glm::vec3 axis : {glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(1.0f, 0.0f, 0.0f)}) {
-      Scene scene = boxScene(80, 60);
+      TestScene scene = boxScene(80, 60);
       SpotLight spot;
       spot.position = {0.0f, 0.3f, 0.0f};  // inside the box, pointing out of it
       spot.direction = axis;

@@ -30,7 +30,7 @@ ColorPyramid StepPyramid() {
 }
 
 GBuffer UniformRoughness(size_t width, size_t height, uint32_t code) {
-  GBuffer gbuffer = MakeGBuffer(int(width), int(height));
+  GBuffer gbuffer = MakeGBuffer(int(width), int(height), NormalEncoding::kOct24);
   for (size_t y = 0; y < height; ++y) {
     for (size_t x = 0; x < width; ++x) gbuffer.word[1].MutableRow(y)[x] = code << 24;
   }
@@ -210,7 +210,7 @@ TEST_CASE("DFG table: energy bounded, mirror at normal incidence, deterministic"
 TEST_CASE("Cone output is byte-identical at 1, 2 and 3 threads", "[cone]") {
   const ColorPyramid pyramid = StepPyramid();
   const SsrTraceOutputs trace = VerticalHits(0.37f);
-  GBuffer gbuffer = MakeGBuffer(int(kStepWidth), int(kStepHeight));
+  GBuffer gbuffer = MakeGBuffer(int(kStepWidth), int(kStepHeight), NormalEncoding::kOct24);
   for (size_t y = 0; y < kStepHeight; ++y) {
     for (size_t x = 0; x < kStepWidth; ++x) gbuffer.word[1].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
   }

@@ -20,11 +20,11 @@ constexpr glm::vec3 kBoxLo{-0.8f, 0.0f, -0.4f};
 constexpr glm::vec3 kBoxHi{0.8f, 1.0f, 0.4f};
 constexpr glm::vec3 kEye{0.0f, 1.2f, 4.0f};
 
-Scene MirrorFloorScene(int width, int height) {
+test::TestScene MirrorFloorScene(int width, int height) {
   CameraDesc camera;
   camera.position = kEye;
   camera.target = {0.0f, 0.4f, 0.0f};
-  Scene scene = test::MakeScene(camera, width, height);
+  test::TestScene scene = test::MakeScene(camera, width, height);
   Material& mirror = scene.materials[0];
   mirror.baseColor = glm::vec3(0.9f);
   mirror.metallic = 1.0f;
@@ -51,13 +51,15 @@ TEST_CASE("SSR and the Embree reference agree on a mirror floor reflecting a box
           "[ssr][reference]") {
   constexpr int kWidth = 256;
   constexpr int kHeight = 192;
-  const Scene scene = MirrorFloorScene(kWidth, kHeight);
-  const Frame frame = RenderFrame(scene, FrameOptions{});
+  const test::TestScene scene = MirrorFloorScene(kWidth, kHeight);
+  const Frame frame = RenderFrame(scene, test::ConfigOf(scene));
   REQUIRE(frame.reflections);
   ReferenceParams params;
   params.lightSamples = 16;
   params.bounceSamples = 4;  // a near-mirror: every bounce sample follows almost the same ray
   params.bounceLightSamples = 4;
+  params.width = kWidth;
+  params.height = kHeight;
   const ReferenceOutputs reference = RenderReference(scene, params);
 
   // Floor pixels whose mirror ray meets the box's front face, 3 cm clear of its edges.

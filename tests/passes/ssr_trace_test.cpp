@@ -45,7 +45,7 @@ Traced TraceMirrorFloor(int width, int height, NormalEncoding encoding, const Ss
   RunGBuffer({scene, t.view}, {encoding}, g);
   t.gbuffer = std::move(g.gbuffer);
   RunHiZ(t.gbuffer.word[2], t.hiz);
-  t.stats = RunSsrTrace({t.gbuffer, t.view, t.hiz, encoding}, params, t.out);
+  t.stats = RunSsrTrace({t.gbuffer, t.view, t.hiz}, params, t.out);
   return t;
 }
 
@@ -194,7 +194,7 @@ GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t s
   std::uniform_real_distribution<float> depth(0.5f, 20.0f);
   std::normal_distribution<float> gauss(0.0f, 1.0f);
   std::uniform_int_distribution<int> background(0, 9);
-  GBuffer g = MakeGBuffer(width, height);
+  GBuffer g = MakeGBuffer(width, height, encoding);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       if (background(rng) == 0) continue;
@@ -220,7 +220,7 @@ TEST_CASE("SSR trace on random G-buffers terminates within the cap with well-for
         SsrTraceParams params;
         params.maxIterations = cap;
         SsrTraceOutputs out;
-        const SsrTraceStats stats = RunSsrTrace({g, view, hiz, encoding}, params, out);
+        const SsrTraceStats stats = RunSsrTrace({g, view, hiz}, params, out);
         INFO(width << "x" << height << " cap " << cap);
         CHECK(stats.meanIterations <= double(cap));
         CheckOutputsWellFormed(out);
@@ -248,7 +248,7 @@ TEST_CASE("SSR trace outputs are byte-identical at 1, 2 and 3 threads", "[ssr]")
     const ThreadLimit limit(threads);
     floors.push_back(TraceMirrorFloor(160, 120, NormalEncoding::kOct24));
     SsrTraceOutputs out;
-    RunSsrTrace({g, view, hiz, NormalEncoding::kOct24}, {}, out);
+    RunSsrTrace({g, view, hiz}, {}, out);
     randoms.push_back(std::move(out));
   }
   for (size_t i = 1; i < 3; ++i) {

@@ -57,15 +57,32 @@ std::optional<glm::vec3> MirrorPointOnBoxFront(glm::vec3 eye, glm::vec3 p, glm::
   return q;
 }
 
-Scene MakeScene(const CameraDesc& camera, int width, int height) {
-  Scene scene;
+TestScene MakeScene(const CameraDesc& camera, int width, int height) {
+  TestScene scene;
   scene.camera = camera;
-  scene.settings.width = width;
-  scene.settings.height = height;
+  scene.width = width;
+  scene.height = height;
   Material material;
   material.twoSided = true;
   scene.materials.push_back(material);
   return scene;
+}
+
+TestScene Sized(Scene scene, int width, int height) {
+  TestScene sized;
+  static_cast<Scene&>(sized) = std::move(scene);
+  sized.width = width;
+  sized.height = height;
+  return sized;
+}
+
+FrameConfig ConfigOf(const TestScene& scene) {
+  FrameConfig config;
+  config.width = scene.width;
+  config.height = scene.height;
+  config.normalEncoding = scene.normalEncoding;
+  config.directLight.background = scene.background;
+  return config;
 }
 
 }  // namespace ssgi::test

@@ -9,6 +9,7 @@
 #include "core/gbuffer.h"
 #include "core/mesh.h"
 #include "core/scene.h"
+#include "passes/frame_config.h"
 
 namespace ssgi::test {
 
@@ -37,7 +38,19 @@ glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, in
 // and for any p that is not on the floor in front of the box.
 std::optional<glm::vec3> MirrorPointOnBoxFront(glm::vec3 eye, glm::vec3 p, glm::vec3 lo, glm::vec3 hi, float margin);
 
+// A scene with the frame size and G-buffer encoding a test renders it at.
+struct TestScene : Scene {
+  int width = kDefaultImageSide;
+  int height = kDefaultImageSide;
+  NormalEncoding normalEncoding = NormalEncoding::kOct24;
+  glm::vec3 background{0.0f};
+};
+
 // An empty scene of the given size with one two-sided default material.
-Scene MakeScene(const CameraDesc& camera, int width, int height);
+TestScene MakeScene(const CameraDesc& camera, int width, int height);
+// A loaded scene to be rendered at the given size.
+TestScene Sized(Scene scene, int width, int height);
+// The default frame configuration at the scene's size, encoding and background.
+FrameConfig ConfigOf(const TestScene& scene);
 
 }  // namespace ssgi::test

@@ -1,0 +1,16 @@
+// The small enumerations of how a frame is rendered, apart from the scene and the frame
+// configuration (passes/frame_config.h), so buffers and passes that need one include only this.
+#pragma once
+
+namespace ssgi {
+
+// How G-buffer word 1 stores the 24-bit view-space normal (core/gbuffer.h).
+enum class NormalEncoding { kXyz8, kOct24 };
+
+// "auto": run the effect when the scene calls for it (DESIGN.md §9); on / off force it.
+enum class EffectMode { kAuto, kOn, kOff };
+
+// The display curve of the tonemap pass (passes/tonemap.h).
+enum class Tonemap { kAces, kClamp };
+
+}  // namespace ssgi
