@@ -1,0 +1,79 @@
+// The G-buffer pass on its own: what the resolve writes at each pixel of a plane seen in
+// perspective, against the plane's analytic depth and normal, the material's packed words, and the
+// coverage of the plane's edges; background and encoding.
+#include "passes/gbuffer.h"
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+#include "tests/passes/test_scenes.h"
+
+namespace ssgi {
+namespace {
+
+TEST_CASE("g-buffer: every pixel of a ground plane has its analytic depth and normal, its material's words",
+          "[gbuffer]") {
+  constexpr int kWidth = 64, kHeight = 48;
+  constexpr float kHalf = 20.0f;
+  CameraDesc camera;
+  camera.position = {0.3f, 2.0f, 4.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+    CAPTURE(int(encoding));
+    test::TestScene scene = test::MakeScene(camera, kWidth, kHeight);
+    scene.materials[0].baseColor = {0.7f, 0.4f, 0.2f};
+    scene.materials[0].metallic = 0.25f;
+    scene.materials[0].roughness = 0.3f;
+    test::AddGround(scene.mesh, kHalf);
+    const ViewProjection view = MakePerspective(scene.camera, kWidth, kHeight);
+    GBufferOutputs out;
+    const GBufferStats stats = RunGBuffer({scene, view}, {encoding}, out);
+    const GBuffer& g = out.gbuffer;
+    REQUIRE(g.width() == kWidth);
+    REQUIRE(g.height() == kHeight);
+    CHECK(g.normalEncoding == encoding);
+
+    // The plane y = 0 in view space, in double.
+    const glm::dmat4 toView(view.view);
+    const glm::dvec3 planeNormal = glm::normalize(glm::dmat3(toView) * glm::dvec3(0.0, 1.0, 0.0));
+    const glm::dvec3 planePoint(toView * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+    const glm::dmat4 toWorld = glm::inverse(toView);
+    const double maxNormalError = encoding == NormalEncoding::kOct24 ? 0.07 : 0.4;  // degrees, DESIGN.md §3
+    size_t covered = 0, checked = 0;
+    for (int y = 0; y < kHeight; ++y) {
+      for (int x = 0; x < kWidth; ++x) {
+        CAPTURE(x, y);
+        const glm::dvec3 direction(view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction);
+        const double t = glm::dot(planeNormal, planePoint) / glm::dot(planeNormal, direction);
+        const glm::dvec3 world(toWorld * glm::dvec4(direction * t, 1.0));
+        const double edge = std::max(std::fabs(world.x), std::fabs(world.z));
+        const float depth = UnpackDepth(g.word[2].ConstRow(size_t(y))[x]);
+        covered += depth != kBackgroundDepth;
+        // Pixels whose centre is clearly on or off the plane; those near its far edge may go either way.
+        if (t > 0.0 && edge < kHalf * 0.98) {
+          ++checked;
+          REQUIRE(depth != kBackgroundDepth);
+          CHECK(double(depth) == Approx(t).epsilon(1e-3));  // float32 at grazing angles, as the Embree depth test
+          const uint32_t w0 = g.word[0].ConstRow(size_t(y))[x], w1 = g.word[1].ConstRow(size_t(y))[x];
+          CHECK(w0 == PackAlbedoMetallic(scene.materials[0].baseColor, 0.25f));
+          CHECK((w1 >> 24) == 77u);  // round(0.3 * 255)
+          const double cosine = glm::dot(glm::dvec3(UnpackNormal(w1, encoding)), planeNormal);
+          CHECK(std::acos(std::min(cosine, 1.0)) * 180.0 / 3.14159265358979 < maxNormalError);
+          CHECK(g.word[3].ConstRow(size_t(y))[x] == kShadowLit);
+        } else if (t <= 0.0 || edge > kHalf * 1.02) {
+          CHECK(depth == kBackgroundDepth);
+          CHECK(g.word[0].ConstRow(size_t(y))[x] == 0u);
+          CHECK(g.word[1].ConstRow(size_t(y))[x] == 0u);
+        }
+      }
+    }
+    CHECK(checked > size_t(kWidth * kHeight) / 2);
+    CHECK(covered < size_t(kWidth * kHeight));  // the sky above the plane's far edge
+    CHECK(stats.coveredPixels == covered);
+    CHECK(stats.raster.trianglesIn == 2);
+  }
+}
+
+}  // namespace
+}  // namespace ssgi
