@@ -9,8 +9,8 @@
 #include "core/check.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
+#include "core/scene_raster_input.h"
 #include "core/stopwatch.h"
-#include "passes/gbuffer.h"
 
 namespace ssgi {
 namespace {
