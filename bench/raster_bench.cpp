@@ -17,6 +17,7 @@
 #include "core/procedural_mesh.h"
 #include "core/raster.h"
 #include "core/scene.h"
+#include "core/scene_raster_input.h"
 #include "passes/gbuffer.h"
 
 namespace ssgi {

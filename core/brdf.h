@@ -1,10 +1,12 @@
 // The metallic-roughness BRDF every path shares (DESIGN.md §5), the screen-space passes and the
 // Embree reference alike: Lambert diffuse + Cook-Torrance specular with the GGX distribution,
 // height-correlated Smith visibility and Schlick Fresnel, F0 = mix(0.04, albedo, metallic), as in
-// Filament's "Physically Based Rendering in Filament" §4.
+// Filament's "Physically Based Rendering in Filament" §4; and the split-sum DFG table (Karis 2013,
+// "Real Shading in Unreal Engine 4") that weights the traced reflections in the composite.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -63,5 +65,19 @@ inline glm::vec3 BrdfCosine(const SurfaceMaterial& m, float alpha, const glm::ve
   const glm::vec3 diffuse = m.albedo * ((1.0f - m.metallic) / kPi);
   return (diffuse + specular) * nDotL;
 }
+
+// Split-sum DFG (Karis 2013): for GGX with height-correlated Smith visibility (above) and
+// Schlick Fresnel, the directional albedo = F0 * A + B. Tabulated at n.v = i / (kDfgSize - 1) and
+// perceptual roughness = j / (kDfgSize - 1), alpha = max(roughness^2, kMinGgxAlpha), each entry the
+// mean over kDfgSamples GGX-importance-sampled half vectors on the Hammersley set; A + B is
+// rescaled to <= 1 where quadrature error exceeds energy conservation.
+inline constexpr int kDfgSize = 32;
+inline constexpr int kDfgSamples = 1024;
+struct DfgTable {
+  std::array<glm::vec2, kDfgSize * kDfgSize> ab;  // (A, B) at [j * kDfgSize + i], in [0, 1], A + B <= 1
+};
+DfgTable BuildDfgTable();
+// F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in a table built once.
+glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness);
 
 }  // namespace ssgi

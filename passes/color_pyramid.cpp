@@ -5,6 +5,7 @@
 
 #include "core/check.h"
 #include "core/parallel.h"
+#include "core/pyramid.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {

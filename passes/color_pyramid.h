@@ -1,7 +1,8 @@
 // Colour pyramid (DESIGN.md §6; docs/pipeline.md §Colour pyramid): the direct-light image
 // pre-convolved level by level, so the cone trace of Uludag (GPU Pro 5, "Hi-Z Screen-Space
 // Cone-Traced Reflections") reads a blurred radiance whose footprint matches each cone circle with a
-// single fetch. Level sizes equal the Hi-Z's (PyramidLevelSizes), so one level index addresses both.
+// single fetch. Level sizes equal the Hi-Z's (PyramidLevelSizes, core/pyramid.h), so one level index
+// addresses both.
 #pragma once
 
 #include <array>
@@ -9,7 +10,6 @@
 #include <vector>
 
 #include "core/plane.h"
-#include "passes/hiz.h"
 
 namespace ssgi {
 

@@ -6,7 +6,6 @@
 #include "core/brdf.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
-#include "passes/ssr_cone.h"
 
 namespace ssgi {
 

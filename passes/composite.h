@@ -2,7 +2,7 @@
 // result = direct + indirect, where indirect = reflected radiance x specular weight x confidence x
 // roughness fade:
 // the cone-traced screen-space reflection (passes/ssr_cone.h), weighted by the split-sum specular
-// term of the pixel's material and view angle (Karis 2013) and faded by the trace's confidence.
+// term of the pixel's material and view angle (Karis 2013, core/brdf.h) and faded by the trace's confidence.
 #pragma once
 
 #include "core/camera.h"

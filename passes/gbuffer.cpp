@@ -1,135 +1,14 @@
 #include "passes/gbuffer.h"
 
-#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/check.h"
 #include "core/parallel.h"
+#include "core/scene_raster_input.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {
-namespace {
-
-// Barycentrics (b1, b2) of the point where a ray meets the plane of (p0, p1, p2), not limited to
-// the triangle (Moller-Trumbore without the bounds test). False when the ray is parallel to it.
-bool RayPlaneBarycentrics(const ViewProjection::Ray& ray, const glm::vec3& p0, const glm::vec3& e1,
-                          const glm::vec3& e2, glm::vec2& b) {
-  const glm::vec3 p = glm::cross(ray.direction, e2);
-  const float det = glm::dot(e1, p);
-  if (!(std::fabs(det) > 1e-30f)) return false;
-  const float invDet = 1.0f / det;
-  const glm::vec3 s = ray.origin - p0;
-  const glm::vec3 q = glm::cross(s, e1);
-  b = {glm::dot(s, p) * invDet, glm::dot(ray.direction, q) * invDet};
-  return std::isfinite(b.x) && std::isfinite(b.y);
-}
-
-// What the resolve and the alpha test need of one visible point of a triangle.
-struct SurfacePoint {
-  glm::vec3 weights;  // barycentric weights of the triangle's three vertices, in [0, 1], sum 1
-  glm::vec2 uv;
-  float uvFootprint;  // larger UV step to the next pixel right or down
-};
-
-class SurfaceResolver {
- public:
-  SurfaceResolver(const Scene& scene, const ViewProjection& view) : scene_(scene), view_(view) {
-    const Mesh& mesh = scene.mesh;
-    viewPositions_.resize(mesh.positions.size());
-    constexpr size_t kChunk = 16384;
-    ParallelFor("gbuffer.view_positions", (mesh.positions.size() + kChunk - 1) / kChunk, [&](size_t c) {
-      const size_t end = std::min(mesh.positions.size(), (c + 1) * kChunk);
-      for (size_t i = c * kChunk; i < end; ++i)
-        viewPositions_[i] = glm::vec3(view.view * glm::vec4(mesh.positions[i], 1.0f));
-    });
-  }
-
-  const glm::vec3& ViewPosition(uint32_t vertex) const { return viewPositions_[vertex]; }
-
-  SurfacePoint At(uint32_t triangle, int px, int py, bool withFootprint) const {
-    const uint32_t* idx = &scene_.mesh.indices[3 * size_t(triangle)];
-    const glm::vec3& p0 = viewPositions_[idx[0]];
-    const glm::vec3 e1 = viewPositions_[idx[1]] - p0;
-    const glm::vec3 e2 = viewPositions_[idx[2]] - p0;
-    const float cx = float(px) + 0.5f, cy = float(py) + 0.5f;
-    glm::vec2 center(1.0f / 3.0f);
-    const bool hit = RayPlaneBarycentrics(view_.PixelRay(cx, cy), p0, e1, e2, center);
-    // The pixel centre is inside the snapped triangle, so b leaves [0, 1] only by rounding and
-    // snapping; clamping keeps attributes from extrapolating on slivers.
-    glm::vec2 b = glm::clamp(center, 0.0f, 1.0f);
-    if (b.x + b.y > 1.0f) b /= (b.x + b.y);
-    SurfacePoint s;
-    s.weights = {1.0f - b.x - b.y, b.x, b.y};
-    const std::vector<glm::vec2>& uvs = scene_.mesh.uvs;
-    const glm::vec2 uv0 = uvs[idx[0]], du1 = uvs[idx[1]] - uv0, du2 = uvs[idx[2]] - uv0;
-    s.uv = uv0 + du1 * b.x + du2 * b.y;
-    s.uvFootprint = 0.0f;
-    glm::vec2 bx, by;
-    // Unclamped here: the footprint is a derivative of the plane's parameterisation.
-    if (withFootprint && hit) {
-      if (RayPlaneBarycentrics(view_.PixelRay(cx + 1.0f, cy), p0, e1, e2, bx) &&
-          RayPlaneBarycentrics(view_.PixelRay(cx, cy + 1.0f), p0, e1, e2, by)) {
-        const glm::vec2 ddx = du1 * (bx.x - center.x) + du2 * (bx.y - center.y);
-        const glm::vec2 ddy = du1 * (by.x - center.x) + du2 * (by.y - center.y);
-        const float footprint = std::max(glm::length(ddx), glm::length(ddy));
-        s.uvFootprint = std::isfinite(footprint) ? footprint : 0.0f;
-      }
-    }
-    return s;
-  }
-
- private:
-  const Scene& scene_;
-  const ViewProjection& view_;
-  std::vector<glm::vec3> viewPositions_;
-};
-
-float AlphaChannel(const Texture& texture, const glm::vec4& texel) {
-  // Grey+alpha and RGBA images carry the mask in alpha; grey and RGB masks in their first channel.
-  return texture.sourceChannels == 2 || texture.sourceChannels == 4 ? texel.w : texel.x;
-}
-
-struct AlphaTestContext {
-  const Scene* scene;
-  const SurfaceResolver* resolver;
-};
-
-bool PassesAlphaTest(const void* context, uint32_t triangle, int px, int py) {
-  const auto& ctx = *static_cast<const AlphaTestContext*>(context);
-  const Material& material = ctx.scene->materials[ctx.scene->mesh.materials[triangle]];
-  const Texture& texture = ctx.scene->textures[material.alphaTexture];
-  const SurfacePoint s = ctx.resolver->At(triangle, px, py, true);
-  return AlphaChannel(texture, SampleTexture(texture, s.uv, s.uvFootprint)) >= material.alphaCutoff;
-}
-
-}  // namespace
-
-struct SceneRasterInput::Impl {
-  Impl(const Scene& scene, const ViewProjection& view) : resolver(scene, view), alphaContext{&scene, &resolver} {}
-  SurfaceResolver resolver;
-  std::vector<uint8_t> flags;
-  AlphaTestContext alphaContext;
-};
-
-SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces)
-    : impl_(std::make_unique<Impl>(scene, view)) {
-  std::vector<uint8_t> materialFlags(scene.materials.size());
-  for (size_t m = 0; m < scene.materials.size(); ++m) {
-    const Material& material = scene.materials[m];
-    materialFlags[m] = uint8_t((cullBackFaces && !material.twoSided ? kTriangleCullBackFace : 0) |
-                               (material.alphaTexture != kNoTexture ? kTriangleAlphaTested : 0));
-  }
-  impl_->flags.resize(scene.mesh.TriangleCount());
-  for (size_t t = 0; t < impl_->flags.size(); ++t) impl_->flags[t] = materialFlags[scene.mesh.materials[t]];
-  input_.positions = scene.mesh.positions.data();
-  input_.vertexCount = scene.mesh.positions.size();
-  input_.indices = scene.mesh.indices.data();
-  input_.triangleCount = scene.mesh.TriangleCount();
-  input_.triangleFlags = impl_->flags.data();
-  input_.alphaTest = {&PassesAlphaTest, &impl_->alphaContext};
-}
-
-SceneRasterInput::~SceneRasterInput() = default;
 
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out) {
   const Scene& scene = in.scene;
@@ -139,7 +18,7 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
 
   Stopwatch stopwatch;
   const SceneRasterInput raster(scene, view, true);
-  const SurfaceResolver& resolver = raster.impl_->resolver;
+  const SurfaceResolver& resolver = raster.Resolver();
   out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
   stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility);
   stats.rasterMs = stopwatch.Lap();

@@ -1,11 +1,10 @@
 // G-buffer pass (DESIGN.md §3-4, docs/pipeline.md §G-buffer): rasterizes the scene's triangles into a
-// visibility buffer (core/raster.h), then resolves each visible pixel once: barycentrics from the
-// view ray through the pixel centre and the original (unclipped) triangle, interpolated normal and
-// UV, mip-mapped texture lookups with the UV footprint of the neighbouring pixels' rays, and packs
-// the 128-bit G-buffer. Alpha cut-out (map_d) is tested during rasterization.
+// visibility buffer (core/raster.h, core/scene_raster_input.h), then resolves each visible pixel
+// once: barycentrics from the view ray through the pixel centre and the original (unclipped)
+// triangle, interpolated normal and UV, mip-mapped texture lookups with the UV footprint of the
+// neighbouring pixels' rays (core/surface.h), and packs the 128-bit G-buffer. Alpha cut-out (map_d)
+// is tested during rasterization.
 #pragma once
-
-#include <memory>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
@@ -36,24 +35,5 @@ struct GBufferStats {
 };
 
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
-
-// A scene's mesh prepared for the rasterizer from one view (the camera, or a light for a shadow map):
-// per-triangle flags (back faces culled unless the material is two-sided or `cullBackFaces` is
-// false; alpha test where the material has an alpha texture) and the alpha test itself, evaluated
-// with the same surface interpolation and texture lookup as the G-buffer resolve.
-class SceneRasterInput {
- public:
-  SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces);
-  ~SceneRasterInput();
-  SceneRasterInput(const SceneRasterInput&) = delete;
-  SceneRasterInput& operator=(const SceneRasterInput&) = delete;
-  const RasterInput& Get() const { return input_; }
-
- private:
-  friend GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-  RasterInput input_;
-};
 
 }  // namespace ssgi

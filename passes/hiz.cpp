@@ -6,6 +6,7 @@
 #include "core/check.h"
 #include "core/gbuffer.h"
 #include "core/parallel.h"
+#include "core/pyramid.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {

@@ -13,38 +13,10 @@
 
 namespace ssgi {
 
-// Pyramid level sizes, shared with the colour pyramid so one level index addresses both: floor
-// halving, never below 1 (67 -> 33 -> 16 -> 8 -> 4 -> 2 -> 1).
-inline size_t PyramidHalvedSize(size_t size) { return size / 2 > 0 ? size / 2 : 1; }
-
-// The last source texel (inclusive) of the footprint of destination texel `x` along one axis, whose
-// first source texel is 2x. Normally 2x + 1; the last destination texel takes everything up to the
-// source's end, so an odd source's last texel is covered (3-wide footprint) and a 1-texel source is
-// never read past.
-inline size_t PyramidFootprintEnd(size_t x, size_t destinationSize, size_t sourceSize) {
-  return x + 1 == destinationSize ? sourceSize - 1 : 2 * x + 1;
-}
-
-struct PyramidSize {
-  size_t width = 0;
-  size_t height = 0;
-};
-
-// Every level's size for a width x height level 0 (both > 0), from level 0 down to 1 x 1.
-inline std::vector<PyramidSize> PyramidLevelSizes(size_t width, size_t height) {
-  std::vector<PyramidSize> sizes{{width, height}};
-  while (width > 1 || height > 1) {
-    width = PyramidHalvedSize(width);
-    height = PyramidHalvedSize(height);
-    sizes.push_back({width, height});
-  }
-  return sizes;
-}
-
 struct HiZ {
-  // levels[0]: the G-buffer's size; levels[k + 1]: PyramidHalvedSize of levels[k] on each axis; the
-  // last level is 1 x 1. Texels: max of 1/d over the level-0 texels the cell covers, in 1/metres,
-  // >= 0 (0 = background only).
+  // levels[0]: the G-buffer's size; levels[k + 1]: PyramidHalvedSize (core/pyramid.h) of levels[k] on
+  // each axis; the last level is 1 x 1. Texels: max of 1/d over the level-0 texels the cell covers,
+  // in 1/metres, >= 0 (0 = background only).
   std::vector<Plane<float>> levels;
 };
 

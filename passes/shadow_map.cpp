@@ -9,13 +9,12 @@
 #include "core/check.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
+#include "core/scene_raster_input.h"
 #include "core/stopwatch.h"
-#include "passes/gbuffer.h"
 
 namespace ssgi {
 namespace {
 
-constexpr int kRowsPerItem = 16;            // G-buffer rows per parallel work item
 constexpr size_t kVerticesPerItem = 16384;  // mesh vertices per parallel work item
 
 // Bias (docs/pipeline.md §Shadow map and blocker search). The receiver moves along its normal by
@@ -118,19 +117,18 @@ class ReceiverPositions {
 // Light-view bounds of the world positions of every G-buffer pixel with geometry: the receivers.
 // Per-band partials combined in band order.
 Bounds ReceiverBounds(const GBuffer& gbuffer, const ReceiverPositions& positions) {
-  const int height = gbuffer.height(), width = gbuffer.width();
-  const size_t items = size_t((height + kRowsPerItem - 1) / kRowsPerItem);
-  std::vector<Bounds> partial(items);
-  ParallelFor("shadow_map.receiver_bounds", items, [&](size_t item) {
-    const int yEnd = std::min(height, int(item + 1) * kRowsPerItem);
-    for (int y = int(item) * kRowsPerItem; y < yEnd; ++y) {
+  const size_t height = size_t(gbuffer.height());
+  const int width = gbuffer.width();
+  std::vector<Bounds> partial(RowBandCount(height));
+  ParallelForRowBands("shadow_map.receiver_bounds", height, [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (int y = int(yBegin); y < int(yEnd); ++y) {
       const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
       const ReceiverPositions::Row row = positions.AtRow(y);
       for (int x = 0; x < width; ++x) {
         const float depth = UnpackDepth(w2[x]);
         if (!(depth < kBackgroundDepth)) continue;
         const glm::vec3 p = positions.At(row, x, depth);
-        partial[item].Add({p.x, p.y, -p.z});
+        partial[band].Add({p.x, p.y, -p.z});
       }
     }
   });
@@ -316,11 +314,9 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   ShadowMapStats stats;
   Stopwatch stopwatch;
 
-  const int bands = (height + kRowsPerItem - 1) / kRowsPerItem;
-  std::vector<size_t> receiversPerBand(size_t(bands), 0);
-  ParallelFor("shadow_map.count_receivers", size_t(bands), [&](size_t band) {
-    const int yEnd = std::min(height, int(band + 1) * kRowsPerItem);
-    for (int y = int(band) * kRowsPerItem; y < yEnd; ++y) {
+  std::vector<size_t> receiversPerBand(RowBandCount(size_t(height)), 0);
+  ParallelForRowBands("shadow_map.count_receivers", size_t(height), [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (int y = int(yBegin); y < int(yEnd); ++y) {
       const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
       for (int x = 0; x < width; ++x) receiversPerBand[band] += UnpackDepth(w2[x]) < kBackgroundDepth;
     }
@@ -371,9 +367,8 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
       in.gbuffer.normalEncoding,
   };
   const auto search = lightView.orthographic ? &SearchBlockers<true> : &SearchBlockers<false>;
-  ParallelFor("shadow_map.blocker_search", size_t(bands), [&](size_t band) {
-    const int yEnd = std::min(height, int(band + 1) * kRowsPerItem);
-    for (int y = int(band) * kRowsPerItem; y < yEnd; ++y) {
+  ParallelForRowBands("shadow_map.blocker_search", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
+    for (int y = int(yBegin); y < int(yEnd); ++y) {
       const uint32_t* w1 = gbuffer.word[1].ConstRow(y);
       const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
       uint32_t* term = shadowTerm.MutableRow(y);

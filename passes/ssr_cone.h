@@ -1,15 +1,12 @@
 // SSR cone trace (DESIGN.md §7; docs/pipeline.md §SSR: cone trace): turns each Hi-Z trace hit into
 // reflected radiance by walking the circles inscribed in the roughness cone's screen-space triangle
 // and reading the pre-blurred colour pyramid, after Uludag (GPU Pro 5, "Hi-Z Screen-Space
-// Cone-Traced Reflections", cone tracing section). Also holds the split-sum DFG table (Karis 2013,
-// "Real Shading in Unreal Engine 4") that weights the traced radiance in the composite.
+// Cone-Traced Reflections", cone tracing section).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
-
-#include <glm/glm.hpp>
 
 #include "core/gbuffer.h"
 #include "core/plane.h"
@@ -29,20 +26,6 @@ inline constexpr double kConeMaxPhongExponent = 1e6;
 using ConeTanTable = std::array<float, 256>;
 ConeTanTable BuildConeTanTable();
 float ConeHalfAngleTan(uint8_t roughnessCode);  // looks up a table built once
-
-// Split-sum DFG (Karis 2013): for GGX with height-correlated Smith visibility (core/brdf.h) and
-// Schlick Fresnel, the directional albedo = F0 * A + B. Tabulated at n.v = i / (kDfgSize - 1) and
-// perceptual roughness = j / (kDfgSize - 1), alpha = max(roughness^2, kMinGgxAlpha), each entry the
-// mean over kDfgSamples GGX-importance-sampled half vectors on the Hammersley set; A + B is
-// rescaled to <= 1 where quadrature error exceeds energy conservation.
-inline constexpr int kDfgSize = 32;
-inline constexpr int kDfgSamples = 1024;
-struct DfgTable {
-  std::array<glm::vec2, kDfgSize * kDfgSize> ab;  // (A, B) at [j * kDfgSize + i], in [0, 1], A + B <= 1
-};
-DfgTable BuildDfgTable();
-// F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in a table built once.
-glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness);
 
 struct SsrConeParams {
   // Pyramid fetches (circles) per pixel, >= 1. 7 lets a cone of up to ~45 deg cover its hit

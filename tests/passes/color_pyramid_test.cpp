@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/parallel.h"
+#include "core/pyramid.h"
 
 namespace ssgi {
 namespace {

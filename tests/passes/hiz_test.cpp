@@ -104,19 +104,6 @@ TEST_CASE("Hi-Z texels are the exact max of 1/d over the level-0 region they cov
   }
 }
 
-TEST_CASE("Hi-Z level sizes halve with floor down to 1x1", "[hiz]") {
-  const std::vector<PyramidSize> sizes = PyramidLevelSizes(67, 45);
-  const std::vector<std::pair<size_t, size_t>> expected{{67, 45}, {33, 22}, {16, 11}, {8, 5},
-                                                        {4, 2},   {2, 1},   {1, 1}};
-  REQUIRE(sizes.size() == expected.size());
-  for (size_t k = 0; k < sizes.size(); ++k) {
-    CHECK(sizes[k].width == expected[k].first);
-    CHECK(sizes[k].height == expected[k].second);
-  }
-  CHECK(PyramidLevelSizes(1, 1).size() == 1);
-  CHECK(PyramidLevelSizes(1, 5).size() == 3);  // 1x5 -> 1x2 -> 1x1
-}
-
 TEST_CASE("Hi-Z is identical at 1, 2 and 3 threads and reuses or reshapes its planes", "[hiz]") {
   std::mt19937 rng(7);
   const Plane<uint32_t> depth = RandomDepth(257, 131, rng);

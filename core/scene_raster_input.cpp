@@ -1,0 +1,59 @@
+#include "core/scene_raster_input.h"
+
+#include <vector>
+
+#include "core/texture.h"
+
+namespace ssgi {
+namespace {
+
+float AlphaChannel(const Texture& texture, const glm::vec4& texel) {
+  // Grey+alpha and RGBA images carry the mask in alpha; grey and RGB masks in their first channel.
+  return texture.sourceChannels == 2 || texture.sourceChannels == 4 ? texel.w : texel.x;
+}
+
+struct AlphaTestContext {
+  const Scene* scene;
+  const SurfaceResolver* resolver;
+};
+
+bool PassesAlphaTest(const void* context, uint32_t triangle, int px, int py) {
+  const auto& ctx = *static_cast<const AlphaTestContext*>(context);
+  const Material& material = ctx.scene->materials[ctx.scene->mesh.materials[triangle]];
+  const Texture& texture = ctx.scene->textures[material.alphaTexture];
+  const SurfacePoint s = ctx.resolver->At(triangle, px, py, true);
+  return AlphaChannel(texture, SampleTexture(texture, s.uv, s.uvFootprint)) >= material.alphaCutoff;
+}
+
+}  // namespace
+
+struct SceneRasterInput::Impl {
+  Impl(const Scene& scene, const ViewProjection& view) : resolver(scene, view), alphaContext{&scene, &resolver} {}
+  SurfaceResolver resolver;
+  std::vector<uint8_t> flags;
+  AlphaTestContext alphaContext;
+};
+
+SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces)
+    : impl_(std::make_unique<Impl>(scene, view)) {
+  std::vector<uint8_t> materialFlags(scene.materials.size());
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    const Material& material = scene.materials[m];
+    materialFlags[m] = uint8_t((cullBackFaces && !material.twoSided ? kTriangleCullBackFace : 0) |
+                               (material.alphaTexture != kNoTexture ? kTriangleAlphaTested : 0));
+  }
+  impl_->flags.resize(scene.mesh.TriangleCount());
+  for (size_t t = 0; t < impl_->flags.size(); ++t) impl_->flags[t] = materialFlags[scene.mesh.materials[t]];
+  input_.positions = scene.mesh.positions.data();
+  input_.vertexCount = scene.mesh.positions.size();
+  input_.indices = scene.mesh.indices.data();
+  input_.triangleCount = scene.mesh.TriangleCount();
+  input_.triangleFlags = impl_->flags.data();
+  input_.alphaTest = {&PassesAlphaTest, &impl_->alphaContext};
+}
+
+SceneRasterInput::~SceneRasterInput() = default;
+
+const SurfaceResolver& SceneRasterInput::Resolver() const { return impl_->resolver; }
+
+}  // namespace ssgi

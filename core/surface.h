@@ -1,0 +1,43 @@
+// Surface interpolation of the scene's mesh as seen from one view (docs/pipeline.md §G-buffer): the
+// barycentrics of a pixel's view ray on the plane of a visible triangle, the UV there and the UV
+// footprint of the neighbouring pixels' rays, which picks the texture's mip level. Shared by the
+// G-buffer resolve and the alpha test of the rasterizer's input (core/scene_raster_input.h), so a
+// cut-out is tested at exactly the surface point the resolve shades.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/camera.h"
+#include "core/scene.h"
+
+namespace ssgi {
+
+// What the resolve and the alpha test need of one visible point of a triangle.
+struct SurfacePoint {
+  glm::vec3 weights;  // barycentric weights of the triangle's three vertices, in [0, 1], sum 1
+  glm::vec2 uv;
+  float uvFootprint;  // larger UV step to the next pixel right or down
+};
+
+// Holds the mesh's vertices in `view`'s view space (computed once, in parallel); both references
+// must outlive it.
+class SurfaceResolver {
+ public:
+  SurfaceResolver(const Scene& scene, const ViewProjection& view);
+
+  const glm::vec3& ViewPosition(uint32_t vertex) const { return viewPositions_[vertex]; }
+
+  // The surface point of `triangle` under the centre of pixel (px, py), which the triangle covers.
+  // uvFootprint is 0 unless `withFootprint` (texture lookups need it, untextured shading does not).
+  SurfacePoint At(uint32_t triangle, int px, int py, bool withFootprint) const;
+
+ private:
+  const Scene& scene_;
+  const ViewProjection& view_;
+  std::vector<glm::vec3> viewPositions_;
+};
+
+}  // namespace ssgi
