@@ -20,11 +20,14 @@ if ((${#missing[@]})); then
   [[ $(id -u) -eq 0 ]] || sudo="sudo"
   $sudo apt-get update -q
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+  echo "setup: packages installed in ${SECONDS} s"
 fi
 
 build="${BUILD_DIR:-build}"
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+built_from=$SECONDS
 cmake --build "$build" --parallel "$(nproc)"
+echo "setup: built in $((SECONDS - built_from)) s"
 
 case "${1:-render}" in
   render) "$build/cli/ssgi" render --stats ;;
