@@ -17,6 +17,8 @@ inline size_t PyramidHalvedSize(size_t size) { return size / 2 > 0 ? size / 2 : 
 inline size_t PyramidFootprintEnd(size_t x, size_t destinationSize, size_t sourceSize) {
   return x + 1 == destinationSize ? sourceSize - 1 : 2 * x + 1;
 }
+// The widest footprint along one axis, in source texels: an odd source's last texel.
+inline constexpr size_t kMaxPyramidFootprint = 3;
 
 struct PyramidSize {
   size_t width = 0;

@@ -31,21 +31,11 @@ size_t ClampIndex(ptrdiff_t i, size_t size) {
   return size_t(std::clamp<ptrdiff_t>(i, 0, ptrdiff_t(size) - 1));
 }
 
-// Horizontal taps of one row of width `width`, summed in tap order (deterministic).
-void BlurRowHorizontal(const float* in, size_t width, float* out) {
-  for (size_t x = 0; x < width; ++x) {
-    float sum = 0.0f;
-    for (int t = 0; t < int(kColorPyramidWeights.size()); ++t)
-      sum += kColorPyramidWeights[t] * in[ClampIndex(ptrdiff_t(x) + t - kRadius, width)];
-    out[x] = sum;
-  }
-}
-
-// Vertical taps at row y of a plane whose first `width` columns and `height` rows are the level.
-void BlurRowVertical(const Plane<float>& in, size_t width, size_t height, size_t y, float* out) {
+// Vertical taps of one row: taps[t] is the row t - kRadius rows away, clamped to the level.
+void BlurRowVertical(const float* const* taps, size_t width, float* out) {
   std::fill(out, out + width, 0.0f);
   for (int t = 0; t < int(kColorPyramidWeights.size()); ++t) {
-    const float* row = in.ConstRow(ClampIndex(ptrdiff_t(y) + t - kRadius, height));
+    const float* row = taps[t];
     for (size_t x = 0; x < width; ++x) out[x] += kColorPyramidWeights[t] * row[x];
   }
 }
@@ -62,38 +52,44 @@ std::vector<float> NextCoverage(const std::vector<float>& coverage, size_t nextS
   return next;
 }
 
-// One row of level k + 1 from the horizontally blurred level k (`horizontal`, level k's size in its
-// first columns / rows): vertical taps on the footprint's rows, then the footprint's mean weighted
-// by the level-0 area each source texel covers (columnCoverage, rowCoverage: level k's), so every
-// texel is the mean of its own level-0 area and the 1 x 1 level is the image's mean.
-void DecimateRow(const Plane<float>& horizontal, const std::vector<float>& columnCoverage,
-                 const std::vector<float>& rowCoverage, size_t y, Plane<float>& destination,
-                 std::vector<float>& blurred) {
-  const size_t sourceWidth = columnCoverage.size();
-  const size_t sourceHeight = rowCoverage.size();
-  const size_t width = destination.xsize();
-  const size_t y1 = PyramidFootprintEnd(y, destination.ysize(), sourceHeight);
-  const size_t rows = y1 - 2 * y + 1;
-  blurred.resize(rows * sourceWidth);
-  for (size_t r = 0; r < rows; ++r)
-    BlurRowVertical(horizontal, sourceWidth, sourceHeight, 2 * y + r, blurred.data() + r * sourceWidth);
-  float* out = destination.MutableRow(y);
+}  // namespace
+
+void ColorPyramidSanitizeRowScalar(const float* radiance, size_t width, float* level0) {
+  for (size_t x = 0; x < width; ++x) level0[x] = Sanitize(radiance[x]);
+}
+
+// Taps summed in tap order (deterministic).
+void ColorPyramidHorizontalRowScalar(const float* level, size_t width, float* blurred) {
+  for (size_t x = 0; x < width; ++x) {
+    float sum = 0.0f;
+    for (int t = 0; t < int(kColorPyramidWeights.size()); ++t)
+      sum += kColorPyramidWeights[t] * level[ClampIndex(ptrdiff_t(x) + t - kRadius, width)];
+    blurred[x] = sum;
+  }
+}
+
+// Vertical taps on the footprint's rows, then the footprint's mean weighted by the level-0 area each
+// source texel covers, so every texel is the mean of its own level-0 area and the 1 x 1 level is the
+// image's mean.
+void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t footprintRows,
+                                   const float* rowCoverage, const float* columnCoverage, size_t sourceWidth,
+                                   size_t width, float* scratch, float* out) {
+  for (size_t r = 0; r < footprintRows; ++r)
+    BlurRowVertical(horizontalRows + r, sourceWidth, scratch + r * sourceWidth);
   for (size_t x = 0; x < width; ++x) {
     const size_t x1 = PyramidFootprintEnd(x, width, sourceWidth);
     float sum = 0.0f;
     float area = 0.0f;
-    for (size_t r = 0; r < rows; ++r) {
+    for (size_t r = 0; r < footprintRows; ++r) {
       for (size_t sx = 2 * x; sx <= x1; ++sx) {
-        const float weight = rowCoverage[2 * y + r] * columnCoverage[sx];
-        sum += weight * blurred[r * sourceWidth + sx];
+        const float weight = rowCoverage[r] * columnCoverage[sx];
+        sum += weight * scratch[r * sourceWidth + sx];
         area += weight;
       }
     }
     out[x] = sum / area;
   }
 }
-
-}  // namespace
 
 ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out) {
   const Stopwatch watch;
@@ -110,9 +106,7 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
   ParallelFor("color_pyramid.sanitize", 3 * height, [&](size_t item) {
     const size_t c = item / height;
     const size_t y = item % height;
-    const float* in = radiance.c[c].ConstRow(y);
-    float* level0 = out.levels[0].c[c].MutableRow(y);
-    for (size_t x = 0; x < width; ++x) level0[x] = Sanitize(in[x]);
+    ColorPyramidSanitizeRowScalar(radiance.c[c].ConstRow(y), width, out.levels[0].c[c].MutableRow(y));
   });
   stats.texels += width * height;
 
@@ -130,14 +124,20 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
     ParallelFor("color_pyramid.horizontal", 3 * sourceHeight, [&](size_t item) {
       const size_t c = item / sourceHeight;
       const size_t y = item % sourceHeight;
-      BlurRowHorizontal(source.c[c].ConstRow(y), sourceWidth, horizontal.c[c].MutableRow(y));
+      ColorPyramidHorizontalRowScalar(source.c[c].ConstRow(y), sourceWidth, horizontal.c[c].MutableRow(y));
     });
     const size_t destinationHeight = destination.c[0].ysize();
     ParallelFor("color_pyramid.vertical", 3 * destinationHeight, [&](size_t item) {
       const size_t c = item / destinationHeight;
-      std::vector<float> blurred;
-      DecimateRow(horizontal.c[c], columnCoverage, rowCoverage, item % destinationHeight, destination.c[c],
-                  blurred);
+      const size_t y = item % destinationHeight;
+      const size_t footprintRows = PyramidFootprintEnd(y, destinationHeight, sourceHeight) - 2 * y + 1;
+      const float* horizontalRows[kMaxPyramidFootprint + 2 * kRadius];
+      for (size_t i = 0; i < footprintRows + 2 * kRadius; ++i)
+        horizontalRows[i] = horizontal.c[c].ConstRow(ClampIndex(ptrdiff_t(2 * y + i) - kRadius, sourceHeight));
+      std::vector<float> scratch(footprintRows * sourceWidth);
+      ColorPyramidVerticalRowScalar(horizontalRows, footprintRows, rowCoverage.data() + 2 * y, columnCoverage.data(),
+                                    sourceWidth, destination.c[c].xsize(), scratch.data(),
+                                    destination.c[c].MutableRow(y));
     });
     columnCoverage = NextCoverage(columnCoverage, destination.c[0].xsize());
     rowCoverage = NextCoverage(rowCoverage, destinationHeight);

@@ -44,4 +44,22 @@ struct ColorPyramidStats {
 // covers, so a texel is the mean of its own level-0 area at every size. Reuses out's planes when their sizes already match.
 ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out);
 
+// The colour pyramid's scalar row kernels, one channel row per call: the definitions a SIMD twin
+// (passes/color_pyramid_simd.cpp) must equal bit for bit.
+// Level 0: level0[x] = radiance[x] sanitised, for x in [0, width).
+void ColorPyramidSanitizeRowScalar(const float* radiance, size_t width, float* level0);
+// Horizontal blur of one row of level k (width texels): kColorPyramidWeights, clamp-to-edge.
+void ColorPyramidHorizontalRowScalar(const float* level, size_t width, float* blurred);
+// Row y of level k + 1 (width texels) from level k's horizontal blur: the vertical blur, then the
+// coverage-weighted mean over each texel's footprint.
+//  horizontalRows: the blurred rows 2y - 3 .. 2y + footprintRows + 2 of level k, clamped to its rows
+//    (footprintRows + 6 pointers), each sourceWidth texels;
+//  footprintRows: PyramidFootprintEnd(y, ...) - 2y + 1, 2 or 3 (core/pyramid.h);
+//  rowCoverage, columnCoverage: level-0 rows covered by each footprint row (footprintRows values),
+//    level-0 columns covered by each of level k's columns (sourceWidth values);
+//  scratch: footprintRows * sourceWidth floats the kernel may overwrite.
+void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t footprintRows,
+                                   const float* rowCoverage, const float* columnCoverage, size_t sourceWidth,
+                                   size_t width, float* scratch, float* out);
+
 }  // namespace ssgi

@@ -10,6 +10,54 @@
 
 namespace ssgi {
 
+size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
+                               const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
+                               uint32_t* word2) {
+  const Scene& scene = context.scene;
+  const SurfaceResolver& resolver = context.resolver;
+  size_t covered = 0;
+  for (int x = 0; x < width; ++x) {
+    const uint32_t triangle = triangles[x];
+    if (triangle == kNoTriangle) continue;
+    ++covered;
+    const uint32_t materialIndex = scene.mesh.materials[triangle];
+    const Material& material = scene.materials[materialIndex];
+    const bool textured = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
+                          material.roughnessTexture != kNoTexture;
+    const SurfacePoint s = resolver.At(triangle, x, y, textured);
+    const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
+    const std::vector<glm::vec3>& normals = scene.mesh.normals;
+    glm::vec3 normal = context.normalToView * (normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y +
+                                               normals[idx[2]] * s.weights.z);
+    const float length = glm::length(normal);
+    const glm::vec3& p0 = resolver.ViewPosition(idx[0]);
+    const glm::vec3 faceNormal = glm::cross(resolver.ViewPosition(idx[1]) - p0, resolver.ViewPosition(idx[2]) - p0);
+    normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::normalize(faceNormal);
+    // A two-sided surface seen from behind shades with the side that faces the camera.
+    const glm::vec3 toPoint = context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
+    if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
+
+    if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
+      word0[x] = context.constantWord0[materialIndex];
+    } else {
+      glm::vec3 albedo = material.baseColor;
+      float metallic = material.metallic;
+      if (material.baseColorTexture != kNoTexture)
+        albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
+      if (material.metallicTexture != kNoTexture)
+        metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
+      word0[x] = PackAlbedoMetallic(albedo, metallic);
+    }
+    float roughness = material.roughness;
+    if (material.roughnessTexture != kNoTexture)
+      roughness *= SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
+
+    word1[x] = PackNormalRoughness(normal, roughness, context.normalEncoding);
+    word2[x] = PackDepth(context.view.DepthFromKey(depthKeys[x]));
+  }
+  return covered;
+}
+
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out) {
   const Scene& scene = in.scene;
   const ViewProjection& view = in.view;
@@ -18,7 +66,6 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
 
   Stopwatch stopwatch;
   const SceneRasterInput raster(scene, view, true);
-  const SurfaceResolver& resolver = raster.Resolver();
   out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
   stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility);
   stats.rasterMs = stopwatch.Lap();
@@ -28,55 +75,17 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   std::vector<uint32_t> constantWord0(scene.materials.size());
   for (size_t m = 0; m < scene.materials.size(); ++m)
     constantWord0[m] = PackAlbedoMetallic(scene.materials[m].baseColor, scene.materials[m].metallic);
-  const glm::mat3 normalToView(view.view);  // lookAt is a rotation plus a translation
+  const GBufferResolveContext context{
+      scene, view, raster.Resolver(), constantWord0.data(),
+      glm::mat3(view.view),  // lookAt is a rotation plus a translation
+      params.normalEncoding,
+  };
   std::vector<size_t> coveredPerBand(RowBandCount(size_t(view.height)), 0);
   ParallelForRowBands("gbuffer.resolve", size_t(view.height), [&](size_t band, size_t yBegin, size_t yEnd) {
     for (int y = int(yBegin); y < int(yEnd); ++y) {
-      const uint32_t* ids = out.visibility.triangle.ConstRow(y);
-      const float* keys = out.visibility.depthKey.ConstRow(y);
-      uint32_t* w0 = out.gbuffer.word[0].MutableRow(y);
-      uint32_t* w1 = out.gbuffer.word[1].MutableRow(y);
-      uint32_t* w2 = out.gbuffer.word[2].MutableRow(y);
-      for (int x = 0; x < view.width; ++x) {
-        const uint32_t triangle = ids[x];
-        if (triangle == kNoTriangle) continue;
-        ++coveredPerBand[band];
-        const uint32_t materialIndex = scene.mesh.materials[triangle];
-        const Material& material = scene.materials[materialIndex];
-        const bool textured = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
-                              material.roughnessTexture != kNoTexture;
-        const SurfacePoint s = resolver.At(triangle, x, y, textured);
-        const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
-        const std::vector<glm::vec3>& normals = scene.mesh.normals;
-        glm::vec3 normal = normalToView * (normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y +
-                                           normals[idx[2]] * s.weights.z);
-        const float length = glm::length(normal);
-        const glm::vec3& p0 = resolver.ViewPosition(idx[0]);
-        const glm::vec3 faceNormal =
-            glm::cross(resolver.ViewPosition(idx[1]) - p0, resolver.ViewPosition(idx[2]) - p0);
-        normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::normalize(faceNormal);
-        // A two-sided surface seen from behind shades with the side that faces the camera.
-        const glm::vec3 toPoint = view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
-        if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
-
-        if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
-          w0[x] = constantWord0[materialIndex];
-        } else {
-          glm::vec3 albedo = material.baseColor;
-          float metallic = material.metallic;
-          if (material.baseColorTexture != kNoTexture)
-            albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
-          if (material.metallicTexture != kNoTexture)
-            metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
-          w0[x] = PackAlbedoMetallic(albedo, metallic);
-        }
-        float roughness = material.roughness;
-        if (material.roughnessTexture != kNoTexture)
-          roughness *= SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
-
-        w1[x] = PackNormalRoughness(normal, roughness, params.normalEncoding);
-        w2[x] = PackDepth(view.DepthFromKey(keys[x]));
-      }
+      coveredPerBand[band] += GBufferResolveRowScalar(
+          context, out.visibility.triangle.ConstRow(y), out.visibility.depthKey.ConstRow(y), y, view.width,
+          out.gbuffer.word[0].MutableRow(y), out.gbuffer.word[1].MutableRow(y), out.gbuffer.word[2].MutableRow(y));
     }
   });
   for (size_t n : coveredPerBand) stats.coveredPixels += n;

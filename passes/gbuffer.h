@@ -10,6 +10,7 @@
 #include "core/gbuffer.h"
 #include "core/raster.h"
 #include "core/scene.h"
+#include "core/surface.h"
 
 namespace ssgi {
 
@@ -35,5 +36,23 @@ struct GBufferStats {
 };
 
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
+
+// What the resolve of every row shares: the frame's constants.
+struct GBufferResolveContext {
+  const Scene& scene;
+  const ViewProjection& view;
+  const SurfaceResolver& resolver;  // the scene's surface seen from `view` (SceneRasterInput::Resolver)
+  const uint32_t* constantWord0;    // per material: its word 0 when it has no colour or metallic texture
+  glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
+  NormalEncoding normalEncoding;
+};
+
+// The resolve's scalar row kernel, the definition a SIMD twin (passes/gbuffer_simd.cpp) must equal
+// bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)
+// into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) are left untouched.
+// Returns how many pixels it resolved.
+size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
+                               const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
+                               uint32_t* word2);
 
 }  // namespace ssgi

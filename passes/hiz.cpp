@@ -23,29 +23,25 @@ void ShapeLevels(size_t width, size_t height, std::vector<Plane<float>>& levels)
   }
 }
 
-// One row of level 0: 1/d. 1/(+inf) is exactly 0, so background needs no branch.
-void InverseDepthRow(const uint32_t* depth, size_t width, float* out) {
-  for (size_t x = 0; x < width; ++x) out[x] = 1.0f / UnpackDepth(depth[x]);
+}  // namespace
+
+// 1/(+inf) is exactly 0, so background needs no branch.
+void HiZInverseDepthRowScalar(const uint32_t* depthWord, size_t width, float* inverseDepth) {
+  for (size_t x = 0; x < width; ++x) inverseDepth[x] = 1.0f / UnpackDepth(depthWord[x]);
 }
 
-// One row of level k + 1: the max over each texel's footprint in level k (2x2, or 3 wide / tall at
-// an odd source's last column / row).
-void DownsampleRow(const Plane<float>& source, size_t y, Plane<float>& destination) {
-  const size_t width = destination.xsize();
-  const size_t y1 = PyramidFootprintEnd(y, destination.ysize(), source.ysize());
-  float* out = destination.MutableRow(y);
+void HiZDownsampleRowScalar(const float* const* sourceRows, size_t footprintRows, size_t sourceWidth,
+                            size_t width, float* closestRow) {
   for (size_t x = 0; x < width; ++x) {
-    const size_t x1 = PyramidFootprintEnd(x, width, source.xsize());
+    const size_t x1 = PyramidFootprintEnd(x, width, sourceWidth);
     float closest = 0.0f;
-    for (size_t sy = 2 * y; sy <= y1; ++sy) {
-      const float* row = source.ConstRow(sy);
+    for (size_t r = 0; r < footprintRows; ++r) {
+      const float* row = sourceRows[r];
       for (size_t sx = 2 * x; sx <= x1; ++sx) closest = std::max(closest, row[sx]);
     }
-    out[x] = closest;
+    closestRow[x] = closest;
   }
 }
-
-}  // namespace
 
 HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out) {
   const Stopwatch watch;
@@ -56,13 +52,19 @@ HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out) {
 
   HiZStats stats;
   ParallelFor("hiz.level0", height, [&](size_t y) {
-    InverseDepthRow(depthWord.ConstRow(y), width, out.levels[0].MutableRow(y));
+    HiZInverseDepthRowScalar(depthWord.ConstRow(y), width, out.levels[0].MutableRow(y));
   });
   stats.texels += width * height;
   // Levels are sequential (each reads the previous); rows of one level are independent.
   for (size_t k = 1; k < out.levels.size(); ++k) {
+    const Plane<float>& source = out.levels[k - 1];
     Plane<float>& level = out.levels[k];
-    ParallelFor("hiz.downsample", level.ysize(), [&](size_t y) { DownsampleRow(out.levels[k - 1], y, level); });
+    ParallelFor("hiz.downsample", level.ysize(), [&](size_t y) {
+      const size_t footprintRows = PyramidFootprintEnd(y, level.ysize(), source.ysize()) - 2 * y + 1;
+      const float* sourceRows[kMaxPyramidFootprint];
+      for (size_t r = 0; r < footprintRows; ++r) sourceRows[r] = source.ConstRow(2 * y + r);
+      HiZDownsampleRowScalar(sourceRows, footprintRows, source.xsize(), level.xsize(), level.MutableRow(y));
+    });
     stats.texels += level.xsize() * level.ysize();
   }
   stats.ms = watch.Milliseconds();

@@ -29,4 +29,14 @@ struct HiZStats {
 // Reuses out's planes when their sizes already match, else allocates them.
 HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out);
 
+// The Hi-Z's scalar row kernels, the definitions a SIMD twin (passes/hiz_simd.cpp) must equal bit for
+// bit.
+// Level 0, one row: inverseDepth[x] = 1/d of depthWord[x] (G-buffer word 2), for x in [0, width).
+void HiZInverseDepthRowScalar(const uint32_t* depthWord, size_t width, float* inverseDepth);
+// Level k + 1, row y: closestRow[x] = the max of level k over texel x's footprint, for x in
+// [0, width). sourceRows: level k's rows 2y .. PyramidFootprintEnd(y, ...), footprintRows of them (2,
+// or 3 at an odd level's last row), each sourceWidth texels; columns as rows (PyramidFootprintEnd).
+void HiZDownsampleRowScalar(const float* const* sourceRows, size_t footprintRows, size_t sourceWidth,
+                            size_t width, float* closestRow);
+
 }  // namespace ssgi

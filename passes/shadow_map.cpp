@@ -88,32 +88,6 @@ Bounds CasterBounds(const Mesh& mesh, const glm::mat4& view) {
   return all;
 }
 
-// Light-view positions of G-buffer pixels. The camera ray's direction is affine in x along a row, so
-// a row costs two PixelRay calls and a pixel three multiply-adds and a scale by its view depth.
-class ReceiverPositions {
- public:
-  ReceiverPositions(const ViewProjection& camera, const glm::mat4& cameraToLight)
-      : camera_(camera), origin_(cameraToLight[3]), rotation_(cameraToLight) {}
-
-  struct Row {
-    glm::vec3 first, step;  // light-view ray directions: pixel 0 and the change per pixel
-  };
-  Row AtRow(int y) const {
-    const float py = float(y) + 0.5f;
-    const glm::vec3 first = rotation_ * camera_.PixelRay(0.5f, py).direction;
-    const glm::vec3 last = rotation_ * camera_.PixelRay(float(camera_.width) - 0.5f, py).direction;
-    return {first, camera_.width > 1 ? (last - first) / float(camera_.width - 1) : glm::vec3(0.0f)};
-  }
-  glm::vec3 At(const Row& row, int x, float viewDepth) const {
-    return origin_ + (row.first + row.step * float(x)) * viewDepth;
-  }
-
- private:
-  const ViewProjection& camera_;
-  glm::vec3 origin_;    // the camera's position in the light view
-  glm::mat3 rotation_;  // camera view -> light view
-};
-
 // Light-view bounds of the world positions of every G-buffer pixel with geometry: the receivers.
 // Per-band partials combined in band order.
 Bounds ReceiverBounds(const GBuffer& gbuffer, const ReceiverPositions& positions) {
@@ -183,23 +157,10 @@ ViewProjection FitSpot(const PreparedLight& light, const SpotLight& spot, const 
   return MakePerspective(desc, params.resolution, params.resolution);
 }
 
-struct SearchSetup {
-  const ViewProjection& light;
-  const Plane<float>& depthKey;
-  std::vector<glm::vec2> pattern;
-  glm::mat3 normalToLight;   // camera view -> light view, rigid: normals need no inverse transpose
-  float texelX, texelY;      // orthographic: texel size in metres; perspective: per metre of depth
-  float invTexelX, invTexelY;
-  float tanAngularRadius;    // directional
-  float lightRadius;         // spot, metres
-  float maxBlockerDistance;  // metres
-  NormalEncoding encoding;
-};
-
 // The PCSS blocker search (Fernando 2005, §3.1) for the receiver at light-view position `p`: the
 // shadow term of word 3.
 template <bool kOrthographic>
-uint32_t SearchBlockers(const SearchSetup& s, const glm::vec3& p, uint32_t word1) {
+uint32_t SearchBlockers(const BlockerSearchContext& s, const glm::vec3& p, uint32_t word1) {
   const ViewProjection& light = s.light;
   const float resolution = float(light.width);
   const glm::vec3 n = s.normalToLight * UnpackNormal(word1, s.encoding);
@@ -250,9 +211,8 @@ uint32_t SearchBlockers(const SearchSetup& s, const glm::vec3& p, uint32_t word1
   bool hardShadow = false;
   int blockers = 0;
   float blockerDistanceSum = 0.0f;
-  const glm::vec2* pattern = s.pattern.data();
-  const size_t taps = s.pattern.size();
-  for (size_t i = 0; i < taps; ++i) {
+  const glm::vec2* pattern = s.pattern;
+  for (size_t i = 0; i < s.taps; ++i) {
     const glm::vec2 tap = centre + pattern[i] * radius;
     if (!(tap.x >= 0.0f && tap.x < resolution && tap.y >= 0.0f && tap.y < resolution)) continue;
     const int tx = int(tap.x), ty = int(tap.y);
@@ -279,7 +239,28 @@ uint32_t SearchBlockers(const SearchSetup& s, const glm::vec3& p, uint32_t word1
   return PackShadowTerm(hardShadow, average);
 }
 
+template <bool kOrthographic>
+void SearchBlockersRow(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
+                       int width, uint32_t* shadowTerm) {
+  const ReceiverPositions::Row row = context.receivers.AtRow(y);
+  for (int x = 0; x < width; ++x) {
+    const float depth = UnpackDepth(word2[x]);
+    shadowTerm[x] = depth < kBackgroundDepth
+                        ? SearchBlockers<kOrthographic>(context, context.receivers.At(row, x, depth), word1[x])
+                        : kShadowLit;
+  }
+}
+
 }  // namespace
+
+void BlockerSearchRowScalar(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
+                            int width, uint32_t* shadowTerm) {
+  if (context.light.orthographic) {
+    SearchBlockersRow<true>(context, word1, word2, y, width, shadowTerm);
+  } else {
+    SearchBlockersRow<false>(context, word1, word2, y, width, shadowTerm);
+  }
+}
 
 std::vector<size_t> ShadowCastingLights(const Scene& scene) {
   std::vector<size_t> lights;
@@ -352,10 +333,13 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   const float resolution = float(params.resolution);
   const glm::mat4 cameraToLight = lightView.view * glm::inverse(in.camera.view);
   const ReceiverPositions positions(in.camera, cameraToLight);
-  const SearchSetup setup{
+  const std::vector<glm::vec2> pattern = BlockerSearchPattern(params.blockerSearchTaps);
+  const BlockerSearchContext context{
+      positions,
       lightView,
       out.shadowMap.depthKey,
-      BlockerSearchPattern(params.blockerSearchTaps),
+      pattern.data(),
+      pattern.size(),
       glm::mat3(cameraToLight),
       2.0f * lightView.halfX / resolution,
       2.0f * lightView.halfY / resolution,
@@ -366,17 +350,10 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
       params.maxBlockerDistance,
       in.gbuffer.normalEncoding,
   };
-  const auto search = lightView.orthographic ? &SearchBlockers<true> : &SearchBlockers<false>;
   ParallelForRowBands("shadow_map.blocker_search", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (int y = int(yBegin); y < int(yEnd); ++y) {
-      const uint32_t* w1 = gbuffer.word[1].ConstRow(y);
-      const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
-      uint32_t* term = shadowTerm.MutableRow(y);
-      const ReceiverPositions::Row row = positions.AtRow(y);
-      for (int x = 0; x < width; ++x) {
-        const float depth = UnpackDepth(w2[x]);
-        term[x] = depth < kBackgroundDepth ? search(setup, positions.At(row, x, depth), w1[x]) : kShadowLit;
-      }
+      BlockerSearchRowScalar(context, gbuffer.word[1].ConstRow(y), gbuffer.word[2].ConstRow(y), y, width,
+                             shadowTerm.MutableRow(y));
     }
   });
   stats.searchMs = stopwatch.Lap();

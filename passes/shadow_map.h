@@ -69,4 +69,53 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
 // light whose shadow term the G-buffer's word 3 holds.
 std::vector<size_t> ShadowCastingLights(const Scene& scene);
 
+// Light-view positions of G-buffer pixels. The camera ray's direction is affine in x along a row, so
+// a row costs two PixelRay calls and a pixel three multiply-adds and a scale by its view depth.
+class ReceiverPositions {
+ public:
+  ReceiverPositions(const ViewProjection& camera, const glm::mat4& cameraToLight)
+      : camera_(camera), origin_(cameraToLight[3]), rotation_(cameraToLight) {}
+
+  struct Row {
+    glm::vec3 first, step;  // light-view ray directions: pixel 0 and the change per pixel
+  };
+  Row AtRow(int y) const {
+    const float py = float(y) + 0.5f;
+    const glm::vec3 first = rotation_ * camera_.PixelRay(0.5f, py).direction;
+    const glm::vec3 last = rotation_ * camera_.PixelRay(float(camera_.width) - 0.5f, py).direction;
+    return {first, camera_.width > 1 ? (last - first) / float(camera_.width - 1) : glm::vec3(0.0f)};
+  }
+  glm::vec3 At(const Row& row, int x, float viewDepth) const {
+    return origin_ + (row.first + row.step * float(x)) * viewDepth;
+  }
+
+ private:
+  const ViewProjection& camera_;
+  glm::vec3 origin_;    // the camera's position in the light view
+  glm::mat3 rotation_;  // camera view -> light view
+};
+
+// What the blocker search of every row shares: the frame's constants.
+struct BlockerSearchContext {
+  const ReceiverPositions& receivers;  // camera pixels -> light view
+  const ViewProjection& light;         // ShadowMapOutputs::lightView
+  const Plane<float>& depthKey;        // ShadowMapOutputs::shadowMap's depth keys
+  const glm::vec2* pattern;  // the taps in the unit disc (Vogel's spiral), tap 0 the centre
+  size_t taps;
+  glm::mat3 normalToLight;   // camera view -> light view, rigid: normals need no inverse transpose
+  float texelX, texelY;      // orthographic: texel size in metres; perspective: per metre of depth
+  float invTexelX, invTexelY;
+  float tanAngularRadius;    // directional
+  float lightRadius;         // spot, metres
+  float maxBlockerDistance;  // metres
+  NormalEncoding encoding;
+};
+
+// The blocker search's scalar row kernel, the definition a SIMD twin (passes/shadow_map_simd.cpp)
+// must equal bit for bit: the PCSS blocker search (Fernando 2005, §3.1) of G-buffer row y, `width`
+// pixels of words 1 (normal) and 2 (view depth), into shadowTerm[x] (PackShadowTerm; kShadowLit for
+// background, for receivers outside the shadow map and where no tap finds a blocker).
+void BlockerSearchRowScalar(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
+                            int width, uint32_t* shadowTerm);
+
 }  // namespace ssgi
