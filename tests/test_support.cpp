@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include <OpenImageIO/imageio.h>
+#include <hwy/targets.h>
 
 namespace ssgi::test {
 
@@ -46,6 +47,22 @@ StoredImage ReadStoredImage(const std::filesystem::path& file) {
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UNKNOWN, image.bytes.data()))
     throw std::runtime_error("cannot read " + file.string() + ": " + in->geterror());
   return image;
+}
+
+size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body) {
+  size_t targets = 0;
+  for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    try {
+      body(hwy::TargetName(target));
+    } catch (...) {
+      hwy::SetSupportedTargetsForTest(0);
+      throw;
+    }
+    ++targets;
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  return targets;
 }
 
 CommandResult RunCli(const std::string& arguments) { return RunProgram(CliPath(), arguments); }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -63,6 +64,11 @@ inline std::string Quote(const std::filesystem::path& path) { return "'" + path.
 
 // Runs `program` with `arguments` (already shell-quoted where needed).
 CommandResult RunProgram(const std::filesystem::path& program, const std::string& arguments);
+
+// Calls body(targetName) once for every SIMD target that Highway compiled and this machine supports,
+// with dispatch restricted to that target, then restores normal dispatch. Returns the number of
+// targets (DESIGN.md §11: each Highway twin must equal its scalar definition on every one).
+size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body);
 
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);

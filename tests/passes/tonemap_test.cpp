@@ -7,9 +7,9 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
-#include <hwy/targets.h>
 
 #include "core/color.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -38,18 +38,15 @@ TEST_CASE("tonemap: the SIMD kernel equals the scalar definition on every compil
     for (float scale : {1.0f, 0.25f, 3.0f}) {
       std::vector<uint8_t> expected(inputs.size()), actual(inputs.size());
       TonemapRowScalar(inputs.data(), inputs.size(), scale, curve, expected.data());
-      for (int64_t target : hwy::SupportedAndGeneratedTargets()) {
-        hwy::SetSupportedTargetsForTest(target);
+      targets += test::ForEachSimdTarget([&](const char* target) {
         // Every count up to a few vectors exercises the scalar tail too.
         for (size_t count : {inputs.size(), size_t(1), size_t(7), size_t(33)}) {
           std::fill(actual.begin(), actual.end(), uint8_t(0xAB));
           TonemapRowSimd(inputs.data(), count, scale, curve, actual.data());
-          CAPTURE(hwy::TargetName(target), count, scale);
+          CAPTURE(target, count, scale);
           REQUIRE(std::equal(actual.begin(), actual.begin() + count, expected.begin()));
         }
-        ++targets;
-      }
-      hwy::SetSupportedTargetsForTest(0);
+      });
     }
   }
   CHECK(targets >= 6);
