@@ -1,0 +1,77 @@
+// Highway twins of the G-buffer's unpacking (core/gbuffer.h) for the passes' SIMD kernels: the same
+// operations in the same order as the scalar functions, so every target gives their bits (DESIGN.md
+// §11; tests/core/gbuffer_simd_test.cpp checks every code). Lanes are pixels.
+//
+// A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after
+// hwy/highway.h, once per target through hwy/foreach_target.h, outside any namespace.
+#if defined(SSGI_CORE_GBUFFER_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef SSGI_CORE_GBUFFER_INL_H_
+#undef SSGI_CORE_GBUFFER_INL_H_
+#else
+#define SSGI_CORE_GBUFFER_INL_H_
+#endif
+
+#include "core/gbuffer.h"
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// A vector per component: lanes are pixels.
+template <class D>
+struct Vec3V {
+  hn::Vec<D> x, y, z;
+};
+
+// DequantizeSigned: float(code) / maxCode * 2 - 1, for codes below 2^24 (exact as floats).
+template <class D>
+hn::Vec<D> DequantizeSignedV(D d, hn::Vec<hn::RebindToUnsigned<D>> code, float maxCode) {
+  const hn::RebindToSigned<D> di;
+  const auto value = hn::ConvertTo(d, hn::BitCast(di, code));
+  return hn::Sub(hn::Mul(hn::Div(value, hn::Set(d, maxCode)), hn::Set(d, 2.0f)), hn::Set(d, 1.0f));
+}
+
+// UnpackNormal(word1, encoding): the unit view-space normal of word 1's low 24 bits.
+template <class D>
+Vec3V<D> UnpackNormalV(D d, hn::Vec<hn::RebindToUnsigned<D>> word1, NormalEncoding encoding) {
+  const hn::RebindToUnsigned<D> du;
+  Vec3V<D> n;
+  if (encoding == NormalEncoding::kXyz8) {
+    const auto byte = hn::Set(du, 0xFFu);
+    n.x = DequantizeSignedV(d, hn::And(word1, byte), 255.0f);
+    n.y = DequantizeSignedV(d, hn::And(hn::ShiftRight<8>(word1), byte), 255.0f);
+    n.z = DequantizeSignedV(d, hn::And(hn::ShiftRight<16>(word1), byte), 255.0f);
+  } else {
+    const auto twelveBits = hn::Set(du, 0xFFFu);
+    const auto zero = hn::Zero(d);
+    n.x = DequantizeSignedV(d, hn::And(word1, twelveBits), 4095.0f);
+    n.y = DequantizeSignedV(d, hn::And(hn::ShiftRight<12>(word1), twelveBits), 4095.0f);
+    n.z = hn::Sub(hn::Sub(hn::Set(d, 1.0f), hn::Abs(n.x)), hn::Abs(n.y));
+    const auto t = hn::Max(hn::Neg(n.z), zero);
+    n.x = hn::IfThenElse(hn::Ge(n.x, zero), hn::Sub(n.x, t), hn::Add(n.x, t));
+    n.y = hn::IfThenElse(hn::Ge(n.y, zero), hn::Sub(n.y, t), hn::Add(n.y, t));
+  }
+  const auto length = hn::Sqrt(hn::Add(hn::Add(hn::Mul(n.x, n.x), hn::Mul(n.y, n.y)), hn::Mul(n.z, n.z)));
+  return {hn::Div(n.x, length), hn::Div(n.y, length), hn::Div(n.z, length)};
+}
+
+// UnpackRoughness: float(word1 >> 24) / 255.
+template <class D>
+hn::Vec<D> UnpackRoughnessV(D d, hn::Vec<hn::RebindToUnsigned<D>> word1) {
+  const hn::RebindToSigned<D> di;
+  return hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::ShiftRight<24>(word1))), hn::Set(d, 255.0f));
+}
+
+// UnpackDepth: word 2's bits as the view depth.
+template <class D>
+hn::Vec<D> UnpackDepthV(D d, hn::Vec<hn::RebindToUnsigned<D>> word2) {
+  return hn::BitCast(d, word2);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#endif  // SSGI_CORE_GBUFFER_INL_H_

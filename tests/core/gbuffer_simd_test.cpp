@@ -1,0 +1,81 @@
+// The Highway twins of the G-buffer's unpacking (core/gbuffer-inl.h) against the scalar functions,
+// bit for bit, on every compiled and supported target: every xyz8 and oct24 normal code (the
+// roughness byte varied along), every roughness code.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "tests/core/gbuffer_simd_test.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+#include "core/gbuffer-inl.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Unpacks `count` words 1 (a multiple of the vector length) into normals and roughness.
+void UnpackWords(const uint32_t* words, size_t count, bool oct24, float* x, float* y, float* z, float* roughness) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  for (size_t i = 0; i < count; i += hn::Lanes(d)) {
+    const auto word = hn::LoadU(du, words + i);
+    const auto n = UnpackNormalV(d, word, oct24 ? NormalEncoding::kOct24 : NormalEncoding::kXyz8);
+    hn::StoreU(n.x, d, x + i);
+    hn::StoreU(n.y, d, y + i);
+    hn::StoreU(n.z, d, z + i);
+    hn::StoreU(UnpackRoughnessV(d, word), d, roughness + i);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include <cstring>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "tests/test_support.h"
+
+namespace ssgi {
+HWY_EXPORT(UnpackWords);
+
+namespace {
+
+bool SameBits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
+
+TEST_CASE("G-buffer unpacking: the SIMD twins equal the scalar functions on every target", "[gbuffer][simd]") {
+  for (const NormalEncoding encoding : {NormalEncoding::kXyz8, NormalEncoding::kOct24}) {
+    // Every 24-bit code (a multiple of every vector length: 2^24), each with another roughness byte.
+    std::vector<uint32_t> words(size_t(1) << 24);
+    for (uint32_t code = 0; code < words.size(); ++code) words[code] = code | (code * 2654435761u & 0xFF000000u);
+    std::vector<float> expected(words.size() * 4);
+    for (size_t i = 0; i < words.size(); ++i) {
+      const glm::vec3 n = UnpackNormal(words[i], encoding);
+      expected[4 * i] = n.x;
+      expected[4 * i + 1] = n.y;
+      expected[4 * i + 2] = n.z;
+      expected[4 * i + 3] = UnpackRoughness(words[i]);
+    }
+    std::vector<float> x(words.size()), y(words.size()), z(words.size()), roughness(words.size());
+    const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+      HWY_DYNAMIC_DISPATCH(UnpackWords)(words.data(), words.size(), encoding == NormalEncoding::kOct24, x.data(),
+                                         y.data(), z.data(), roughness.data());
+      size_t mismatches = 0, first = 0;
+      for (size_t i = 0; i < words.size(); ++i) {
+        const bool same = SameBits(x[i], expected[4 * i]) && SameBits(y[i], expected[4 * i + 1]) &&
+                          SameBits(z[i], expected[4 * i + 2]) && SameBits(roughness[i], expected[4 * i + 3]);
+        if (!same && mismatches++ == 0) first = i;
+      }
+      CAPTURE(target, int(encoding), first, words[first]);
+      CHECK(mismatches == 0);
+    });
+    CHECK(targets >= 1);
+  }
+}
+
+}  // namespace
+}  // namespace ssgi
+#endif
