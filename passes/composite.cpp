@@ -9,34 +9,46 @@
 
 namespace ssgi {
 
+void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int width) {
+  for (int x = 0; x < width; ++x) {
+    glm::vec3 indirect(0.0f);
+    if (row.confidence[x] > 0.0f && UnpackDepth(row.word2[x]) != kBackgroundDepth) {
+      const SurfaceMaterial material{UnpackAlbedo(row.word0[x]), UnpackMetallic(row.word0[x]),
+                                     UnpackRoughness(row.word1[x])};
+      const glm::vec3 normal = UnpackNormal(row.word1[x], context.normalEncoding);
+      const glm::vec3 toViewer = glm::normalize(-context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction);
+      const float nDotV = std::clamp(glm::dot(normal, toViewer), 0.0f, 1.0f);
+      const float fade = std::clamp((context.roughnessCutoff - material.roughness) / kRoughnessFadeWidth, 0.0f, 1.0f);
+      const glm::vec3 weight =
+          SpecularWeight(SpecularF0(material), nDotV, material.roughness) * (row.confidence[x] * fade);
+      for (int c = 0; c < 3; ++c) indirect[c] = row.reflected[c][x] * weight[c];
+    }
+    for (int c = 0; c < 3; ++c) {
+      row.indirect[c][x] = indirect[c];
+      row.result[c][x] = row.direct[c][x] + indirect[c];
+    }
+  }
+}
+
 CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
   out.indirect = MakePlane3<float>(width, height, 0.0f);
   out.result = MakePlane3<float>(width, height, 0.0f);
+  const CompositeContext context{in.view, in.gbuffer.normalEncoding, in.roughnessCutoff};
   ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {
-      const uint32_t* w0 = in.gbuffer.word[0].ConstRow(y);
-      const uint32_t* w1 = in.gbuffer.word[1].ConstRow(y);
-      const uint32_t* w2 = in.gbuffer.word[2].ConstRow(y);
-      const float* confidence = in.confidence.ConstRow(y);
-      for (int x = 0; x < width; ++x) {
-        glm::vec3 indirect(0.0f);
-        if (confidence[x] > 0.0f && UnpackDepth(w2[x]) != kBackgroundDepth) {
-          const SurfaceMaterial material{UnpackAlbedo(w0[x]), UnpackMetallic(w0[x]), UnpackRoughness(w1[x])};
-          const glm::vec3 normal = UnpackNormal(w1[x], in.gbuffer.normalEncoding);
-          const glm::vec3 toViewer = glm::normalize(-in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction);
-          const float nDotV = std::clamp(glm::dot(normal, toViewer), 0.0f, 1.0f);
-          const float fade = std::clamp((in.roughnessCutoff - material.roughness) / kRoughnessFadeWidth, 0.0f, 1.0f);
-          const glm::vec3 weight =
-              SpecularWeight(SpecularF0(material), nDotV, material.roughness) * (confidence[x] * fade);
-          for (int c = 0; c < 3; ++c) indirect[c] = in.reflected.c[c].ConstRow(y)[x] * weight[c];
-        }
-        for (int c = 0; c < 3; ++c) {
-          out.indirect.c[c].MutableRow(y)[x] = indirect[c];
-          out.result.c[c].MutableRow(y)[x] = in.direct.c[c].ConstRow(y)[x] + indirect[c];
-        }
-      }
+      const CompositeRow row{
+          in.gbuffer.word[0].ConstRow(y),
+          in.gbuffer.word[1].ConstRow(y),
+          in.gbuffer.word[2].ConstRow(y),
+          in.confidence.ConstRow(y),
+          {in.direct.c[0].ConstRow(y), in.direct.c[1].ConstRow(y), in.direct.c[2].ConstRow(y)},
+          {in.reflected.c[0].ConstRow(y), in.reflected.c[1].ConstRow(y), in.reflected.c[2].ConstRow(y)},
+          {out.indirect.c[0].MutableRow(y), out.indirect.c[1].MutableRow(y), out.indirect.c[2].MutableRow(y)},
+          {out.result.c[0].MutableRow(y), out.result.c[1].MutableRow(y), out.result.c[2].MutableRow(y)},
+      };
+      CompositeRowScalar(context, row, y, width);
     }
   });
   CompositeStats stats;

@@ -5,6 +5,9 @@
 // term of the pixel's material and view angle (Karis 2013, core/brdf.h) and faded by the trace's confidence.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+
 #include "core/camera.h"
 #include "core/gbuffer.h"
 #include "core/plane.h"
@@ -35,5 +38,29 @@ struct CompositeStats {
 };
 
 CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out);
+
+// What the composite of every row shares: the frame's constants (as in CompositeInputs).
+struct CompositeContext {
+  const ViewProjection& view;
+  NormalEncoding normalEncoding;
+  float roughnessCutoff;
+};
+
+// One row of every buffer the composite reads and writes, each at the row's pixel 0; RGB as three
+// channel rows.
+struct CompositeRow {
+  const uint32_t* word0;
+  const uint32_t* word1;
+  const uint32_t* word2;
+  const float* confidence;
+  const float* direct[3];
+  const float* reflected[3];
+  float* indirect[3];
+  float* result[3];
+};
+
+// The composite's scalar row kernel, the definition a SIMD twin (passes/composite_simd.cpp) must
+// equal bit for bit: indirect and result of row y, pixels [0, width).
+void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int width);
 
 }  // namespace ssgi

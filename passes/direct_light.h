@@ -3,8 +3,12 @@
 // visibility from the shadow filter. Background pixels get the scene's background radiance. No ambient term.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/lighting.h"
 #include "core/plane.h"
 #include "core/scene.h"
 
@@ -35,5 +39,23 @@ struct DirectLightStats {
 
 DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightParams& params,
                                 DirectLightOutputs& out);
+
+// What the shading of every row shares: the frame's constants.
+struct DirectLightContext {
+  const ViewProjection& view;
+  const PreparedLight* lights;  // PrepareLights(scene, view.view): in view space
+  size_t lightCount;
+  size_t shadowedLight;  // the light a row's visibility applies to (DirectLightInputs::shadowedLight)
+  NormalEncoding normalEncoding;
+  glm::vec3 background;  // radiance of background pixels
+};
+
+// The direct light's scalar row kernel, the definition a SIMD twin (passes/direct_light_simd.cpp) must
+// equal bit for bit: shades row y, `width` pixels of G-buffer words 0-2, with every light into
+// red[x], green[x], blue[x]; visibility (null: no light shadowed) scales the shadowed light's term.
+// Returns how many pixels had geometry.
+size_t DirectLightRowScalar(const DirectLightContext& context, const uint32_t* word0, const uint32_t* word1,
+                            const uint32_t* word2, const float* visibility, size_t y, int width, float* red,
+                            float* green, float* blue);
 
 }  // namespace ssgi

@@ -26,27 +26,10 @@ constexpr float kMinLightToBlocker = 1e-3f;
 // Kernels shorter than this (pixels) leave the hard value (a pixel's own tap only).
 constexpr float kMinBlurRadius = 0.5f;
 
-// What the taps need of one pixel, decoded once.
-struct Texel {
-  glm::vec3 position{0.0f};  // view space, metres
-  glm::vec3 normal{0.0f};    // view space, unit
-  bool geometry = false;     // false: background, never a tap
-};
-
-// The screen-space kernel of one pixel: half-lengths in pixels along the major axis (unit screen
-// direction, y down) and the minor axis (the major rotated by 90 degrees).
-struct Kernel {
-  glm::vec2 major{1.0f, 0.0f};
-  float majorLength = 0.0f;
-  float minorLength = 0.0f;
-
-  glm::vec2 Minor() const { return {-major.y, major.x}; }
-};
-
 // PCSS penumbra half-width in pixels (Fernando 2005, eq. 1, with the blocker distance d_b measured
 // from the receiver): w = d_b * lightSize / (distance from the blocker to the light), projected with
 // the receiver's pixels per metre and clamped. Non-finite products (0 * inf) mean no blur.
-float PenumbraRadiusPixels(const PreparedLight& light, const Texel& c, float blockerDistance,
+float PenumbraRadiusPixels(const PreparedLight& light, const ShadowFilterTexel& c, float blockerDistance,
                            float pixelsPerMetre, float maxRadius) {
   float width;
   if (light.isSpot) {
@@ -63,7 +46,7 @@ float PenumbraRadiusPixels(const PreparedLight& light, const Texel& c, float blo
 // The kernel of a pixel with penumbra half-width `radius`. SSABSS (Zheng & Saito): the screen image
 // of the receiver's normal gives the minor axis, foreshortened by the TRUE |n . v| (v the unit vector
 // to the camera; n.z alone is wrong away from the image centre); the major axis is perpendicular.
-Kernel MakeKernel(ShadowFilter filter, const Texel& c, float radius) {
+ShadowFilterKernel MakeKernel(ShadowFilter filter, const ShadowFilterTexel& c, float radius) {
   if (filter == ShadowFilter::kHard || radius < kMinBlurRadius) return {};
   if (filter == ShadowFilter::kSspcss) return {{1.0f, 0.0f}, radius, radius};
   const glm::vec3& p = c.position;
@@ -78,15 +61,15 @@ Kernel MakeKernel(ShadowFilter filter, const Texel& c, float radius) {
   return {{m.y, -m.x}, radius, radius * facing};
 }
 
-bool Accepts(const Texel& c, const Texel& tap) {
+bool Accepts(const ShadowFilterTexel& c, const ShadowFilterTexel& tap) {
   return tap.geometry && glm::dot(tap.normal, c.normal) > kMinNormalDot &&
          std::fabs(glm::dot(c.normal, tap.position - c.position)) < kMaxPlaneDistance * -c.position.z;
 }
 
 struct Frame {
   int width = 0, height = 0;
-  std::vector<Texel> texels;
-  std::vector<Kernel> kernels;
+  std::vector<ShadowFilterTexel> texels;
+  std::vector<ShadowFilterKernel> kernels;
   std::vector<float> hard;  // 0 shadowed, 1 lit; background 1
 };
 
@@ -96,10 +79,10 @@ struct Frame {
 // edge becomes a linear ramp of width 2 * length); taps > 0: that many equal taps per side at
 // spacing length / (taps + 0.5), each standing for the same share of the box. Summed in a fixed
 // order: offsets outward, negative side first.
-float Blur1D(const Frame& f, const std::vector<float>& value, int x, int y, glm::vec2 direction, float length,
+float Blur1D(const ShadowFilterImage& f, const float* value, int x, int y, glm::vec2 direction, float length,
              int taps) {
   const size_t centre = size_t(y) * size_t(f.width) + size_t(x);
-  const Texel& c = f.texels[centre];
+  const ShadowFilterTexel& c = f.texels[centre];
   if (!c.geometry || length < kMinBlurRadius) return value[centre];
   const int count = taps > 0 ? taps : int(std::ceil(length - 0.5f));
   const float spacing = taps > 0 ? length / (float(taps) + 0.5f) : 1.0f;
@@ -120,15 +103,28 @@ float Blur1D(const Frame& f, const std::vector<float>& value, int x, int y, glm:
   return sum / weightSum;
 }
 
-// Calls body(x, y) for every pixel of tile `tile` (row-major tiles of kShadowFilterTileSize).
-template <class Body>
-void ForTilePixels(const Frame& f, int tilesX, size_t tile, Body&& body) {
+// Pixels [x0, x1) x [y0, y1) of tile `tile` (row-major tiles of kShadowFilterTileSize).
+struct TileRect {
+  int x0, y0, x1, y1;
+};
+TileRect TileBounds(const Frame& f, int tilesX, size_t tile) {
   const int x0 = int(tile % size_t(tilesX)) * kShadowFilterTileSize;
   const int y0 = int(tile / size_t(tilesX)) * kShadowFilterTileSize;
-  const int x1 = std::min(f.width, x0 + kShadowFilterTileSize);
-  const int y1 = std::min(f.height, y0 + kShadowFilterTileSize);
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) body(x, y);
+  return {x0, y0, std::min(f.width, x0 + kShadowFilterTileSize), std::min(f.height, y0 + kShadowFilterTileSize)};
+}
+
+// Calls body(x, y) for every pixel of tile `tile`.
+template <class Body>
+void ForTilePixels(const Frame& f, int tilesX, size_t tile, Body&& body) {
+  const TileRect r = TileBounds(f, tilesX, tile);
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x) body(x, y);
+}
+
+// A skipped tile's row: the hard value, which is what the blur would give there.
+void CopyHardRow(const Frame& f, int y, int x0, int x1, float* out) {
+  const float* hard = f.hard.data() + size_t(y) * size_t(f.width);
+  std::copy(hard + x0, hard + x1, out + x0);
 }
 
 ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& params, bool skipTiles,
@@ -149,32 +145,17 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
 
   const float maxRadius = float(params.maxRadiusPixels);
   const float pixelsPerMetreAtUnitDepth = float(f.height) / (2.0f * in.view.halfY);
+  const ShadowFilterSetupContext setup{in.view, in.light, in.gbuffer.normalEncoding, params.filter, maxRadius,
+                                       pixelsPerMetreAtUnitDepth};
   const int bands = (f.height + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
   ParallelFor("shadow_filter.setup", size_t(bands), [&](size_t band) {
     const int y0 = int(band) * kShadowFilterTileSize;
     const int y1 = std::min(f.height, y0 + kShadowFilterTileSize);
     for (int y = y0; y < y1; ++y) {
-      const uint32_t* normals = in.gbuffer.word[1].ConstRow(size_t(y));
-      const uint32_t* depths = in.gbuffer.word[2].ConstRow(size_t(y));
-      const uint32_t* terms = in.gbuffer.word[3].ConstRow(size_t(y));
-      for (int x = 0; x < f.width; ++x) {
-        const size_t i = size_t(y) * size_t(f.width) + size_t(x);
-        const float depth = UnpackDepth(depths[x]);
-        if (!(depth > 0.0f && depth < kBackgroundDepth)) {
-          f.texels[i] = {};
-          f.kernels[i] = {};
-          f.hard[i] = 1.0f;
-          continue;
-        }
-        Texel& t = f.texels[i];
-        t.position = depth * in.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
-        t.normal = UnpackNormal(normals[x], in.gbuffer.normalEncoding);
-        t.geometry = true;
-        f.hard[i] = UnpackHardShadow(terms[x]) ? 0.0f : 1.0f;
-        const float radius = PenumbraRadiusPixels(in.light, t, UnpackBlockerDistance(terms[x]),
-                                                  pixelsPerMetreAtUnitDepth / depth, maxRadius);
-        f.kernels[i] = MakeKernel(params.filter, t, radius);
-      }
+      const size_t row = size_t(y) * size_t(f.width);
+      ShadowFilterSetupRowScalar(setup, in.gbuffer.word[1].ConstRow(size_t(y)), in.gbuffer.word[2].ConstRow(size_t(y)),
+                                 in.gbuffer.word[3].ConstRow(size_t(y)), y, f.width, f.texels.data() + row,
+                                 f.kernels.data() + row, f.hard.data() + row);
     }
   });
 
@@ -219,27 +200,71 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
 
   // Pass 1 along each pixel's major axis, pass 2 along the minor axis of the output pixel; the
   // intermediate of a skipped tile is its hard value, which is what the blur would give there.
+  const ShadowFilterImage image{f.texels.data(), f.kernels.data(), f.width, f.height};
   std::vector<float> majorPass(pixelCount);
   ParallelFor("shadow_filter.major", tileCount, [&](size_t tile) {
-    ForTilePixels(f, tilesX, tile, [&](int x, int y) {
-      const size_t i = size_t(y) * size_t(f.width) + size_t(x);
-      const Kernel& k = f.kernels[i];
-      majorPass[i] = blurred[tile] ? Blur1D(f, f.hard, x, y, k.major, k.majorLength, params.taps) : f.hard[i];
-    });
+    const TileRect r = TileBounds(f, tilesX, tile);
+    for (int y = r.y0; y < r.y1; ++y) {
+      float* row = majorPass.data() + size_t(y) * size_t(f.width);
+      if (blurred[tile]) {
+        ShadowFilterMajorRowScalar(image, f.hard.data(), params.taps, y, r.x0, r.x1, row);
+      } else {
+        CopyHardRow(f, y, r.x0, r.x1, row);
+      }
+    }
   });
   ParallelFor("shadow_filter.minor", tileCount, [&](size_t tile) {
-    ForTilePixels(f, tilesX, tile, [&](int x, int y) {
-      const size_t i = size_t(y) * size_t(f.width) + size_t(x);
-      const Kernel& k = f.kernels[i];
-      out.visibility.MutableRow(size_t(y))[x] =
-          blurred[tile] ? Blur1D(f, majorPass, x, y, k.Minor(), k.minorLength, params.taps) : f.hard[i];
-    });
+    const TileRect r = TileBounds(f, tilesX, tile);
+    for (int y = r.y0; y < r.y1; ++y) {
+      float* row = out.visibility.MutableRow(size_t(y));
+      if (blurred[tile]) {
+        ShadowFilterMinorRowScalar(image, majorPass.data(), params.taps, y, r.x0, r.x1, row);
+      } else {
+        CopyHardRow(f, y, r.x0, r.x1, row);
+      }
+    }
   });
   stats.ms = watch.Milliseconds();
   return stats;
 }
 
 }  // namespace
+
+void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
+                                const uint32_t* word3, int y, int width, ShadowFilterTexel* texels,
+                                ShadowFilterKernel* kernels, float* hard) {
+  for (int x = 0; x < width; ++x) {
+    const float depth = UnpackDepth(word2[x]);
+    if (!(depth > 0.0f && depth < kBackgroundDepth)) {
+      texels[x] = {};
+      kernels[x] = {};
+      hard[x] = 1.0f;
+      continue;
+    }
+    ShadowFilterTexel& t = texels[x];
+    t.position = depth * context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
+    t.normal = UnpackNormal(word1[x], context.normalEncoding);
+    t.geometry = true;
+    hard[x] = UnpackHardShadow(word3[x]) ? 0.0f : 1.0f;
+    const float radius = PenumbraRadiusPixels(context.light, t, UnpackBlockerDistance(word3[x]),
+                                              context.pixelsPerMetreAtUnitDepth / depth, context.maxRadius);
+    kernels[x] = MakeKernel(context.filter, t, radius);
+  }
+}
+
+void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* hard, int taps, int y, int xBegin,
+                                int xEnd, float* majorPass) {
+  const ShadowFilterKernel* kernels = image.kernels + size_t(y) * size_t(image.width);
+  for (int x = xBegin; x < xEnd; ++x)
+    majorPass[x] = Blur1D(image, hard, x, y, kernels[x].major, kernels[x].majorLength, taps);
+}
+
+void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* majorPass, int taps, int y, int xBegin,
+                                int xEnd, float* visibility) {
+  const ShadowFilterKernel* kernels = image.kernels + size_t(y) * size_t(image.width);
+  for (int x = xBegin; x < xEnd; ++x)
+    visibility[x] = Blur1D(image, majorPass, x, y, kernels[x].Minor(), kernels[x].minorLength, taps);
+}
 
 ShadowFilterStats RunShadowFilter(const ShadowFilterInputs& in, const ShadowFilterParams& params,
                                   ShadowFilterOutputs& out) {

@@ -59,4 +59,59 @@ ShadowFilterStats RunShadowFilter(const ShadowFilterInputs& in, const ShadowFilt
 ShadowFilterStats RunShadowFilterEveryTile(const ShadowFilterInputs& in, const ShadowFilterParams& params,
                                            ShadowFilterOutputs& out);
 
+// The shadow filter's scalar kernels below are the definitions SIMD twins
+// (passes/shadow_filter_simd.cpp) must equal bit for bit.
+
+// What the taps need of one pixel, decoded once.
+struct ShadowFilterTexel {
+  glm::vec3 position{0.0f};  // view space, metres
+  glm::vec3 normal{0.0f};    // view space, unit
+  bool geometry = false;     // false: background, never a tap
+};
+
+// The screen-space kernel of one pixel: half-lengths in pixels along the major axis (unit screen
+// direction, y down) and the minor axis (the major rotated by 90 degrees).
+struct ShadowFilterKernel {
+  glm::vec2 major{1.0f, 0.0f};
+  float majorLength = 0.0f;
+  float minorLength = 0.0f;
+
+  glm::vec2 Minor() const { return {-major.y, major.x}; }
+};
+
+// What the set-up of every row shares: the frame's constants.
+struct ShadowFilterSetupContext {
+  const ViewProjection& view;     // ShadowFilterInputs::view
+  const PreparedLight& light;     // ShadowFilterInputs::light, in view space
+  NormalEncoding normalEncoding;  // decodes word 1
+  ShadowFilter filter;
+  float maxRadius;                  // pixels, ShadowFilterParams::maxRadiusPixels
+  float pixelsPerMetreAtUnitDepth;  // the image's height over the view's height at view depth 1
+};
+
+// Per-pixel set-up of row y, `width` pixels of G-buffer words 1 (normal), 2 (view depth) and
+// 3 (shadow term): each pixel's texel, its kernel (PCSS penumbra width, SSABSS or SSPCSS shape;
+// zero lengths for kHard) and its hard value (0 shadowed, 1 lit; background 1, texel and kernel
+// defaults) into texels[x], kernels[x], hard[x].
+void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
+                                const uint32_t* word3, int y, int width, ShadowFilterTexel* texels,
+                                ShadowFilterKernel* kernels, float* hard);
+
+// What the 1-D passes read of the whole image: the set-up's texels and kernels, row-major, width *
+// height each.
+struct ShadowFilterImage {
+  const ShadowFilterTexel* texels;
+  const ShadowFilterKernel* kernels;
+  int width, height;
+};
+
+// The two bilateral 1-D passes on pixels [xBegin, xEnd) of row y, `taps` as in ShadowFilterParams.
+// Pass 1 blurs `hard` (the set-up's, width * height) along each pixel's major axis into
+// majorPass[x]; pass 2 blurs majorPass (width * height) along each pixel's minor axis into
+// visibility[x]. The output pointers address the row's pixel 0.
+void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* hard, int taps, int y, int xBegin,
+                                int xEnd, float* majorPass);
+void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* majorPass, int taps, int y, int xBegin,
+                                int xEnd, float* visibility);
+
 }  // namespace ssgi

@@ -113,6 +113,32 @@ ConeTanTable BuildConeTanTable() {
 
 float ConeHalfAngleTan(uint8_t roughnessCode) { return SharedConeTanTable()[roughnessCode]; }
 
+SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
+                               const float* hitY, const float* confidence, size_t y, size_t width, float* red,
+                               float* green, float* blue) {
+  float* rows[3] = {red, green, blue};
+  SsrConeCounts counts;
+  for (size_t x = 0; x < width; ++x) {
+    glm::vec3 radiance(0.0f);
+    if (confidence[x] > 0.0f) {
+      const uint32_t code = word1[x] >> 24;
+      const glm::vec2 hit(hitX[x], hitY[x]);
+      ConeSample cone{};
+      if (code == 0) {
+        cone = {SampleLevel(context.pyramid, 0, hit.x, hit.y), 1};  // mirror: the exact hit, no cone
+      } else {
+        cone = TraceCone(context.pyramid, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), hit, context.coneTan[code],
+                         context.maxSamples);
+      }
+      radiance = cone.radiance;
+      counts.samples += size_t(cone.samples);
+      ++counts.pixels;
+    }
+    for (int c = 0; c < 3; ++c) rows[c][x] = radiance[c];
+  }
+  return counts;
+}
+
 SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out) {
   const Stopwatch stopwatch;
   SSGI_CHECK_GE(params.maxSamples, 1);
@@ -125,33 +151,15 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
   for (Plane<float>& plane : out.reflected.c) {
     if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
   }
-  const ConeTanTable& tanTable = SharedConeTanTable();
+  const SsrConeContext context{in.pyramid, SharedConeTanTable(), params.maxSamples};
   std::vector<size_t> rowSamples(height, 0), rowPixels(height, 0);
   ParallelFor("ssr_cone", height, [&](size_t y) {
-    const uint32_t* word1 = in.gbuffer.word[1].ConstRow(y);
-    const float* hitX = in.trace.hitX.ConstRow(y);
-    const float* hitY = in.trace.hitY.ConstRow(y);
-    const float* confidence = in.trace.confidence.ConstRow(y);
-    float* rows[3] = {out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
-                      out.reflected.c[2].MutableRow(y)};
-    for (size_t x = 0; x < width; ++x) {
-      glm::vec3 radiance(0.0f);
-      if (confidence[x] > 0.0f) {
-        const uint32_t code = word1[x] >> 24;
-        const glm::vec2 hit(hitX[x], hitY[x]);
-        ConeSample cone{};
-        if (code == 0) {
-          cone = {SampleLevel(in.pyramid, 0, hit.x, hit.y), 1};  // mirror: the exact hit, no cone
-        } else {
-          cone = TraceCone(in.pyramid, glm::vec2(float(x) + 0.5f, float(y) + 0.5f), hit, tanTable[code],
-                           params.maxSamples);
-        }
-        radiance = cone.radiance;
-        rowSamples[y] += size_t(cone.samples);
-        ++rowPixels[y];
-      }
-      for (int c = 0; c < 3; ++c) rows[c][x] = radiance[c];
-    }
+    const SsrConeCounts counts = SsrConeRowScalar(
+        context, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y), in.trace.hitY.ConstRow(y),
+        in.trace.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
+        out.reflected.c[2].MutableRow(y));
+    rowSamples[y] = counts.samples;
+    rowPixels[y] = counts.pixels;
   });
   SsrConeStats stats;
   for (size_t y = 0; y < height; ++y) {

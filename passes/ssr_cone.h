@@ -54,4 +54,23 @@ struct SsrConeStats {
 // Reuses out's planes when their sizes already match, else allocates them.
 SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out);
 
+// What the cone trace of every row shares: the frame's constants.
+struct SsrConeContext {
+  const ColorPyramid& pyramid;  // SsrConeInputs::pyramid
+  const ConeTanTable& coneTan;  // BuildConeTanTable()
+  int maxSamples;               // SsrConeParams::maxSamples
+};
+
+struct SsrConeCounts {
+  size_t samples = 0;  // circles sampled
+  size_t pixels = 0;   // pixels with confidence > 0
+};
+
+// The cone trace's scalar row kernel, the definition a SIMD twin (passes/ssr_cone_simd.cpp) must
+// equal bit for bit: reflected radiance of row y, `width` pixels of G-buffer word 1 and the trace's
+// hitX, hitY and confidence, into red[x], green[x], blue[x].
+SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
+                               const float* hitY, const float* confidence, size_t y, size_t width, float* red,
+                               float* green, float* blue);
+
 }  // namespace ssgi

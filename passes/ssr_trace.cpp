@@ -1,4 +1,4 @@
-// SSR Hi-Z trace: driver and scalar per-tile kernel (docs/pipeline.md §SSR: Hi-Z trace).
+// SSR Hi-Z trace: driver and scalar row kernel (docs/pipeline.md §SSR: Hi-Z trace).
 #include "passes/ssr_trace.h"
 
 #include <algorithm>
@@ -48,11 +48,6 @@ bool InsideImage(glm::vec3 p, float width, float height) {
   return p.x >= 0.0f && p.x < width && p.y >= 0.0f && p.y < height;
 }
 
-struct TileCounts {
-  size_t rays = 0;
-  uint64_t iterations = 0;
-};
-
 // One pixel's outputs; the defaults are those of untraced pixels, misses and rejected hits.
 struct PixelHit {
   float x = -1.0f;
@@ -66,7 +61,7 @@ class PixelTracer {
       : in_(in), params_(params), width_(float(in.gbuffer.width())), height_(float(in.gbuffer.height())) {}
 
   // Traces pixel (x, y) when it has geometry below the roughness cut-off; counts traced rays.
-  PixelHit Trace(int x, int y, TileCounts& counts) const {
+  PixelHit Trace(int x, int y, SsrTraceCounts& counts) const {
     PixelHit none;
     const float d = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(y))[x]);
     if (!(d < kBackgroundDepth) || !(d > 0.0f)) return none;
@@ -223,6 +218,17 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
   return result;
 }
 
+void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
+                       float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts) {
+  const PixelTracer tracer(in, params);
+  for (int x = xBegin; x < xEnd; ++x) {
+    const PixelHit hit = tracer.Trace(x, y, counts);
+    hitX[x] = hit.x;
+    hitY[x] = hit.y;
+    confidence[x] = hit.confidence;
+  }
+}
+
 SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out) {
   const Stopwatch stopwatch;
   const int width = in.gbuffer.width();
@@ -243,30 +249,22 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
 
   const int tilesX = (width + kTileSize - 1) / kTileSize;
   const int tilesY = (height + kTileSize - 1) / kTileSize;
-  std::vector<TileCounts> counts(size_t(tilesX) * size_t(tilesY));
-  const PixelTracer tracer(in, params);
+  std::vector<SsrTraceCounts> counts(size_t(tilesX) * size_t(tilesY));
   ParallelFor("ssr_trace", counts.size(), [&](size_t tile) {
     const int x0 = int(tile % size_t(tilesX)) * kTileSize;
     const int y0 = int(tile / size_t(tilesX)) * kTileSize;
     const int x1 = std::min(x0 + kTileSize, width);
     const int y1 = std::min(y0 + kTileSize, height);
     for (int y = y0; y < y1; ++y) {
-      float* hitX = out.hitX.MutableRow(size_t(y));
-      float* hitY = out.hitY.MutableRow(size_t(y));
-      float* confidence = out.confidence.MutableRow(size_t(y));
-      for (int x = x0; x < x1; ++x) {
-        const PixelHit hit = tracer.Trace(x, y, counts[tile]);
-        hitX[x] = hit.x;
-        hitY[x] = hit.y;
-        confidence[x] = hit.confidence;
-      }
+      SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
+                        out.confidence.MutableRow(size_t(y)), counts[tile]);
     }
   });
 
   SsrTraceStats stats;
   stats.tiles = counts.size();
   uint64_t iterations = 0;
-  for (const TileCounts& tile : counts) {
+  for (const SsrTraceCounts& tile : counts) {
     stats.rays += tile.rays;
     iterations += tile.iterations;
     if (tile.rays > 0) ++stats.tilesTraced;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include <glm/glm.hpp>
 
@@ -82,5 +83,17 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
 
 // Reuses out's planes when their sizes already match, else allocates them.
 SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out);
+
+struct SsrTraceCounts {
+  size_t rays = 0;          // pixels traced
+  uint64_t iterations = 0;  // Hi-Z steps over those rays
+};
+
+// The trace's scalar row kernel, the definition a SIMD twin (passes/ssr_trace_simd.cpp) must equal
+// bit for bit: traces pixels [xBegin, xEnd) of row y into hitX[x], hitY[x], confidence[x] (each
+// pointer at the row's pixel 0; SsrTraceOutputs gives the values) and adds its rays and steps to
+// `counts`.
+void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
+                       float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
 
 }  // namespace ssgi
