@@ -70,6 +70,20 @@ hn::Vec<D> UnpackDepthV(D d, hn::Vec<hn::RebindToUnsigned<D>> word2) {
   return hn::BitCast(d, word2);
 }
 
+// UnpackHardShadow(word3): bit 31, as a mask.
+template <class D>
+hn::Mask<D> UnpackHardShadowV(D d, hn::Vec<hn::RebindToUnsigned<D>> word3) {
+  const hn::RebindToSigned<D> di;
+  return hn::RebindMask(d, hn::Lt(hn::BitCast(di, word3), hn::Zero(di)));
+}
+
+// UnpackBlockerDistance(word3): bits 0-30 as a float.
+template <class D>
+hn::Vec<D> UnpackBlockerDistanceV(D d, hn::Vec<hn::RebindToUnsigned<D>> word3) {
+  const hn::RebindToUnsigned<D> du;
+  return hn::BitCast(d, hn::And(word3, hn::Set(du, 0x7FFFFFFFu)));
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();

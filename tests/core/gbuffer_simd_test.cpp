@@ -1,6 +1,6 @@
 // The Highway twins of the G-buffer's unpacking (core/gbuffer-inl.h) against the scalar functions,
 // bit for bit, on every compiled and supported target: every xyz8 and oct24 normal code (the
-// roughness byte varied along), every roughness code.
+// roughness byte varied along), every roughness code, every top 24 bits of the shadow term.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tests/core/gbuffer_simd_test.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -27,6 +27,18 @@ void UnpackWords(const uint32_t* words, size_t count, bool oct24, float* x, floa
   }
 }
 
+// Unpacks `count` words 3 (a multiple of the vector length) into hard flags (1 or 0) and blocker
+// distances.
+void UnpackShadowTerms(const uint32_t* words, size_t count, uint32_t* hard, float* distance) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  for (size_t i = 0; i < count; i += hn::Lanes(d)) {
+    const auto word = hn::LoadU(du, words + i);
+    hn::StoreU(hn::VecFromMask(du, hn::RebindMask(du, UnpackHardShadowV(d, word))), du, hard + i);
+    hn::StoreU(UnpackBlockerDistanceV(d, word), d, distance + i);
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();
@@ -41,6 +53,7 @@ HWY_AFTER_NAMESPACE();
 
 namespace ssgi {
 HWY_EXPORT(UnpackWords);
+HWY_EXPORT(UnpackShadowTerms);
 
 namespace {
 
@@ -74,6 +87,28 @@ TEST_CASE("G-buffer unpacking: the SIMD twins equal the scalar functions on ever
     });
     CHECK(targets >= 1);
   }
+}
+
+TEST_CASE("G-buffer shadow term: the SIMD twins equal the scalar functions on every target", "[gbuffer][simd]") {
+  // Every value of the top 24 bits (the flag, the exponent, the high mantissa bits: zero, denormal,
+  // normal, infinite and NaN distances), the low byte varied along; 2^24 words, a multiple of every
+  // vector length.
+  std::vector<uint32_t> words(size_t(1) << 24);
+  for (uint32_t i = 0; i < words.size(); ++i) words[i] = i << 8 | ((i * 2654435761u) >> 24);
+  std::vector<uint32_t> hard(words.size());
+  std::vector<float> distance(words.size());
+  const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+    HWY_DYNAMIC_DISPATCH(UnpackShadowTerms)(words.data(), words.size(), hard.data(), distance.data());
+    size_t mismatches = 0, first = 0;
+    for (size_t i = 0; i < words.size(); ++i) {
+      const bool same = (hard[i] != 0) == UnpackHardShadow(words[i]) &&
+                        SameBits(distance[i], UnpackBlockerDistance(words[i]));
+      if (!same && mismatches++ == 0) first = i;
+    }
+    CAPTURE(target, first, words[first]);
+    CHECK(mismatches == 0);
+  });
+  CHECK(targets >= 1);
 }
 
 }  // namespace
