@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/check.h"
@@ -12,91 +14,96 @@
 namespace ssgi {
 namespace {
 
-// Bilateral acceptance of a tap (docs/pipeline.md §Shadow filter): the tap's normal within about 37
-// degrees of the centre's, and the tap's point within 2 % of the centre's view depth of the centre's
-// tangent plane. The plane distance, unlike a raw depth difference, does not reject taps on the
-// centre's own surface seen at a grazing angle, where depth changes quickly from pixel to pixel.
-constexpr float kMinNormalDot = 0.8f;
-constexpr float kMaxPlaneDistance = 0.02f;
-// A projected normal shorter than this faces the camera: the ellipse's axes are undefined, so the
-// kernel falls back to a circle with a screen-x major axis (Zheng & Saito's known degenerate case).
-constexpr float kMinProjectedNormal = 1e-4f;
-// Metres; keeps the spot light's PCSS denominator (light-to-blocker distance) away from 0.
-constexpr float kMinLightToBlocker = 1e-3f;
-// Kernels shorter than this (pixels) leave the hard value (a pixel's own tap only).
-constexpr float kMinBlurRadius = 0.5f;
+constexpr int kTilePixels = kShadowFilterTileSize * kShadowFilterTileSize;
+
+bool Background(float depth) { return !(depth > 0.0f && depth < kBackgroundDepth); }
+
+glm::vec3 ViewPosition(const ShadowFilterSetupContext& context, int x, int y, float depth) {
+  return depth * glm::vec3(context.rayX[x], context.rayY[y], -1.0f);
+}
 
 // PCSS penumbra half-width in pixels (Fernando 2005, eq. 1, with the blocker distance d_b measured
 // from the receiver): w = d_b * lightSize / (distance from the blocker to the light), projected with
 // the receiver's pixels per metre and clamped. Non-finite products (0 * inf) mean no blur.
-float PenumbraRadiusPixels(const PreparedLight& light, const ShadowFilterTexel& c, float blockerDistance,
-                           float pixelsPerMetre, float maxRadius) {
+float PenumbraRadiusPixels(const ShadowFilterSetupContext& context, glm::vec3 position, float depth,
+                           float blockerDistance) {
+  const PreparedLight& light = context.light;
   float width;
   if (light.isSpot) {
-    const float toLight = glm::length(light.position - c.position);
-    width = blockerDistance * 2.0f * light.radius / std::max(toLight - blockerDistance, kMinLightToBlocker);
+    const float toLight = glm::length(light.position - position);
+    width = blockerDistance * 2.0f * light.radius /
+            std::max(toLight - blockerDistance, kShadowFilterMinLightToBlocker);
   } else {
     width = blockerDistance * 2.0f * light.tanAngularRadius;
   }
-  const float radius = 0.5f * width * pixelsPerMetre;
+  const float radius = 0.5f * width * (context.pixelsPerMetreAtUnitDepth / depth);
   if (!(radius > 0.0f)) return 0.0f;
-  return std::min(radius, maxRadius);
+  return std::min(radius, context.maxRadius);
 }
+
+struct Kernel {
+  glm::vec2 major{1.0f, 0.0f};
+  float majorLength = 0.0f;
+  float minorLength = 0.0f;
+};
 
 // The kernel of a pixel with penumbra half-width `radius`. SSABSS (Zheng & Saito): the screen image
 // of the receiver's normal gives the minor axis, foreshortened by the TRUE |n . v| (v the unit vector
 // to the camera; n.z alone is wrong away from the image centre); the major axis is perpendicular.
-ShadowFilterKernel MakeKernel(ShadowFilter filter, const ShadowFilterTexel& c, float radius) {
-  if (filter == ShadowFilter::kHard || radius < kMinBlurRadius) return {};
+Kernel MakeKernel(ShadowFilter filter, glm::vec3 p, glm::vec3 n, float radius) {
+  if (filter == ShadowFilter::kHard || radius < kShadowFilterMinBlurRadius) return {};
   if (filter == ShadowFilter::kSspcss) return {{1.0f, 0.0f}, radius, radius};
-  const glm::vec3& p = c.position;
-  const glm::vec3& n = c.normal;
   const float depth = -p.z;
   // Derivative of the perspective projection (x / d, -y / d) at p along n, times d.
   const glm::vec2 projected(n.x + p.x / depth * n.z, -(n.y + p.y / depth * n.z));
   const float length = std::sqrt(glm::dot(projected, projected));
-  if (length < kMinProjectedNormal) return {{1.0f, 0.0f}, radius, radius};
+  if (length < kShadowFilterMinProjectedNormal) return {{1.0f, 0.0f}, radius, radius};
   const glm::vec2 m = projected / length;
   const float facing = std::fabs(glm::dot(n, -p)) / std::sqrt(glm::dot(p, p));
   return {{m.y, -m.x}, radius, radius * facing};
 }
 
-bool Accepts(const ShadowFilterTexel& c, const ShadowFilterTexel& tap) {
-  return tap.geometry && glm::dot(tap.normal, c.normal) > kMinNormalDot &&
-         std::fabs(glm::dot(c.normal, tap.position - c.position)) < kMaxPlaneDistance * -c.position.z;
-}
-
-struct Frame {
-  int width = 0, height = 0;
-  std::vector<ShadowFilterTexel> texels;
-  std::vector<ShadowFilterKernel> kernels;
-  std::vector<float> hard;  // 0 shadowed, 1 lit; background 1
+// What a tap reads of pixel i of the image.
+struct Texel {
+  glm::vec3 position;
+  glm::vec3 normal;
+  bool Geometry() const { return position.z < 0.0f; }
 };
 
-// One 1-D pass at pixel (x, y): a box of half-length `length` pixels along `direction`, sampled with
-// nearest-pixel taps, bilateral, centre weight 1. taps = 0: taps at unit spacing, the last one
-// weighted by the fraction of its pixel the box covers (a box filter of exact width, so a straight
-// edge becomes a linear ramp of width 2 * length); taps > 0: that many equal taps per side at
-// spacing length / (taps + 0.5), each standing for the same share of the box. Summed in a fixed
-// order: offsets outward, negative side first.
-float Blur1D(const ShadowFilterImage& f, const float* value, int x, int y, glm::vec2 direction, float length,
-             int taps) {
-  const size_t centre = size_t(y) * size_t(f.width) + size_t(x);
-  const ShadowFilterTexel& c = f.texels[centre];
-  if (!c.geometry || length < kMinBlurRadius) return value[centre];
+Texel TexelAt(const ShadowFilterTexels& texels, size_t i) {
+  return {{texels.positionX[i], texels.positionY[i], texels.positionZ[i]},
+          {texels.normalX[i], texels.normalY[i], texels.normalZ[i]}};
+}
+
+bool Accepts(const Texel& c, const Texel& tap) {
+  return tap.Geometry() && glm::dot(tap.normal, c.normal) > kShadowFilterMinNormalDot &&
+         std::fabs(glm::dot(c.normal, tap.position - c.position)) < kShadowFilterMaxPlaneDistance * -c.position.z;
+}
+
+// One 1-D pass at pixel (x, y), image index `centre`: a box of half-length `length` pixels along
+// `direction`, sampled with nearest-pixel taps, bilateral, centre weight 1. taps = 0: taps at unit
+// spacing, the last one weighted by the fraction of its pixel the box covers (a box filter of exact
+// width, so a straight edge becomes a linear ramp of width 2 * length); taps > 0: that many equal
+// taps per side at spacing length / (taps + 0.5), each standing for the same share of the box.
+// Summed in a fixed order: offsets outward, negative side first. The comparisons are written so
+// that NaN fails them (no blur, tap skipped) rather than reaching an integer conversion.
+float Blur1D(const ShadowFilterImage& image, const float* values, int x, int y, size_t centre, glm::vec2 direction,
+             float length, int taps) {
+  const Texel c = TexelAt(image.texels, centre);
+  if (!c.Geometry() || !(length >= kShadowFilterMinBlurRadius)) return values[centre];
   const int count = taps > 0 ? taps : int(std::ceil(length - 0.5f));
   const float spacing = taps > 0 ? length / (float(taps) + 0.5f) : 1.0f;
-  float sum = value[centre], weightSum = 1.0f;
+  float sum = values[centre], weightSum = 1.0f;
   for (int k = 1; k <= count; ++k) {
     const float t = float(k) * spacing;
     const float weight = taps > 0 ? 1.0f : std::min(1.0f, length - (t - 0.5f));
     for (const float side : {-1.0f, 1.0f}) {
       const float sx = std::floor(float(x) + 0.5f + side * t * direction.x);
       const float sy = std::floor(float(y) + 0.5f + side * t * direction.y);
-      if (sx < 0.0f || sy < 0.0f || sx >= float(f.width) || sy >= float(f.height)) continue;
-      const size_t tap = size_t(sy) * size_t(f.width) + size_t(sx);
-      if (!Accepts(c, f.texels[tap])) continue;
-      sum += weight * value[tap];
+      if (!(sx >= 0.0f && sy >= 0.0f && sx < float(image.width) && sy < float(image.height))) continue;
+      const size_t tap = image.Index(int(sx), int(sy));
+      if (!Accepts(c, TexelAt(image.texels, tap))) continue;
+      sum += weight * values[tap];
       weightSum += weight;
     }
   }
@@ -107,24 +114,115 @@ float Blur1D(const ShadowFilterImage& f, const float* value, int x, int y, glm::
 struct TileRect {
   int x0, y0, x1, y1;
 };
-TileRect TileBounds(const Frame& f, int tilesX, size_t tile) {
+TileRect TileBounds(int width, int height, int tilesX, size_t tile) {
   const int x0 = int(tile % size_t(tilesX)) * kShadowFilterTileSize;
   const int y0 = int(tile / size_t(tilesX)) * kShadowFilterTileSize;
-  return {x0, y0, std::min(f.width, x0 + kShadowFilterTileSize), std::min(f.height, y0 + kShadowFilterTileSize)};
+  return {x0, y0, std::min(width, x0 + kShadowFilterTileSize), std::min(height, y0 + kShadowFilterTileSize)};
 }
 
-// Calls body(x, y) for every pixel of tile `tile`.
-template <class Body>
-void ForTilePixels(const Frame& f, int tilesX, size_t tile, Body&& body) {
-  const TileRect r = TileBounds(f, tilesX, tile);
-  for (int y = r.y0; y < r.y1; ++y)
-    for (int x = r.x0; x < r.x1; ++x) body(x, y);
+// The tiles within `reach` tiles (along x and y) of a marked tile, as two 1-D passes.
+std::vector<char> Dilate(const std::vector<char>& marked, int tilesX, int tilesY, int reach) {
+  std::vector<char> alongX(marked.size()), out(marked.size());
+  for (int ty = 0; ty < tilesY; ++ty)
+    for (int tx = 0; tx < tilesX; ++tx) {
+      const size_t row = size_t(ty) * size_t(tilesX);
+      const int x1 = std::min(tilesX - 1, tx + reach);
+      for (int x = std::max(0, tx - reach); x <= x1 && !alongX[row + size_t(tx)]; ++x)
+        alongX[row + size_t(tx)] = marked[row + size_t(x)];
+    }
+  for (int ty = 0; ty < tilesY; ++ty)
+    for (int tx = 0; tx < tilesX; ++tx) {
+      const size_t tile = size_t(ty) * size_t(tilesX) + size_t(tx);
+      const int y1 = std::min(tilesY - 1, ty + reach);
+      for (int y = std::max(0, ty - reach); y <= y1 && !out[tile]; ++y)
+        out[tile] = alongX[size_t(y) * size_t(tilesX) + size_t(tx)];
+    }
+  return out;
 }
 
-// A skipped tile's row: the hard value, which is what the blur would give there.
-void CopyHardRow(const Frame& f, int y, int x0, int x1, float* out) {
-  const float* hard = f.hard.data() + size_t(y) * size_t(f.width);
-  std::copy(hard + x0, hard + x1, out + x0);
+// Which tiles the passes run on and where their set-up is stored.
+struct TilePlan {
+  std::vector<int32_t> tileSlots;  // per tile: its slot in the scratch, or -1 where it is not set up
+  std::vector<size_t> slotTiles;   // per slot: its tile; the blurred tiles first
+};
+
+// Blur-area control (DESIGN.md §5, §9). A tile is skipped, its output the hard value, when (a) no
+// pixel of it has a kernel (each output uses only its own kernel in the second pass and its own tap
+// in the first), or (b) every pixel within the two passes' reach (2 * maxRadius, rounded up to whole
+// tiles) is shadowed or background: every accepted tap is then 0, and so is the blur. Both give the
+// blur's exact bits, so skipping never changes the image. Only the tiles the taps of the blurred ones
+// reach are set up.
+TilePlan PlanTiles(const std::vector<ShadowFilterTileSummary>& summaries, const ShadowFilterParams& params,
+                   bool skipTiles, int width, int height, ShadowFilterStats& stats) {
+  const int tilesX = (width + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+  const int tilesY = (height + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+  const size_t tileCount = summaries.size();
+  std::vector<char> hasLit(tileCount);
+  for (size_t tile = 0; tile < tileCount; ++tile) hasLit[tile] = summaries[tile].litPixels > 0;
+  const int twoPasses = (2 * params.maxRadiusPixels + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+  const std::vector<char> litAround = Dilate(hasLit, tilesX, tilesY, twoPasses);
+  std::vector<char> blurred(tileCount), setUp(tileCount);
+  for (size_t tile = 0; tile < tileCount; ++tile) {
+    const float maxRadius = summaries[tile].maxRadius;
+    const bool hasKernel = params.filter != ShadowFilter::kHard && maxRadius >= kShadowFilterMinBlurRadius;
+    blurred[tile] = !skipTiles || (hasKernel && litAround[tile]);
+    if (!blurred[tile]) continue;
+    ++stats.tilesBlurred;
+    stats.pixels += size_t(summaries[tile].geometryPixels);
+    // A tap lies within floor(length) + 1 pixels of its centre, and a kernel's lengths are at most
+    // the pixel's radius (up to rounding).
+    const int reach = hasKernel ? int(maxRadius) + 1 : 0;
+    const TileRect r = TileBounds(width, height, tilesX, tile);
+    const int tx1 = std::min(width - 1, r.x1 - 1 + reach) / kShadowFilterTileSize;
+    const int ty1 = std::min(height - 1, r.y1 - 1 + reach) / kShadowFilterTileSize;
+    for (int ty = std::max(0, r.y0 - reach) / kShadowFilterTileSize; ty <= ty1; ++ty)
+      for (int tx = std::max(0, r.x0 - reach) / kShadowFilterTileSize; tx <= tx1; ++tx)
+        setUp[size_t(ty) * size_t(tilesX) + size_t(tx)] = 1;
+  }
+  // The blurred tiles first: only their kernels are stored.
+  TilePlan plan;
+  plan.tileSlots.assign(tileCount, -1);
+  for (const bool blurredFirst : {true, false})
+    for (size_t tile = 0; tile < tileCount; ++tile)
+      if (setUp[tile] && bool(blurred[tile]) == blurredFirst) {
+        plan.tileSlots[tile] = int32_t(plan.slotTiles.size());
+        plan.slotTiles.push_back(tile);
+      }
+  return plan;
+}
+
+// The set-up of the planned tiles, stored by slot, and pass 1's output: a blurred pixel's taps stay
+// near it, so this is a fraction of full-screen planes. Every element is written before it is read:
+// the set-up writes each pixel of its tiles (and zeros where an edge tile leaves the image), pass 1
+// each pixel of the tiles set up.
+struct Scratch {
+  std::unique_ptr<float[]> storage;
+  ShadowFilterTexels texels;
+  ShadowFilterKernels kernels;  // of the blurred slots
+  float* majorPass;
+};
+
+Scratch MakeScratch(size_t slots, size_t blurredSlots) {
+  const size_t texelFloats = slots * kTilePixels, kernelFloats = blurredSlots * kTilePixels;
+  Scratch s;
+  s.storage = std::make_unique_for_overwrite<float[]>(8 * texelFloats + 4 * kernelFloats);
+  float* next = s.storage.get();
+  const auto take = [&next](size_t floats) { return std::exchange(next, next + floats); };
+  s.texels = {take(texelFloats), take(texelFloats), take(texelFloats), take(texelFloats),
+              take(texelFloats), take(texelFloats), take(texelFloats)};
+  s.kernels = {take(kernelFloats), take(kernelFloats), take(kernelFloats), take(kernelFloats)};
+  s.majorPass = take(texelFloats);
+  return s;
+}
+
+// Zeros for the pixels of an edge tile's slot that lie outside the image.
+void ClearSlot(const Scratch& s, size_t slot, bool withKernel) {
+  const ShadowFilterTexels& t = s.texels;
+  for (float* a : {t.positionX, t.positionY, t.positionZ, t.normalX, t.normalY, t.normalZ, t.hard, s.majorPass})
+    std::fill_n(a + slot * kTilePixels, kTilePixels, 0.0f);
+  if (!withKernel) return;
+  const ShadowFilterKernels& k = s.kernels;
+  for (float* a : {k.majorX, k.majorY, k.majorLength, k.minorLength}) std::fill_n(a + slot * kTilePixels, kTilePixels, 0.0f);
 }
 
 ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& params, bool skipTiles,
@@ -133,96 +231,61 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   SSGI_CHECK(params.taps >= 0);
   SSGI_CHECK(!in.view.orthographic);
   const Stopwatch watch;
-  Frame f;
-  f.width = in.gbuffer.width();
-  f.height = in.gbuffer.height();
-  const size_t pixelCount = size_t(f.width) * size_t(f.height);
-  f.texels.resize(pixelCount);
-  f.kernels.resize(pixelCount);
-  f.hard.resize(pixelCount);
-  if (out.visibility.xsize() != size_t(f.width) || out.visibility.ysize() != size_t(f.height))
-    out.visibility = MakePlane<float>(size_t(f.width), size_t(f.height), 1.0f);
+  const GBuffer& g = in.gbuffer;
+  const int width = g.width(), height = g.height();
+  if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
+    out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
+  const ShadowFilterRays rays = MakeShadowFilterRays(in.view, width, height);
+  const ShadowFilterSetupContext context = MakeShadowFilterSetupContext(in, params, rays);
 
-  const float maxRadius = float(params.maxRadiusPixels);
-  const float pixelsPerMetreAtUnitDepth = float(f.height) / (2.0f * in.view.halfY);
-  const ShadowFilterSetupContext setup{in.view, in.light, in.gbuffer.normalEncoding, params.filter, maxRadius,
-                                       pixelsPerMetreAtUnitDepth};
-  const int bands = (f.height + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
-  ParallelFor("shadow_filter.setup", size_t(bands), [&](size_t band) {
+  // Every pixel's hard value goes to the output, which is what a skipped tile keeps, and into its
+  // tile's summary for the blur-area control.
+  const int tilesX = (width + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+  const int tilesY = (height + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+  std::vector<ShadowFilterTileSummary> summaries(size_t(tilesX) * size_t(tilesY));
+  ParallelFor("shadow_filter.penumbra", size_t(tilesY), [&](size_t band) {
     const int y0 = int(band) * kShadowFilterTileSize;
-    const int y1 = std::min(f.height, y0 + kShadowFilterTileSize);
-    for (int y = y0; y < y1; ++y) {
-      const size_t row = size_t(y) * size_t(f.width);
-      ShadowFilterSetupRowScalar(setup, in.gbuffer.word[1].ConstRow(size_t(y)), in.gbuffer.word[2].ConstRow(size_t(y)),
-                                 in.gbuffer.word[3].ConstRow(size_t(y)), y, f.width, f.texels.data() + row,
-                                 f.kernels.data() + row, f.hard.data() + row);
-    }
+    for (int y = y0; y < std::min(height, y0 + kShadowFilterTileSize); ++y)
+      ShadowFilterPenumbraRowScalar(context, g.word[2].ConstRow(size_t(y)), g.word[3].ConstRow(size_t(y)), 0, y, width,
+                       out.visibility.MutableRow(size_t(y)), summaries.data() + band * size_t(tilesX));
   });
-
-  // Blur-area control (DESIGN.md §5, §9). A tile is skipped, its output the hard value, when
-  // (a) no pixel of it has a kernel (each output uses only its own kernel in the second pass and its
-  // own tap in the first), or (b) every pixel within the two passes' reach (2 * maxRadius, rounded
-  // up to whole tiles) is shadowed or background: every accepted tap is then 0, and so is the blur.
-  // Both give the blur's exact bits, so skipping never changes the image.
-  const int tilesX = (f.width + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
-  const int tilesY = bands;
-  const size_t tileCount = size_t(tilesX) * size_t(tilesY);
-  std::vector<char> hasKernel(tileCount), allDark(tileCount), blurred(tileCount);
-  std::vector<size_t> geometryPixels(tileCount);
-  ParallelFor("shadow_filter.classify", tileCount, [&](size_t tile) {
-    bool kernel = false, dark = true;
-    size_t geometry = 0;
-    ForTilePixels(f, tilesX, tile, [&](int x, int y) {
-      const size_t i = size_t(y) * size_t(f.width) + size_t(x);
-      kernel = kernel || f.kernels[i].majorLength >= kMinBlurRadius;
-      dark = dark && (!f.texels[i].geometry || f.hard[i] == 0.0f);
-      geometry += f.texels[i].geometry;
-    });
-    hasKernel[tile] = kernel;
-    allDark[tile] = dark;
-    geometryPixels[tile] = geometry;
-  });
-  const int reach = (2 * params.maxRadiusPixels + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
   ShadowFilterStats stats;
-  stats.tiles = tileCount;
-  for (size_t tile = 0; tile < tileCount; ++tile) {
-    const int tx = int(tile % size_t(tilesX)), ty = int(tile / size_t(tilesX));
-    bool darkAround = true;
-    for (int y = std::max(0, ty - reach); y <= std::min(tilesY - 1, ty + reach) && darkAround; ++y)
-      for (int x = std::max(0, tx - reach); x <= std::min(tilesX - 1, tx + reach); ++x)
-        darkAround = darkAround && allDark[size_t(y) * size_t(tilesX) + size_t(x)];
-    blurred[tile] = !skipTiles || (hasKernel[tile] && !darkAround);
-    if (blurred[tile]) {
-      ++stats.tilesBlurred;
-      stats.pixels += geometryPixels[tile];
-    }
-  }
+  stats.tiles = summaries.size();
+  const TilePlan plan = PlanTiles(summaries, params, skipTiles, width, height, stats);
+  const size_t blurredSlots = stats.tilesBlurred;
+  const Scratch scratch = MakeScratch(plan.slotTiles.size(), blurredSlots);
+  const ShadowFilterImage image{scratch.texels, scratch.kernels, plan.tileSlots.data(), width, height, tilesX};
 
-  // Pass 1 along each pixel's major axis, pass 2 along the minor axis of the output pixel; the
-  // intermediate of a skipped tile is its hard value, which is what the blur would give there.
-  const ShadowFilterImage image{f.texels.data(), f.kernels.data(), f.width, f.height};
-  std::vector<float> majorPass(pixelCount);
-  ParallelFor("shadow_filter.major", tileCount, [&](size_t tile) {
-    const TileRect r = TileBounds(f, tilesX, tile);
+  ParallelFor("shadow_filter.setup", plan.slotTiles.size(), [&](size_t slot) {
+    const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
+    const bool withKernel = slot < blurredSlots;
+    if (r.x1 - r.x0 < kShadowFilterTileSize || r.y1 - r.y0 < kShadowFilterTileSize)
+      ClearSlot(scratch, slot, withKernel);
     for (int y = r.y0; y < r.y1; ++y) {
-      float* row = majorPass.data() + size_t(y) * size_t(f.width);
-      if (blurred[tile]) {
-        ShadowFilterMajorRowScalar(image, f.hard.data(), params.taps, y, r.x0, r.x1, row);
-      } else {
-        CopyHardRow(f, y, r.x0, r.x1, row);
-      }
+      const size_t i = image.Index(r.x0, y);
+      const ShadowFilterKernels rowKernels = scratch.kernels + i;
+      ShadowFilterSetupRowScalar(context, g.word[1].ConstRow(size_t(y)) + r.x0, g.word[2].ConstRow(size_t(y)) + r.x0,
+                    g.word[3].ConstRow(size_t(y)) + r.x0, r.x0, y, r.x1 - r.x0, scratch.texels + i,
+                    withKernel ? &rowKernels : nullptr);
     }
   });
-  ParallelFor("shadow_filter.minor", tileCount, [&](size_t tile) {
-    const TileRect r = TileBounds(f, tilesX, tile);
-    for (int y = r.y0; y < r.y1; ++y) {
-      float* row = out.visibility.MutableRow(size_t(y));
-      if (blurred[tile]) {
-        ShadowFilterMinorRowScalar(image, majorPass.data(), params.taps, y, r.x0, r.x1, row);
-      } else {
-        CopyHardRow(f, y, r.x0, r.x1, row);
-      }
+  // Pass 1 along each pixel's major axis; the tiles around the blurred ones keep their hard values,
+  // which is what the blur would give there.
+  ParallelFor("shadow_filter.major", plan.slotTiles.size(), [&](size_t slot) {
+    if (slot >= blurredSlots) {
+      std::copy_n(scratch.texels.hard + slot * kTilePixels, kTilePixels, scratch.majorPass + slot * kTilePixels);
+      return;
     }
+    const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
+    for (int y = r.y0; y < r.y1; ++y)
+      ShadowFilterMajorRowScalar(image, scratch.texels.hard, params.taps, y, r.x0, r.x1, scratch.majorPass + image.Index(r.x0, y));
+  });
+  // Pass 2 along the minor axis of the output pixel.
+  ParallelFor("shadow_filter.minor", blurredSlots, [&](size_t slot) {
+    const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
+    for (int y = r.y0; y < r.y1; ++y)
+      ShadowFilterMinorRowScalar(image, scratch.majorPass, params.taps, y, r.x0, r.x1,
+                    out.visibility.MutableRow(size_t(y)) + r.x0);
   });
   stats.ms = watch.Milliseconds();
   return stats;
@@ -230,40 +293,94 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
 
 }  // namespace
 
-void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
-                                const uint32_t* word3, int y, int width, ShadowFilterTexel* texels,
-                                ShadowFilterKernel* kernels, float* hard) {
-  for (int x = 0; x < width; ++x) {
-    const float depth = UnpackDepth(word2[x]);
-    if (!(depth > 0.0f && depth < kBackgroundDepth)) {
-      texels[x] = {};
-      kernels[x] = {};
-      hard[x] = 1.0f;
+ShadowFilterRays MakeShadowFilterRays(const ViewProjection& view, int width, int height) {
+  ShadowFilterRays rays;
+  rays.x.resize(size_t(width));
+  rays.y.resize(size_t(height));
+  for (int x = 0; x < width; ++x) rays.x[size_t(x)] = view.PixelRay(float(x) + 0.5f, 0.5f).direction.x;
+  for (int y = 0; y < height; ++y) rays.y[size_t(y)] = view.PixelRay(0.5f, float(y) + 0.5f).direction.y;
+  return rays;
+}
+
+ShadowFilterSetupContext MakeShadowFilterSetupContext(const ShadowFilterInputs& in, const ShadowFilterParams& params,
+                                                      const ShadowFilterRays& rays) {
+  return {in.light,
+          rays.x.data(),
+          rays.y.data(),
+          in.gbuffer.normalEncoding,
+          params.filter,
+          float(params.maxRadiusPixels),
+          float(in.gbuffer.height()) / (2.0f * in.view.halfY)};
+}
+
+void ShadowFilterPenumbraRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word2,
+                                   const uint32_t* word3, int x, int y, int count, float* hard,
+                                   ShadowFilterTileSummary* tiles) {
+  for (int i = 0; i < count; ++i) {
+    const float depth = UnpackDepth(word2[i]);
+    if (Background(depth)) {
+      hard[i] = 1.0f;
       continue;
     }
-    ShadowFilterTexel& t = texels[x];
-    t.position = depth * context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
-    t.normal = UnpackNormal(word1[x], context.normalEncoding);
-    t.geometry = true;
-    hard[x] = UnpackHardShadow(word3[x]) ? 0.0f : 1.0f;
-    const float radius = PenumbraRadiusPixels(context.light, t, UnpackBlockerDistance(word3[x]),
-                                              context.pixelsPerMetreAtUnitDepth / depth, context.maxRadius);
-    kernels[x] = MakeKernel(context.filter, t, radius);
+    hard[i] = UnpackHardShadow(word3[i]) ? 0.0f : 1.0f;
+    const float radius =
+        PenumbraRadiusPixels(context, ViewPosition(context, x + i, y, depth), depth, UnpackBlockerDistance(word3[i]));
+    ShadowFilterTileSummary& tile = tiles[(x + i) / kShadowFilterTileSize];
+    tile.maxRadius = std::max(tile.maxRadius, radius);
+    ++tile.geometryPixels;
+    tile.litPixels += hard[i] != 0.0f;
   }
 }
 
-void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* hard, int taps, int y, int xBegin,
-                                int xEnd, float* majorPass) {
-  const ShadowFilterKernel* kernels = image.kernels + size_t(y) * size_t(image.width);
-  for (int x = xBegin; x < xEnd; ++x)
-    majorPass[x] = Blur1D(image, hard, x, y, kernels[x].major, kernels[x].majorLength, taps);
+void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
+                                const uint32_t* word3, int x, int y, int count, const ShadowFilterTexels& texels,
+                                const ShadowFilterKernels* kernels) {
+  for (int i = 0; i < count; ++i) {
+    const float depth = UnpackDepth(word2[i]);
+    glm::vec3 position(0.0f), normal(0.0f);
+    Kernel kernel;
+    float hard = 1.0f;
+    if (!Background(depth)) {
+      position = ViewPosition(context, x + i, y, depth);
+      normal = UnpackNormal(word1[i], context.normalEncoding);
+      hard = UnpackHardShadow(word3[i]) ? 0.0f : 1.0f;
+      if (kernels) {
+        const float radius = PenumbraRadiusPixels(context, position, depth, UnpackBlockerDistance(word3[i]));
+        kernel = MakeKernel(context.filter, position, normal, radius);
+      }
+    }
+    texels.positionX[i] = position.x;
+    texels.positionY[i] = position.y;
+    texels.positionZ[i] = position.z;
+    texels.normalX[i] = normal.x;
+    texels.normalY[i] = normal.y;
+    texels.normalZ[i] = normal.z;
+    texels.hard[i] = hard;
+    if (kernels) {
+      kernels->majorX[i] = kernel.major.x;
+      kernels->majorY[i] = kernel.major.y;
+      kernels->majorLength[i] = kernel.majorLength;
+      kernels->minorLength[i] = kernel.minorLength;
+    }
+  }
 }
 
-void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* majorPass, int taps, int y, int xBegin,
-                                int xEnd, float* visibility) {
-  const ShadowFilterKernel* kernels = image.kernels + size_t(y) * size_t(image.width);
-  for (int x = xBegin; x < xEnd; ++x)
-    visibility[x] = Blur1D(image, majorPass, x, y, kernels[x].Minor(), kernels[x].minorLength, taps);
+void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
+                                int xEnd, float* out) {
+  const ShadowFilterKernels& k = image.kernels;
+  for (int x = xBegin; x < xEnd; ++x) {
+    const size_t i = image.Index(x, y);
+    out[x - xBegin] = Blur1D(image, values, x, y, i, {k.majorX[i], k.majorY[i]}, k.majorLength[i], taps);
+  }
+}
+
+void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
+                                int xEnd, float* out) {
+  const ShadowFilterKernels& k = image.kernels;
+  for (int x = xBegin; x < xEnd; ++x) {
+    const size_t i = image.Index(x, y);
+    out[x - xBegin] = Blur1D(image, values, x, y, i, {-k.majorY[i], k.majorX[i]}, k.minorLength[i], taps);
+  }
 }
 
 ShadowFilterStats RunShadowFilter(const ShadowFilterInputs& in, const ShadowFilterParams& params,

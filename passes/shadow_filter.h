@@ -12,6 +12,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
@@ -59,59 +61,126 @@ ShadowFilterStats RunShadowFilter(const ShadowFilterInputs& in, const ShadowFilt
 ShadowFilterStats RunShadowFilterEveryTile(const ShadowFilterInputs& in, const ShadowFilterParams& params,
                                            ShadowFilterOutputs& out);
 
-// The shadow filter's scalar kernels below are the definitions SIMD twins
-// (passes/shadow_filter_simd.cpp) must equal bit for bit.
+// The shadow filter's scalar kernels below are the definitions SIMD twins must equal bit for bit.
+// Per-pixel data is a structure of arrays: the twins' lanes will be pixels.
 
-// What the taps need of one pixel, decoded once.
-struct ShadowFilterTexel {
-  glm::vec3 position{0.0f};  // view space, metres
-  glm::vec3 normal{0.0f};    // view space, unit
-  bool geometry = false;     // false: background, never a tap
-};
-
-// The screen-space kernel of one pixel: half-lengths in pixels along the major axis (unit screen
-// direction, y down) and the minor axis (the major rotated by 90 degrees).
-struct ShadowFilterKernel {
-  glm::vec2 major{1.0f, 0.0f};
-  float majorLength = 0.0f;
-  float minorLength = 0.0f;
-
-  glm::vec2 Minor() const { return {-major.y, major.x}; }
-};
+// The definition's constants (docs/pipeline.md §Shadow filter), for the twins too.
+// Bilateral acceptance of a tap: the tap's normal within about 37 degrees of the centre's, and the
+// tap's point within 2 % of the centre's view depth of the centre's tangent plane. The plane
+// distance, unlike a raw depth difference, does not reject taps on the centre's own surface seen at
+// a grazing angle, where depth changes quickly from pixel to pixel.
+inline constexpr float kShadowFilterMinNormalDot = 0.8f;
+inline constexpr float kShadowFilterMaxPlaneDistance = 0.02f;
+// A projected normal shorter than this faces the camera: the ellipse's axes are undefined, so the
+// kernel falls back to a circle with a screen-x major axis (Zheng & Saito's known degenerate case).
+inline constexpr float kShadowFilterMinProjectedNormal = 1e-4f;
+// Metres; keeps the spot light's PCSS denominator (light-to-blocker distance) away from 0.
+inline constexpr float kShadowFilterMinLightToBlocker = 1e-3f;
+// Kernels shorter than this (pixels) leave the hard value (a pixel's own tap only).
+inline constexpr float kShadowFilterMinBlurRadius = 0.5f;
 
 // What the set-up of every row shares: the frame's constants.
 struct ShadowFilterSetupContext {
-  const ViewProjection& view;     // ShadowFilterInputs::view
-  const PreparedLight& light;     // ShadowFilterInputs::light, in view space
+  PreparedLight light;            // ShadowFilterInputs::light, in view space
+  const float* rayX;              // per column x: ViewProjection::PixelRay(x + 0.5, .).direction.x
+  const float* rayY;              // per row y: PixelRay(., y + 0.5).direction.y (the direction's z is -1)
   NormalEncoding normalEncoding;  // decodes word 1
   ShadowFilter filter;
   float maxRadius;                  // pixels, ShadowFilterParams::maxRadiusPixels
   float pixelsPerMetreAtUnitDepth;  // the image's height over the view's height at view depth 1
 };
 
-// Per-pixel set-up of row y, `width` pixels of G-buffer words 1 (normal), 2 (view depth) and
-// 3 (shadow term): each pixel's texel, its kernel (PCSS penumbra width, SSABSS or SSPCSS shape;
-// zero lengths for kHard) and its hard value (0 shadowed, 1 lit; background 1, texel and kernel
-// defaults) into texels[x], kernels[x], hard[x].
-void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
-                                const uint32_t* word3, int y, int width, ShadowFilterTexel* texels,
-                                ShadowFilterKernel* kernels, float* hard);
+// The centre rays of a width x height image's pixels that ShadowFilterSetupContext points at, made
+// once per frame.
+struct ShadowFilterRays {
+  std::vector<float> x, y;
+};
+ShadowFilterRays MakeShadowFilterRays(const ViewProjection& view, int width, int height);
+ShadowFilterSetupContext MakeShadowFilterSetupContext(const ShadowFilterInputs& in, const ShadowFilterParams& params,
+                                                      const ShadowFilterRays& rays);
 
-// What the 1-D passes read of the whole image: the set-up's texels and kernels, row-major, width *
-// height each.
-struct ShadowFilterImage {
-  const ShadowFilterTexel* texels;
-  const ShadowFilterKernel* kernels;
-  int width, height;
+// What the blur-area control needs of a tile: its pixels' largest penumbra radius in pixels (the
+// PCSS width projected at the pixel's depth, in [0, maxRadius]; background pixels count as
+// kShadowFilterNoRadius), and how many of its pixels have geometry and how many of those are lit.
+inline constexpr float kShadowFilterNoRadius = -1.0f;
+struct ShadowFilterTileSummary {
+  float maxRadius = kShadowFilterNoRadius;
+  int32_t geometryPixels = 0;
+  int32_t litPixels = 0;
 };
 
-// The two bilateral 1-D passes on pixels [xBegin, xEnd) of row y, `taps` as in ShadowFilterParams.
-// Pass 1 blurs `hard` (the set-up's, width * height) along each pixel's major axis into
-// majorPass[x]; pass 2 blurs majorPass (width * height) along each pixel's minor axis into
-// visibility[x]. The output pointers address the row's pixel 0.
-void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* hard, int taps, int y, int xBegin,
-                                int xEnd, float* majorPass);
-void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* majorPass, int taps, int y, int xBegin,
-                                int xEnd, float* visibility);
+// The hard values of pixels x .. x + count - 1 of row y (the word pointers address pixel x of
+// G-buffer words 2 and 3) into hard[i] (0 shadowed, 1 lit; background 1), each pixel added to the
+// summary of its tile, tiles[(x + i) / kShadowFilterTileSize].
+void ShadowFilterPenumbraRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word2,
+                                   const uint32_t* word3, int x, int y, int count, float* hard,
+                                   ShadowFilterTileSummary* tiles);
+
+// The set-up's per-pixel results, structures of arrays: element i of each array for pixel i of a
+// run. What a tap needs of a pixel: the view-space position in metres (background (0, 0, 0);
+// positionZ < 0 marks geometry), the unit view-space normal (background 0) and the hard value (0
+// shadowed, 1 lit; background 1).
+struct ShadowFilterTexels {
+  float* positionX;
+  float* positionY;
+  float* positionZ;
+  float* normalX;
+  float* normalY;
+  float* normalZ;
+  float* hard;
+
+  ShadowFilterTexels operator+(size_t offset) const {
+    return {positionX + offset, positionY + offset, positionZ + offset, normalX + offset,
+            normalY + offset,   normalZ + offset,   hard + offset};
+  }
+};
+
+// The screen-space kernel of a pixel: half-lengths in pixels along the major axis, a unit screen
+// direction (y down), and along the minor axis (-majorY, majorX). No kernel: major (1, 0), lengths 0.
+struct ShadowFilterKernels {
+  float* majorX;
+  float* majorY;
+  float* majorLength;
+  float* minorLength;
+
+  ShadowFilterKernels operator+(size_t offset) const {
+    return {majorX + offset, majorY + offset, majorLength + offset, minorLength + offset};
+  }
+};
+
+// Per-pixel set-up of pixels x .. x + count - 1 of row y: the word pointers address pixel x of
+// G-buffer words 1 (normal), 2 (view depth) and 3 (shadow term); pixel x + i's texel and, unless
+// `kernels` is null (pixels the passes only tap), its kernel (the PCSS penumbra width, SSABSS or
+// SSPCSS shape; none for kHard) go to element i of the arrays.
+void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
+                                const uint32_t* word3, int x, int y, int count, const ShadowFilterTexels& texels,
+                                const ShadowFilterKernels* kernels);
+
+// What the 1-D passes read: the set-up of the tiles the driver set up, stored tile by tile, each
+// tile's kShadowFilterTileSize^2 pixels row-major in one slot (Index). Kernels are stored for the
+// first slots only: the tiles the passes blur.
+struct ShadowFilterImage {
+  ShadowFilterTexels texels;
+  ShadowFilterKernels kernels;
+  const int32_t* tileSlots;  // per tile (row-major tiles): its slot, or -1 where it was not set up
+  int width, height;         // pixels
+  int tilesX;                // tiles per row
+
+  size_t Index(int x, int y) const {
+    const int tile = y / kShadowFilterTileSize * tilesX + x / kShadowFilterTileSize;
+    return size_t(tileSlots[tile]) * size_t(kShadowFilterTileSize * kShadowFilterTileSize) +
+           size_t(y % kShadowFilterTileSize * kShadowFilterTileSize + x % kShadowFilterTileSize);
+  }
+};
+
+// The two bilateral 1-D passes on pixels [xBegin, xEnd) of row y, `taps` as in ShadowFilterParams,
+// each pixel with its own kernel; `values` is indexed as the image (ShadowFilterImage::Index), and
+// out[i] is pixel xBegin + i. Pass 1 blurs the set-up's hard values along each pixel's major axis;
+// pass 2 blurs pass 1's values along each pixel's minor axis. The run's kernels must be set up, and
+// the texels of every pixel within floor(kernel length) + 1 pixels of it (the taps' reach).
+void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
+                                int xEnd, float* out);
+void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
+                                int xEnd, float* out);
 
 }  // namespace ssgi
