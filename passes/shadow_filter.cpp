@@ -140,6 +140,21 @@ std::vector<char> Dilate(const std::vector<char>& marked, int tilesX, int tilesY
   return out;
 }
 
+// The row kernels of one KernelPath, chosen once per frame.
+struct RowKernels {
+  decltype(&ShadowFilterPenumbraRowScalar) penumbra;
+  decltype(&ShadowFilterSetupRowScalar) setup;
+  decltype(&ShadowFilterMajorRowScalar) major;
+  decltype(&ShadowFilterMinorRowScalar) minor;
+};
+
+RowKernels KernelsOf(KernelPath path) {
+  if (path == KernelPath::kSimd)
+    return {ShadowFilterPenumbraRowSimd, ShadowFilterSetupRowSimd, ShadowFilterMajorRowSimd, ShadowFilterMinorRowSimd};
+  return {ShadowFilterPenumbraRowScalar, ShadowFilterSetupRowScalar, ShadowFilterMajorRowScalar,
+          ShadowFilterMinorRowScalar};
+}
+
 // Which tiles the passes run on and where their set-up is stored.
 struct TilePlan {
   std::vector<int32_t> tileSlots;  // per tile: its slot in the scratch, or -1 where it is not set up
@@ -226,7 +241,7 @@ void ClearSlot(const Scratch& s, size_t slot, bool withKernel) {
 }
 
 ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& params, bool skipTiles,
-                      ShadowFilterOutputs& out) {
+                      KernelPath path, ShadowFilterOutputs& out) {
   SSGI_CHECK(params.maxRadiusPixels >= 0);
   SSGI_CHECK(params.taps >= 0);
   SSGI_CHECK(!in.view.orthographic);
@@ -235,6 +250,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   const int width = g.width(), height = g.height();
   if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
     out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
+  const RowKernels kernels = KernelsOf(path);
   const ShadowFilterRays rays = MakeShadowFilterRays(in.view, width, height);
   const ShadowFilterSetupContext context = MakeShadowFilterSetupContext(in, params, rays);
 
@@ -246,7 +262,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   ParallelFor("shadow_filter.penumbra", size_t(tilesY), [&](size_t band) {
     const int y0 = int(band) * kShadowFilterTileSize;
     for (int y = y0; y < std::min(height, y0 + kShadowFilterTileSize); ++y)
-      ShadowFilterPenumbraRowScalar(context, g.word[2].ConstRow(size_t(y)), g.word[3].ConstRow(size_t(y)), 0, y, width,
+      kernels.penumbra(context, g.word[2].ConstRow(size_t(y)), g.word[3].ConstRow(size_t(y)), 0, y, width,
                        out.visibility.MutableRow(size_t(y)), summaries.data() + band * size_t(tilesX));
   });
   ShadowFilterStats stats;
@@ -264,7 +280,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
     for (int y = r.y0; y < r.y1; ++y) {
       const size_t i = image.Index(r.x0, y);
       const ShadowFilterKernels rowKernels = scratch.kernels + i;
-      ShadowFilterSetupRowScalar(context, g.word[1].ConstRow(size_t(y)) + r.x0, g.word[2].ConstRow(size_t(y)) + r.x0,
+      kernels.setup(context, g.word[1].ConstRow(size_t(y)) + r.x0, g.word[2].ConstRow(size_t(y)) + r.x0,
                     g.word[3].ConstRow(size_t(y)) + r.x0, r.x0, y, r.x1 - r.x0, scratch.texels + i,
                     withKernel ? &rowKernels : nullptr);
     }
@@ -278,13 +294,13 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
     }
     const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
     for (int y = r.y0; y < r.y1; ++y)
-      ShadowFilterMajorRowScalar(image, scratch.texels.hard, params.taps, y, r.x0, r.x1, scratch.majorPass + image.Index(r.x0, y));
+      kernels.major(image, scratch.texels.hard, params.taps, y, r.x0, r.x1, scratch.majorPass + image.Index(r.x0, y));
   });
   // Pass 2 along the minor axis of the output pixel.
   ParallelFor("shadow_filter.minor", blurredSlots, [&](size_t slot) {
     const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
     for (int y = r.y0; y < r.y1; ++y)
-      ShadowFilterMinorRowScalar(image, scratch.majorPass, params.taps, y, r.x0, r.x1,
+      kernels.minor(image, scratch.majorPass, params.taps, y, r.x0, r.x1,
                     out.visibility.MutableRow(size_t(y)) + r.x0);
   });
   stats.ms = watch.Milliseconds();
@@ -384,13 +400,13 @@ void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* val
 }
 
 ShadowFilterStats RunShadowFilter(const ShadowFilterInputs& in, const ShadowFilterParams& params,
-                                  ShadowFilterOutputs& out) {
-  return Run(in, params, true, out);
+                                  ShadowFilterOutputs& out, KernelPath kernels) {
+  return Run(in, params, true, kernels, out);
 }
 
 ShadowFilterStats RunShadowFilterEveryTile(const ShadowFilterInputs& in, const ShadowFilterParams& params,
-                                           ShadowFilterOutputs& out) {
-  return Run(in, params, false, out);
+                                           ShadowFilterOutputs& out, KernelPath kernels) {
+  return Run(in, params, false, kernels, out);
 }
 
 }  // namespace ssgi

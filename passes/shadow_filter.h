@@ -17,6 +17,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/lighting.h"
 #include "core/plane.h"
 
@@ -53,18 +54,21 @@ struct ShadowFilterStats {
   size_t pixels = 0;        // pixels with geometry in the blurred tiles
 };
 
+// `kernels` chooses the row kernels' definition: the Highway twins (what frames use) or the scalar
+// definitions below; both give the same bits.
 ShadowFilterStats RunShadowFilter(const ShadowFilterInputs& in, const ShadowFilterParams& params,
-                                  ShadowFilterOutputs& out);
+                                  ShadowFilterOutputs& out, KernelPath kernels = KernelPath::kSimd);
 
 // RunShadowFilter with blur-area control off (every tile blurred): the reference the tile skipping
 // must match bit for bit (tests/passes/shadow_filter_test.cpp).
 ShadowFilterStats RunShadowFilterEveryTile(const ShadowFilterInputs& in, const ShadowFilterParams& params,
-                                           ShadowFilterOutputs& out);
+                                           ShadowFilterOutputs& out, KernelPath kernels = KernelPath::kSimd);
 
-// The shadow filter's scalar kernels below are the definitions SIMD twins must equal bit for bit.
-// Per-pixel data is a structure of arrays: the twins' lanes will be pixels.
+// The shadow filter's scalar kernels below are the definitions their SIMD twins
+// (passes/shadow_filter_simd.cpp, ...RowSimd, same signatures) must equal bit for bit. Per-pixel
+// data is a structure of arrays: the twins' lanes are pixels.
 
-// The definition's constants (docs/pipeline.md §Shadow filter), for the twins too.
+// The definition's constants (docs/pipeline.md §Shadow filter), shared with the twins.
 // Bilateral acceptance of a tap: the tap's normal within about 37 degrees of the centre's, and the
 // tap's point within 2 % of the centre's view depth of the centre's tangent plane. The plane
 // distance, unlike a raw depth difference, does not reject taps on the centre's own surface seen at
@@ -182,5 +186,16 @@ void ShadowFilterMajorRowScalar(const ShadowFilterImage& image, const float* val
                                 int xEnd, float* out);
 void ShadowFilterMinorRowScalar(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
                                 int xEnd, float* out);
+
+// The Highway twins (passes/shadow_filter_simd.cpp), dispatched to the machine's best target.
+void ShadowFilterPenumbraRowSimd(const ShadowFilterSetupContext& context, const uint32_t* word2, const uint32_t* word3,
+                                 int x, int y, int count, float* hard, ShadowFilterTileSummary* tiles);
+void ShadowFilterSetupRowSimd(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
+                              const uint32_t* word3, int x, int y, int count, const ShadowFilterTexels& texels,
+                              const ShadowFilterKernels* kernels);
+void ShadowFilterMajorRowSimd(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
+                              int xEnd, float* out);
+void ShadowFilterMinorRowSimd(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
+                              int xEnd, float* out);
 
 }  // namespace ssgi

@@ -4,14 +4,20 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "core/kernel_path.h"
 #include "core/parallel.h"
+#include "core/scene.h"
+#include "passes/frame.h"
 #include "passes/gbuffer.h"
-#include "tests/passes/test_scenes.h"
 #include "passes/shadow_map.h"
+#include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -248,19 +254,16 @@ bool ValidVisibility(const GBuffer& g, const Plane<float>& vis) {
   return true;
 }
 
-TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
-  // A hand-made G-buffer: normals facing the camera exactly, grazing and back-facing; blocker
-  // distances 0, tiny, huge, FLT_MAX, +inf; random hard flags; background pixels.
-  const int w = 37, h = 23;
-  CameraDesc desc;
-  const ViewProjection camera = MakePerspective(desc, w, h);
-  GBuffer g = MakeGBuffer(w, h, NormalEncoding::kOct24);
+// A hand-made G-buffer: normals facing the camera exactly, grazing and back-facing; blocker
+// distances 0, tiny, huge, FLT_MAX, +inf; random hard flags; background pixels.
+GBuffer DegenerateGBuffer(const ViewProjection& camera, NormalEncoding encoding) {
+  GBuffer g = MakeGBuffer(camera.width, camera.height, encoding);
   const float distances[] = {0.0f, 1e-30f, 0.3f, 1e30f, std::numeric_limits<float>::max(),
                              std::numeric_limits<float>::infinity()};
   uint32_t seed = 12345u;
   auto next = [&seed] { return seed = seed * 1664525u + 1013904223u; };
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
       const uint32_t k = next();
       if (k % 11 == 0) continue;  // background
       const float depth = 0.06f + float(k % 1000) * 0.01f;
@@ -272,20 +275,31 @@ TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
         case 2: n = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f)); break;   // back-facing
         default: n = glm::normalize(glm::vec3(0.0f, 1.0f, 0.2f));
       }
-      g.word[1].MutableRow(y)[x] = PackNormalRoughness(n, 0.5f, NormalEncoding::kOct24);
+      g.word[1].MutableRow(y)[x] = PackNormalRoughness(n, 0.5f, encoding);
       g.word[2].MutableRow(y)[x] = PackDepth(depth);
       g.word[3].MutableRow(y)[x] = PackShadowTerm(((k >> 12) & 1) != 0, distances[(k >> 16) % 6]);
     }
+  return g;
+}
+
+// A sized sun, a grazing point-like sun, a spot among the receivers and a spot of no size.
+std::vector<PreparedLight> DegenerateLights() {
   std::vector<PreparedLight> lights(4);
   lights[0].tanAngularRadius = 0.05f;
   lights[0].direction = {0.0f, -1.0f, 0.0f};
-  lights[1].direction = {1.0f, 0.0f, 0.0f};  // grazing point light (no size)
+  lights[1].direction = {1.0f, 0.0f, 0.0f};
   lights[2].isSpot = true;
   lights[2].radius = 0.2f;
-  lights[2].position = {0.0f, 0.0f, -1.0f};  // among the receivers
+  lights[2].position = {0.0f, 0.0f, -1.0f};
   lights[3].isSpot = true;
   lights[3].radius = 0.0f;
-  for (const PreparedLight& light : lights)
+  return lights;
+}
+
+TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
+  const ViewProjection camera = MakePerspective(CameraDesc{}, 37, 23);
+  const GBuffer g = DegenerateGBuffer(camera, NormalEncoding::kOct24);
+  for (const PreparedLight& light : DegenerateLights())
     for (ShadowFilter filter : {ShadowFilter::kHard, ShadowFilter::kSspcss, ShadowFilter::kSsabss})
       for (int maxRadius : {0, 3, 24, 200})
         for (int taps : {0, 1, 5}) {
@@ -351,6 +365,232 @@ TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile 
           CHECK(stats.tilesBlurred < stats.tiles);
         }
       }
+  }
+}
+
+// ---- The SIMD twins against their scalar definitions, bit for bit on every target (DESIGN.md §11)
+
+bool SameFloats(const float* a, const float* b, size_t count) {
+  return std::memcmp(a, b, count * sizeof(float)) == 0;
+}
+
+bool SameSummaries(const std::vector<ShadowFilterTileSummary>& a, const std::vector<ShadowFilterTileSummary>& b) {
+  for (size_t i = 0; i < a.size(); ++i)
+    if (std::memcmp(&a[i].maxRadius, &b[i].maxRadius, sizeof(float)) != 0 ||
+        a[i].geometryPixels != b[i].geometryPixels || a[i].litPixels != b[i].litPixels)
+      return false;
+  return true;
+}
+
+constexpr int kTilePixels = kShadowFilterTileSize * kShadowFilterTileSize;
+
+// The set-up's arrays for a run of `count` pixels, filled with a marker the kernels must overwrite.
+struct SetupArrays {
+  std::vector<float> storage;
+  ShadowFilterTexels texels;
+  ShadowFilterKernels kernels;
+
+  explicit SetupArrays(size_t count) : storage(11 * count, -7.0f) {
+    float* a = storage.data();
+    texels = {a, a + count, a + 2 * count, a + 3 * count, a + 4 * count, a + 5 * count, a + 6 * count};
+    kernels = {a + 7 * count, a + 8 * count, a + 9 * count, a + 10 * count};
+  }
+};
+
+// Every tile of a G-buffer set up by the scalar kernel (slot = tile), the input of the passes' twins.
+struct SetUpImage {
+  std::vector<int32_t> slots;
+  SetupArrays arrays;
+  ShadowFilterImage image;
+
+  SetUpImage(const ShadowFilterSetupContext& context, const GBuffer& g)
+      : arrays(size_t((g.width() + kShadowFilterTileSize - 1) / kShadowFilterTileSize) *
+               size_t((g.height() + kShadowFilterTileSize - 1) / kShadowFilterTileSize) * kTilePixels) {
+    const int tilesX = (g.width() + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+    slots.resize(arrays.storage.size() / 11 / kTilePixels);
+    for (size_t tile = 0; tile < slots.size(); ++tile) slots[tile] = int32_t(tile);
+    image = {arrays.texels, arrays.kernels, slots.data(), g.width(), g.height(), tilesX};
+    for (int y = 0; y < g.height(); ++y)
+      for (int x = 0; x < g.width(); ++x) {
+        const size_t i = image.Index(x, y);
+        const ShadowFilterKernels kernels = arrays.kernels + i;
+        ShadowFilterSetupRowScalar(context, g.word[1].ConstRow(y) + x, g.word[2].ConstRow(y) + x,
+                                   g.word[3].ConstRow(y) + x, x, y, 1, arrays.texels + i, &kernels);
+      }
+  }
+};
+
+// The runs of a row the twins are checked on: the whole row, each tile's part, and every length
+// from 1 to a few vectors from a few starts.
+std::vector<std::pair<int, int>> Runs(int width) {
+  std::vector<std::pair<int, int>> runs{{0, width}};
+  for (int x = 0; x < width; x += kShadowFilterTileSize) runs.push_back({x, std::min(width, x + kShadowFilterTileSize)});
+  for (int x : {0, 3, 17})
+    for (int count = 1; count <= 53 && x + count <= width; ++count) runs.push_back({x, x + count});
+  return runs;
+}
+
+struct TwinInputs {
+  std::string name;
+  ViewProjection camera;
+  GBuffer gbuffer;
+  std::vector<PreparedLight> lights;
+};
+
+// The degenerate G-buffer in both normal encodings with its lights, and a rendered scene with real
+// penumbrae under a sun and a spot (odd sizes, so edge tiles are partial).
+std::vector<TwinInputs> TwinInputSets() {
+  std::vector<TwinInputs> sets;
+  for (NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+    const ViewProjection camera = MakePerspective(CameraDesc{}, 75, 37);
+    sets.push_back({"degenerate", camera, DegenerateGBuffer(camera, encoding), DegenerateLights()});
+  }
+  const CameraDesc camera = Camera({0.6f, 1.2f, 1.6f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 45.0f);
+  TestScene scene = SlabScene(camera, 0.5f, 6.0f);
+  scene.width = 91;
+  scene.height = 53;
+  AddBox(scene.mesh, {0.3f, 0.0f, 0.2f}, {0.6f, 0.4f, 0.5f});
+  scene.directionalLights[0].direction = LightDirection(35.0f, 60.0f);
+  SpotLight spot;
+  spot.position = {0.5f, 2.0f, 0.8f};
+  spot.direction = glm::normalize(glm::vec3(-0.5f, -2.0f, -0.8f));
+  spot.outerConeDegrees = 60.0f;
+  spot.radius = 0.15f;
+  scene.spotLights.push_back(spot);
+  for (size_t light : {size_t(0), size_t(1)}) {
+    Rendered r;
+    r.camera = MakePerspective(scene.camera, scene.width, scene.height);
+    RunGBuffer({scene, r.camera}, {scene.normalEncoding}, r.g);
+    ShadowMapOutputs shadowMap;
+    RunShadowMap({scene, r.camera, r.g.gbuffer, light}, {}, shadowMap, r.g.gbuffer.word[3]);
+    sets.push_back({light == 0 ? "sun" : "spot", r.camera, std::move(r.g.gbuffer),
+                    {PrepareLights(scene, r.camera.view)[light]}});
+  }
+  return sets;
+}
+
+TEST_CASE("shadow filter: the SIMD set-up kernels equal their scalar definitions on every target",
+          "[shadow_filter][simd]") {
+  for (const TwinInputs& set : TwinInputSets()) {
+    const GBuffer& g = set.gbuffer;
+    const int width = g.width(), tilesX = (width + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
+    const ShadowFilterRays rays = MakeShadowFilterRays(set.camera, width, g.height());
+    for (const PreparedLight& light : set.lights)
+      for (ShadowFilter filter : {ShadowFilter::kHard, ShadowFilter::kSspcss, ShadowFilter::kSsabss})
+        for (int maxRadius : {0, 3, 24, 200}) {
+          const ShadowFilterSetupContext context = MakeShadowFilterSetupContext(
+              {g, set.camera, light}, ShadowFilterParams{filter, maxRadius, 0}, rays);
+          const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+            for (int y = 0; y < g.height(); ++y) {
+              // Every run on one row, the whole row on the others.
+              const std::vector<std::pair<int, int>> runs =
+                  y == 17 ? Runs(width) : std::vector<std::pair<int, int>>{{0, width}};
+              for (const auto& [x0, x1] : runs) {
+                const int count = x1 - x0;
+                const uint32_t* w1 = g.word[1].ConstRow(y) + x0;
+                const uint32_t* w2 = g.word[2].ConstRow(y) + x0;
+                const uint32_t* w3 = g.word[3].ConstRow(y) + x0;
+                CAPTURE(set.name, target, light.isSpot, int(filter), maxRadius, y, x0, count);
+                std::vector<float> hardScalar(static_cast<size_t>(count), -7.0f), hardSimd = hardScalar;
+                std::vector<ShadowFilterTileSummary> tilesScalar(static_cast<size_t>(tilesX)), tilesSimd = tilesScalar;
+                ShadowFilterPenumbraRowScalar(context, w2, w3, x0, y, count, hardScalar.data(), tilesScalar.data());
+                ShadowFilterPenumbraRowSimd(context, w2, w3, x0, y, count, hardSimd.data(), tilesSimd.data());
+                REQUIRE(SameFloats(hardScalar.data(), hardSimd.data(), size_t(count)));
+                REQUIRE(SameSummaries(tilesScalar, tilesSimd));
+                for (const bool withKernels : {true, false}) {
+                  SetupArrays scalar(static_cast<size_t>(count)), simd(static_cast<size_t>(count));
+                  ShadowFilterSetupRowScalar(context, w1, w2, w3, x0, y, count, scalar.texels,
+                                             withKernels ? &scalar.kernels : nullptr);
+                  ShadowFilterSetupRowSimd(context, w1, w2, w3, x0, y, count, simd.texels,
+                                           withKernels ? &simd.kernels : nullptr);
+                  CAPTURE(withKernels);
+                  // The markers too: nothing written outside the run, no kernels without `kernels`.
+                  REQUIRE(SameFloats(scalar.storage.data(), simd.storage.data(), scalar.storage.size()));
+                }
+              }
+            }
+          });
+          CHECK(targets >= 1);
+        }
+  }
+}
+
+TEST_CASE("shadow filter: the SIMD passes equal their scalar definitions on every target", "[shadow_filter][simd]") {
+  for (const TwinInputs& set : TwinInputSets()) {
+    const GBuffer& g = set.gbuffer;
+    const int width = g.width(), height = g.height();
+    const ShadowFilterRays rays = MakeShadowFilterRays(set.camera, width, height);
+    for (const PreparedLight& light : set.lights)
+      for (ShadowFilter filter : {ShadowFilter::kSspcss, ShadowFilter::kSsabss})
+        for (const auto& [maxRadius, taps] : {std::pair{3, 0}, {24, 0}, {24, 1}, {3, 5}}) {
+          const ShadowFilterSetupContext context = MakeShadowFilterSetupContext(
+              {g, set.camera, light}, ShadowFilterParams{filter, maxRadius, taps}, rays);
+          const SetUpImage setUp(context, g);
+          const ShadowFilterImage& image = setUp.image;
+          // Pass 2 blurs pass 1's values; any values in [0, 1] would do.
+          std::vector<float> major(setUp.arrays.storage.size() / 11);
+          for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+              ShadowFilterMajorRowScalar(image, image.texels.hard, taps, y, x, x + 1, &major[image.Index(x, y)]);
+          const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+            for (int y = 0; y < height; ++y) {
+              const std::vector<std::pair<int, int>> runs =
+                  y == 17 ? Runs(width) : std::vector<std::pair<int, int>>{{0, width}};
+              for (const auto& [x0, x1] : runs) {
+                const size_t count = size_t(x1 - x0);
+                CAPTURE(set.name, target, light.isSpot, int(filter), maxRadius, taps, y, x0, count);
+                std::vector<float> scalar(count + 1, -7.0f), simd = scalar;
+                ShadowFilterMajorRowScalar(image, image.texels.hard, taps, y, x0, x1, scalar.data());
+                ShadowFilterMajorRowSimd(image, image.texels.hard, taps, y, x0, x1, simd.data());
+                REQUIRE(SameFloats(scalar.data(), simd.data(), count + 1));
+                ShadowFilterMinorRowScalar(image, major.data(), taps, y, x0, x1, scalar.data());
+                ShadowFilterMinorRowSimd(image, major.data(), taps, y, x0, x1, simd.data());
+                REQUIRE(SameFloats(scalar.data(), simd.data(), count + 1));
+              }
+            }
+          });
+          CHECK(targets >= 1);
+        }
+  }
+}
+
+TEST_CASE("shadow filter: the SIMD kernel path gives the scalar path's bytes on every target", "[shadow_filter][simd]") {
+  // The default scene's real buffers, rendered as a frame, at its own size and at odd sizes.
+  const SceneFile file = LoadSceneFile(test::SourceDir() / "data" / "default.json");
+  for (const auto& [width, height] : {std::pair{1024, 1024}, {1, 1}, {67, 45}, {1023, 769}}) {
+    FrameConfig config = FrameConfigFromSceneFile(file);
+    config.width = width;
+    config.height = height;
+    config.reflections = EffectMode::kOff;
+    const Frame frame = RenderFrame(file.scene, config);
+    REQUIRE(frame.shadowMap);
+    const PreparedLight light = PrepareLights(file.scene, frame.view.view)[ShadowCastingLights(file.scene).front()];
+    const ShadowFilterInputs in{frame.gbuffer.gbuffer, frame.view, light};
+    size_t blurred = 0;
+    for (ShadowFilter filter : {ShadowFilter::kSsabss, ShadowFilter::kSspcss})
+      for (int taps : {0, 3}) {
+        ShadowFilterParams params = config.shadowFilter;
+        params.filter = filter;
+        params.taps = taps;
+        // With and without tile skipping: the small images have few penumbrae to blur.
+        ShadowFilterOutputs scalar, scalarEveryTile;
+        blurred += RunShadowFilter(in, params, scalar, KernelPath::kScalar).tilesBlurred;
+        RunShadowFilterEveryTile(in, params, scalarEveryTile, KernelPath::kScalar);
+        const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+          ShadowFilterOutputs simd, simdEveryTile;
+          RunShadowFilter(in, params, simd, KernelPath::kSimd);
+          RunShadowFilterEveryTile(in, params, simdEveryTile, KernelPath::kSimd);
+          CAPTURE(width, height, target, int(filter), taps);
+          CHECK(SameBits(scalar.visibility, simd.visibility));
+          CHECK(SameBits(scalarEveryTile.visibility, simdEveryTile.visibility));
+        });
+        CHECK(targets >= 1);
+      }
+    // The frame's own filter (the default path and parameters) is among them.
+    ShadowFilterOutputs scalar;
+    RunShadowFilter(in, config.shadowFilter, scalar, KernelPath::kScalar);
+    CHECK(SameBits(scalar.visibility, frame.shadowVisibility.visibility));
+    if (width > 1000) CHECK(blurred > 0);
   }
 }
 
