@@ -59,14 +59,15 @@ struct Rendered {
   }
 };
 
-Rendered Render(test::TestScene scene) {
+// `light` indexes PrepareLights' order: directional lights, then spots.
+Rendered Render(test::TestScene scene, size_t light = 0) {
   Rendered r;
   r.scene = std::move(scene);
   r.camera = MakePerspective(r.scene.camera, r.scene.width, r.scene.height);
   RunGBuffer({r.scene, r.camera}, {r.scene.normalEncoding}, r.g);
   ShadowMapOutputs out;
-  RunShadowMap({r.scene, r.camera, r.g.gbuffer, 0}, {}, out, r.g.gbuffer.word[3]);
-  r.light = PrepareLights(r.scene, r.camera.view)[0];
+  RunShadowMap({r.scene, r.camera, r.g.gbuffer, light}, {}, out, r.g.gbuffer.word[3]);
+  r.light = PrepareLights(r.scene, r.camera.view)[light];
   return r;
 }
 
@@ -331,21 +332,26 @@ bool SameBits(const Plane<float>& a, const Plane<float>& b) {
   return true;
 }
 
-TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile skipping", "[shadow_filter]") {
+// The slab and a box seen obliquely under a sun (light 0) and a spot (light 1).
+TestScene SunAndSpotScene(int width, int height) {
   const CameraDesc camera = Camera({0.6f, 1.2f, 1.6f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 45.0f);
-  TestScene sun = SlabScene(camera, 0.5f, 6.0f);
-  AddBox(sun.mesh, {0.3f, 0.0f, 0.2f}, {0.6f, 0.4f, 0.5f});
-  sun.directionalLights[0].direction = LightDirection(35.0f, 60.0f);
-  TestScene spot = sun;
-  spot.directionalLights.clear();
-  SpotLight light;
-  light.position = {0.5f, 2.0f, 0.8f};
-  light.direction = glm::normalize(glm::vec3(-0.5f, -2.0f, -0.8f));
-  light.outerConeDegrees = 60.0f;
-  light.radius = 0.15f;
-  spot.spotLights.push_back(light);
-  for (TestScene* scene : {&sun, &spot}) {
-    const Rendered r = Render(*scene);
+  TestScene scene = SlabScene(camera, 0.5f, 6.0f);
+  scene.width = width;
+  scene.height = height;
+  AddBox(scene.mesh, {0.3f, 0.0f, 0.2f}, {0.6f, 0.4f, 0.5f});
+  scene.directionalLights[0].direction = LightDirection(35.0f, 60.0f);
+  SpotLight spot;
+  spot.position = {0.5f, 2.0f, 0.8f};
+  spot.direction = glm::normalize(glm::vec3(-0.5f, -2.0f, -0.8f));
+  spot.outerConeDegrees = 60.0f;
+  spot.radius = 0.15f;
+  scene.spotLights.push_back(spot);
+  return scene;
+}
+
+TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile skipping", "[shadow_filter]") {
+  for (size_t light : {size_t(0), size_t(1)}) {
+    const Rendered r = Render(SunAndSpotScene(256, 192), light);
     for (ShadowFilter filter : {ShadowFilter::kSsabss, ShadowFilter::kSspcss})
       for (int taps : {0, 3}) {
         ShadowFilterParams params;
@@ -445,26 +451,9 @@ std::vector<TwinInputs> TwinInputSets() {
     const ViewProjection camera = MakePerspective(CameraDesc{}, 75, 37);
     sets.push_back({"degenerate", camera, DegenerateGBuffer(camera, encoding), DegenerateLights()});
   }
-  const CameraDesc camera = Camera({0.6f, 1.2f, 1.6f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 45.0f);
-  TestScene scene = SlabScene(camera, 0.5f, 6.0f);
-  scene.width = 91;
-  scene.height = 53;
-  AddBox(scene.mesh, {0.3f, 0.0f, 0.2f}, {0.6f, 0.4f, 0.5f});
-  scene.directionalLights[0].direction = LightDirection(35.0f, 60.0f);
-  SpotLight spot;
-  spot.position = {0.5f, 2.0f, 0.8f};
-  spot.direction = glm::normalize(glm::vec3(-0.5f, -2.0f, -0.8f));
-  spot.outerConeDegrees = 60.0f;
-  spot.radius = 0.15f;
-  scene.spotLights.push_back(spot);
   for (size_t light : {size_t(0), size_t(1)}) {
-    Rendered r;
-    r.camera = MakePerspective(scene.camera, scene.width, scene.height);
-    RunGBuffer({scene, r.camera}, {scene.normalEncoding}, r.g);
-    ShadowMapOutputs shadowMap;
-    RunShadowMap({scene, r.camera, r.g.gbuffer, light}, {}, shadowMap, r.g.gbuffer.word[3]);
-    sets.push_back({light == 0 ? "sun" : "spot", r.camera, std::move(r.g.gbuffer),
-                    {PrepareLights(scene, r.camera.view)[light]}});
+    Rendered r = Render(SunAndSpotScene(91, 53), light);
+    sets.push_back({light == 0 ? "sun" : "spot", r.camera, std::move(r.g.gbuffer), {r.light}});
   }
   return sets;
 }
