@@ -300,14 +300,21 @@ TEST_CASE("shadow map: spot light blocker distance along the light's rays", "[sh
   CHECK(litOutside == outside);
 }
 
-TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {
-  TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), 161, 119);
+// The default scene at the given size; light 0 is its sun (orthographic map), light 1 a spot light
+// (perspective map) whose cone leaves part of the scene outside its map.
+TestScene DefaultSceneWithSpot(int width, int height) {
+  TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), width, height);
   SpotLight spot;
   spot.position = {0.5f, 2.5f, 1.0f};
   spot.direction = glm::normalize(glm::vec3(-0.2f, -1.0f, -0.4f));
   spot.outerConeDegrees = 50.0f;
   spot.radius = 0.1f;
   scene.spotLights.push_back(spot);
+  return scene;
+}
+
+TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {
+  const TestScene scene = DefaultSceneWithSpot(161, 119);
   ShadowMapParams params;
   params.resolution = 517;
   for (size_t light : {size_t(0), size_t(1)}) {
