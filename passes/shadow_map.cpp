@@ -273,12 +273,13 @@ BlockerSearchContext MakeBlockerSearchContext(const ReceiverPositions& receivers
   };
 }
 
-void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm) {
+void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm,
+                      KernelPath kernels) {
   const int width = gbuffer.width();
+  const auto searchRow = kernels == KernelPath::kSimd ? BlockerSearchRowSimd : BlockerSearchRowScalar;
   ParallelForRowBands("shadow_map.blocker_search", size_t(gbuffer.height()), [&](size_t, size_t yBegin, size_t yEnd) {
     for (int y = int(yBegin); y < int(yEnd); ++y)
-      BlockerSearchRowScalar(context, gbuffer.word[1].ConstRow(y), gbuffer.word[2].ConstRow(y), y, width,
-                             shadowTerm.MutableRow(y));
+      searchRow(context, gbuffer.word[1].ConstRow(y), gbuffer.word[2].ConstRow(y), y, width, shadowTerm.MutableRow(y));
   });
 }
 
@@ -292,7 +293,7 @@ std::vector<size_t> ShadowCastingLights(const Scene& scene) {
 }
 
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
-                            Plane<uint32_t>& shadowTerm) {
+                            Plane<uint32_t>& shadowTerm, KernelPath kernels) {
   const Scene& scene = in.scene;
   const GBuffer& gbuffer = in.gbuffer;
   const int width = gbuffer.width(), height = gbuffer.height();
@@ -353,7 +354,7 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   const std::vector<glm::vec2> pattern = BlockerSearchPattern(params.blockerSearchTaps);
   const BlockerSearchContext context =
       MakeBlockerSearchContext(positions, out, light, pattern, params.maxBlockerDistance, gbuffer.normalEncoding);
-  RunBlockerSearch(context, gbuffer, shadowTerm);
+  RunBlockerSearch(context, gbuffer, shadowTerm, kernels);
   stats.searchMs = stopwatch.Lap();
   return stats;
 }

@@ -17,6 +17,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/lighting.h"
 #include "core/plane.h"
 #include "core/raster.h"
@@ -62,9 +63,10 @@ struct ShadowMapStats {
 
 // shadowTerm: the shadow term of every G-buffer pixel (PackShadowTerm), written for every pixel,
 // kShadowLit for background and for receivers outside the shadow map. Same size as the G-buffer;
-// normally the G-buffer's own word[3] (the pass never reads word 3).
+// normally the G-buffer's own word[3] (the pass never reads word 3). `kernels` picks the blocker
+// search's row kernel; both give the same bytes.
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
-                            Plane<uint32_t>& shadowTerm);
+                            Plane<uint32_t>& shadowTerm, KernelPath kernels = KernelPath::kSimd);
 
 // Indices (PrepareLights order) of the lights that cast shadows, in that order. The first one is the
 // light whose shadow term the G-buffer's word 3 holds.
@@ -89,6 +91,7 @@ class ReceiverPositions {
   glm::vec3 At(const Row& row, int x, float viewDepth) const {
     return origin_ + (row.first + row.step * float(x)) * viewDepth;
   }
+  const glm::vec3& Origin() const { return origin_; }
   const glm::mat3& Rotation() const { return rotation_; }
 
  private:
@@ -137,8 +140,9 @@ BlockerSearchContext MakeBlockerSearchContext(const ReceiverPositions& receivers
                                               float maxBlockerDistance, NormalEncoding encoding);
 
 // RunShadowMap's blocker search on its own: every row of the G-buffer (words 1 and 2) into
-// shadowTerm, in parallel row bands.
-void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm);
+// shadowTerm, in parallel row bands, with the row kernel `kernels` picks.
+void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm,
+                      KernelPath kernels = KernelPath::kSimd);
 
 // The blocker search's scalar row kernel, the definition a SIMD twin (passes/shadow_map_simd.cpp)
 // must equal bit for bit: the PCSS blocker search (Fernando 2005, §3.1) of G-buffer row y, `width`
@@ -146,5 +150,7 @@ void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffe
 // background, for receivers outside the shadow map and where no tap finds a blocker).
 void BlockerSearchRowScalar(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
                             int width, uint32_t* shadowTerm);
+void BlockerSearchRowSimd(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
+                          int width, uint32_t* shadowTerm);
 
 }  // namespace ssgi

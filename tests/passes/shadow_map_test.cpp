@@ -419,6 +419,86 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
   }
 }
 
+TEST_CASE("shadow map: the SIMD blocker search equals the scalar definition on every compiled target",
+          "[shadow][simd]") {
+  size_t targets = 0, shadowed = 0;
+  for (NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+    TestScene scene = DefaultSceneWithSpot(161, 119);
+    scene.normalEncoding = encoding;
+    const ViewProjection camera = MakePerspective(scene.camera, scene.width, scene.height);
+    GBufferOutputs g;
+    RunGBuffer({scene, camera}, {encoding}, g);
+    const std::vector<PreparedLight> lights = PrepareLights(scene, glm::mat4(1.0f));
+    for (size_t light : {size_t(0), size_t(1)}) {
+      // A fine map, and a coarse one whose search radius reaches past its edges.
+      for (int resolution : {517, 29}) {
+        ShadowMapParams params;
+        params.resolution = resolution;
+        ShadowMapOutputs out;
+        RunShadowMap({scene, camera, g.gbuffer, light}, params, out, g.gbuffer.word[3]);
+        const ReceiverPositions receivers(camera, out.lightView.view * glm::inverse(camera.view));
+        for (int taps : {16, 3}) {
+          const std::vector<glm::vec2> pattern = BlockerSearchPattern(taps);
+          const BlockerSearchContext context =
+              MakeBlockerSearchContext(receivers, out, lights[light], pattern, params.maxBlockerDistance, encoding);
+          std::vector<uint32_t> expected(size_t(scene.width)), actual(size_t(scene.width) + 1);
+          // Whole rows, and on every third row pieces of every length from 1 to 64 pixels (several
+          // vectors and a tail on every target) starting anywhere in the row.
+          auto check = [&](const char* target, int y, int start, int length) {
+            const uint32_t* word1 = g.gbuffer.word[1].ConstRow(y) + start;
+            const uint32_t* word2 = g.gbuffer.word[2].ConstRow(y) + start;
+            BlockerSearchRowScalar(context, word1, word2, y, length, expected.data());
+            std::fill(actual.begin(), actual.end(), 0xABABABABu);
+            BlockerSearchRowSimd(context, word1, word2, y, length, actual.data());
+            CAPTURE(target, int(encoding), light, resolution, taps, y, start, length);
+            REQUIRE(std::equal(expected.begin(), expected.begin() + length, actual.begin()));
+            REQUIRE(actual[size_t(length)] == 0xABABABABu);
+          };
+          targets += test::ForEachSimdTarget([&](const char* target) {
+            for (int y = 0; y < scene.height; ++y) {
+              check(target, y, 0, scene.width);
+              if (y % 3 != 0) continue;
+              for (int length = 1; length <= 64; ++length)
+                check(target, y, (y * 31 + length * 7) % (scene.width - length), length);
+            }
+          });
+          for (int y = 0; y < scene.height; ++y) {
+            BlockerSearchRowScalar(context, g.gbuffer.word[1].ConstRow(y), g.gbuffer.word[2].ConstRow(y), y,
+                                   scene.width, expected.data());
+            for (uint32_t term : expected) shadowed += UnpackHardShadow(term);
+          }
+        }
+      }
+    }
+  }
+  CHECK(targets >= 2 * 2 * 2 * 2 * 2);  // at least two targets (one SIMD) per case
+  CHECK(shadowed > 5000);               // the comparison is about something
+}
+
+TEST_CASE("shadow map: the SIMD blocker search writes the scalar word 3 on every compiled target", "[shadow][simd]") {
+  const Scene scene = LoadScene(test::SourceDir() / "data" / "default.json");
+  for (glm::ivec2 size : {glm::ivec2(kDefaultImageSide), glm::ivec2(1, 1), glm::ivec2(67, 45), glm::ivec2(1023, 769)}) {
+    const TestScene sized = test::Sized(scene, size.x, size.y);
+    const ViewProjection camera = MakePerspective(sized.camera, size.x, size.y);
+    GBufferOutputs g;
+    RunGBuffer({sized, camera}, {sized.normalEncoding}, g);
+    for (int taps : {1, 4, 16, 64}) {
+      ShadowMapParams params;
+      params.blockerSearchTaps = taps;
+      ShadowMapOutputs out;
+      Plane<uint32_t> expected = MakePlane<uint32_t>(size.x, size.y, 0u);
+      RunShadowMap({sized, camera, g.gbuffer, 0}, params, out, expected, KernelPath::kScalar);
+      test::ForEachSimdTarget([&](const char* target) {
+        Plane<uint32_t> actual = MakePlane<uint32_t>(size.x, size.y, 0xABABABABu);
+        RunShadowMap({sized, camera, g.gbuffer, 0}, params, out, actual, KernelPath::kSimd);
+        CAPTURE(target, size.x, size.y, taps);
+        for (int y = 0; y < size.y; ++y)
+          REQUIRE(std::memcmp(actual.ConstRow(y), expected.ConstRow(y), size_t(size.x) * 4) == 0);
+      });
+    }
+  }
+}
+
 TEST_CASE("shadow map: the first shadow-casting light is listed first", "[shadow]") {
   Scene scene;
   scene.directionalLights.resize(2);
