@@ -154,22 +154,31 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
 
   const auto receiverI = hn::RebindMask(di, receiver);
   const auto stride = hn::Set(di, int32_t(in.depthKeyStride));
+  const auto mapSize = hn::Set(du, uint32_t(in.resolution));
+  // A tap's texel in one step instead of the saturating float -> int conversion and back: Floor(t) + 2^23
+  // is exact for 0 <= Floor(t) < 2^23 and its bits are 0x4B000000 + int(t); for any other t (negative, at
+  // least 2^23 > resolution, infinite, NaN) those bits minus 0x4B000000, as unsigned, are at least 2^23.
+  // So the difference is int(tap) and, compared with the resolution, the scalar 0 <= tap < resolution;
+  // Floor(tap) itself is float(int(tap)) there (a tap is never -0: the centre is never -0, being halfX plus
+  // or halfY minus a value, scaled).
+  const VF twoPow23 = hn::Set(df, 8388608.0f);
+  const auto twoPow23Bits = hn::Set(di, 0x4B000000);
+  const auto oneI = hn::Set(di, 1);
   const VF farMinusNear = hn::Set(df, in.farMinusNear);
   const VF half = hn::Set(df, 0.5f);
   auto hardShadow = hn::FirstN(di, 0);
   auto blockers = hn::Zero(di);
   VF blockerDistanceSum = zero;
   for (size_t i = 0; i < in.taps; ++i) {
-    const VF tapX = hn::Add(centreX, hn::Mul(hn::Set(df, in.pattern[i].x), radiusX));
-    const VF tapY = hn::Add(centreY, hn::Mul(hn::Set(df, in.pattern[i].y), radiusY));
-    const auto inMap = hn::And(hn::And(hn::Ge(tapX, zero), hn::Lt(tapX, resolution)),
-                               hn::And(hn::Ge(tapY, zero), hn::Lt(tapY, resolution)));
+    const VF ftx = hn::Floor(hn::Add(centreX, hn::Mul(hn::Set(df, in.pattern[i].x), radiusX)));
+    const VF fty = hn::Floor(hn::Add(centreY, hn::Mul(hn::Set(df, in.pattern[i].y), radiusY)));
+    const auto tx = hn::Sub(hn::BitCast(di, hn::Add(ftx, twoPow23)), twoPow23Bits);
+    const auto ty = hn::Sub(hn::BitCast(di, hn::Add(fty, twoPow23)), twoPow23Bits);
+    const auto inMap = hn::And(hn::Lt(hn::BitCast(du, tx), mapSize), hn::Lt(hn::BitCast(du, ty), mapSize));
     const auto searched = hn::And(receiverI, hn::RebindMask(di, inMap));
-    // Truncation, as int(tap): the lanes that use the texel have tap >= 0; the others read key 0.
-    const auto tx = hn::ConvertTo(di, tapX), ty = hn::ConvertTo(di, tapY);
+    // The lanes that are not searched read key 0.
     const auto index = hn::IfThenElseZero(searched, hn::Add(hn::Mul(ty, stride), tx));
     const VF key = hn::GatherIndex(df, in.depthKey, index);
-    const VF ftx = hn::ConvertTo(df, tx), fty = hn::ConvertTo(df, ty);
     const VF m = hn::Add(hn::Add(m0, hn::Mul(mx, ftx)), hn::Mul(my, fty));
     VF planeDepth, tapDepth;
     if constexpr (kOrthographic) {
@@ -183,7 +192,7 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
     const auto blocker =
         hn::And(searched, hn::RebindMask(di, hn::And(hn::Ne(key, zero), hn::Lt(tapDepth, hn::Sub(planeDepth, bias)))));
     if (i == 0) hardShadow = blocker;
-    blockers = hn::Sub(blockers, hn::VecFromMask(di, blocker));
+    blockers = hn::IfThenElse(blocker, hn::Add(blockers, oneI), blockers);
     VF blockerDistance = tapDepth;
     if constexpr (!kOrthographic) {
       const VF rayX = hn::Sub(hn::Mul(hn::Add(ftx, half), hn::Set(df, in.texelX)), hn::Set(df, in.halfX));
