@@ -8,6 +8,7 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/shadow_map_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/cache_control.h"
 #include "hwy/highway.h"
 
 #include "core/gbuffer-inl.h"
@@ -18,15 +19,24 @@
 namespace ssgi {
 namespace {
 
+// A row's taps cover a band of the shadow map that moves a little from row to row; the texels it
+// newly reaches would come from memory at the gathers. So each tap also prefetches, for one lane in
+// kPrefetchLaneStep, roughly where the same pixel kPrefetchRows rows below will tap (same view depth,
+// no normal offset): a hint only, which changes no result.
+constexpr int kPrefetchRows = 16;
+constexpr size_t kPrefetchLaneStep = 8;
+
 // What the search of one row reads, flattened into plain values for the dispatch boundary: the
 // row's receiver rays, BlockerSearchContext's constants, and the per-pixel subexpressions of the
 // scalar kernel that do not depend on the pixel (computed once, by the same float expressions).
 struct BlockerSearchRowInputs {
   const float* depthKey;  // the shadow map's depth keys, row ty at depthKey + ty * depthKeyStride
   size_t depthKeyStride;
+  uint32_t lastKeyIndex;  // (resolution - 1) * depthKeyStride + resolution - 1
   const glm::vec2* pattern;
   size_t taps;
   float origin[3], first[3], step[3];  // ReceiverPositions: At(row, x, d) = origin + (first + step x) d
+  float aheadFirst[3], aheadStep[3];   // the same for kPrefetchRows rows below, minus this row's
   float normalToLight[3][3];           // [column][row], as glm::mat3
   NormalEncoding encoding;
   bool orthographic;
@@ -152,8 +162,30 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
       StdMax(hn::Div(hn::Sqrt(hn::Add(hn::Mul(n[0], n[0]), hn::Mul(n[1], n[1]))), maxSlope), hn::Set(df, kMinFacing));
   const VF invFacing = kOrthographic ? hn::Div(one, StdMax(n[2], minFacing)) : zero;
 
-  const auto receiverI = hn::RebindMask(di, receiver);
+  // kPrefetchRows rows below, in texels.
+  VF aheadX, aheadY;
+  {
+    VF p2[3];
+    for (int c = 0; c < 3; ++c) {
+      const VF change = hn::Add(hn::Set(df, in.aheadFirst[c]), hn::Mul(hn::Set(df, in.aheadStep[c]), fx));
+      p2[c] = hn::Add(p[c], hn::Mul(change, depth));
+    }
+    if constexpr (kOrthographic) {
+      aheadX = hn::Sub(p2[0], p[0]);
+      aheadY = hn::Sub(p[1], p2[1]);
+    } else {
+      aheadX = hn::Sub(hn::Div(p2[0], hn::Neg(p2[2])), hn::Div(p[0], lightDepth));
+      aheadY = hn::Sub(hn::Div(p[1], lightDepth), hn::Div(p2[1], hn::Neg(p2[2])));
+    }
+    aheadX = hn::Mul(aheadX, hn::Set(df, in.invTexelX));
+    aheadY = hn::Mul(aheadY, hn::Set(df, in.invTexelY));
+  }
   const auto stride = hn::Set(di, int32_t(in.depthKeyStride));
+  const auto aheadShift = hn::Add(hn::Mul(hn::ConvertTo(di, aheadY), stride), hn::ConvertTo(di, aheadX));
+  const auto lastKeyIndex = hn::Set(du, in.lastKeyIndex);
+  HWY_ALIGN uint32_t ahead[HWY_MAX_BYTES / 4];
+
+  const auto receiverI = hn::RebindMask(di, receiver);
   const auto mapSize = hn::Set(du, uint32_t(in.resolution));
   // A tap's texel in one step instead of the saturating float -> int conversion and back: Floor(t) + 2^23
   // is exact for 0 <= Floor(t) < 2^23 and its bits are 0x4B000000 + int(t); for any other t (negative, at
@@ -179,6 +211,8 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
     // The lanes that are not searched read key 0.
     const auto index = hn::IfThenElseZero(searched, hn::Add(hn::Mul(ty, stride), tx));
     const VF key = hn::GatherIndex(df, in.depthKey, index);
+    hn::Store(hn::Min(hn::BitCast(du, hn::Add(index, aheadShift)), lastKeyIndex), du, ahead);
+    for (size_t lane = 0; lane < hn::Lanes(du); lane += kPrefetchLaneStep) hwy::Prefetch(in.depthKey + ahead[lane]);
     const VF m = hn::Add(hn::Add(m0, hn::Mul(mx, ftx)), hn::Mul(my, fty));
     VF planeDepth, tapDepth;
     if constexpr (kOrthographic) {
@@ -253,15 +287,19 @@ void BlockerSearchRowSimd(const BlockerSearchContext& context, const uint32_t* w
                           int width, uint32_t* shadowTerm) {
   const ViewProjection& light = context.light;
   const ReceiverPositions::Row row = context.receivers.AtRow(y);
+  const ReceiverPositions::Row ahead = context.receivers.AtRow(y + kPrefetchRows);
   BlockerSearchRowInputs in;
   in.depthKey = context.depthKey.ConstRow(0);
   in.depthKeyStride = context.depthKey.bytes_per_row() / sizeof(float);
+  in.lastKeyIndex = uint32_t((light.width - 1) * in.depthKeyStride + size_t(light.width) - 1);
   in.pattern = context.pattern;
   in.taps = context.taps;
   for (int c = 0; c < 3; ++c) {
     in.origin[c] = context.receivers.Origin()[c];
     in.first[c] = row.first[c];
     in.step[c] = row.step[c];
+    in.aheadFirst[c] = ahead.first[c] - row.first[c];
+    in.aheadStep[c] = ahead.step[c] - row.step[c];
     for (int r = 0; r < 3; ++r) in.normalToLight[c][r] = context.normalToLight[c][r];
   }
   in.encoding = context.encoding;
