@@ -56,6 +56,7 @@ HWY_BEFORE_NAMESPACE();
 namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+namespace {
 
 using DF = hn::ScalableTag<float>;
 using DI = hn::RebindToSigned<DF>;
@@ -66,6 +67,31 @@ using VF = hn::Vec<DF>;
 // vectors is std::min per component.
 VF StdMin(VF a, VF b) { return hn::IfThenElse(hn::Lt(b, a), b, a); }
 VF StdMax(VF a, VF b) { return hn::IfThenElse(hn::Lt(a, b), b, a); }
+
+// How far, as an index into the map, the pixel kPrefetchRows rows below taps from where this one
+// does, roughly: from the receivers at light-view positions p and view depths `depth` of the pixels
+// at x = fx, with no normal offset.
+template <bool kOrthographic>
+hn::Vec<DI> PrefetchShift(const BlockerSearchRowInputs& in, const VF (&p)[3], VF fx, VF depth) {
+  const DF df;
+  const DI di;
+  VF below[3];
+  for (int c = 0; c < 3; ++c) {
+    const VF change = hn::Add(hn::Set(df, in.aheadFirst[c]), hn::Mul(hn::Set(df, in.aheadStep[c]), fx));
+    below[c] = hn::Add(p[c], hn::Mul(change, depth));
+  }
+  VF shiftX, shiftY;
+  if constexpr (kOrthographic) {
+    shiftX = hn::Sub(below[0], p[0]);
+    shiftY = hn::Sub(p[1], below[1]);
+  } else {
+    shiftX = hn::Sub(hn::Div(below[0], hn::Neg(below[2])), hn::Div(p[0], hn::Neg(p[2])));
+    shiftY = hn::Sub(hn::Div(p[1], hn::Neg(p[2])), hn::Div(below[1], hn::Neg(below[2])));
+  }
+  const auto texelsX = hn::ConvertTo(di, hn::Mul(shiftX, hn::Set(df, in.invTexelX)));
+  const auto texelsY = hn::ConvertTo(di, hn::Mul(shiftY, hn::Set(df, in.invTexelY)));
+  return hn::Add(hn::Mul(texelsY, hn::Set(di, int32_t(in.depthKeyStride))), texelsX);
+}
 
 // SearchBlockers (shadow_map.cpp) for the Lanes(df) pixels from x of one row: words 1 and 2 in, word 3 out.
 template <bool kOrthographic>
@@ -162,28 +188,10 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
       StdMax(hn::Div(hn::Sqrt(hn::Add(hn::Mul(n[0], n[0]), hn::Mul(n[1], n[1]))), maxSlope), hn::Set(df, kMinFacing));
   const VF invFacing = kOrthographic ? hn::Div(one, StdMax(n[2], minFacing)) : zero;
 
-  // kPrefetchRows rows below, in texels.
-  VF aheadX, aheadY;
-  {
-    VF p2[3];
-    for (int c = 0; c < 3; ++c) {
-      const VF change = hn::Add(hn::Set(df, in.aheadFirst[c]), hn::Mul(hn::Set(df, in.aheadStep[c]), fx));
-      p2[c] = hn::Add(p[c], hn::Mul(change, depth));
-    }
-    if constexpr (kOrthographic) {
-      aheadX = hn::Sub(p2[0], p[0]);
-      aheadY = hn::Sub(p[1], p2[1]);
-    } else {
-      aheadX = hn::Sub(hn::Div(p2[0], hn::Neg(p2[2])), hn::Div(p[0], lightDepth));
-      aheadY = hn::Sub(hn::Div(p[1], lightDepth), hn::Div(p2[1], hn::Neg(p2[2])));
-    }
-    aheadX = hn::Mul(aheadX, hn::Set(df, in.invTexelX));
-    aheadY = hn::Mul(aheadY, hn::Set(df, in.invTexelY));
-  }
   const auto stride = hn::Set(di, int32_t(in.depthKeyStride));
-  const auto aheadShift = hn::Add(hn::Mul(hn::ConvertTo(di, aheadY), stride), hn::ConvertTo(di, aheadX));
+  const auto prefetchShift = PrefetchShift<kOrthographic>(in, p, fx, depth);
   const auto lastKeyIndex = hn::Set(du, in.lastKeyIndex);
-  HWY_ALIGN uint32_t ahead[HWY_MAX_BYTES / 4];
+  HWY_ALIGN uint32_t prefetchIndex[HWY_MAX_BYTES / 4];
 
   const auto receiverI = hn::RebindMask(di, receiver);
   const auto mapSize = hn::Set(du, uint32_t(in.resolution));
@@ -211,8 +219,10 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
     // The lanes that are not searched read key 0.
     const auto index = hn::IfThenElseZero(searched, hn::Add(hn::Mul(ty, stride), tx));
     const VF key = hn::GatherIndex(df, in.depthKey, index);
-    hn::Store(hn::Min(hn::BitCast(du, hn::Add(index, aheadShift)), lastKeyIndex), du, ahead);
-    for (size_t lane = 0; lane < hn::Lanes(du); lane += kPrefetchLaneStep) hwy::Prefetch(in.depthKey + ahead[lane]);
+    hn::Store(hn::Min(hn::BitCast(du, hn::Add(index, prefetchShift)), lastKeyIndex), du, prefetchIndex);
+    for (size_t lane = 0; lane < hn::Lanes(du); lane += kPrefetchLaneStep) {
+      hwy::Prefetch(in.depthKey + prefetchIndex[lane]);
+    }
     const VF m = hn::Add(hn::Add(m0, hn::Mul(mx, ftx)), hn::Mul(my, fty));
     VF planeDepth, tapDepth;
     if constexpr (kOrthographic) {
@@ -262,6 +272,8 @@ void SearchBlockersRowV(const BlockerSearchRowInputs& in, const uint32_t* word1,
   SearchBlockersV<kOrthographic>(in, w1, w2, x, out);
   for (int i = 0; x + i < width; ++i) shadowTerm[x + i] = out[i];
 }
+
+}  // namespace
 
 void BlockerSearchRow(const BlockerSearchRowInputs* in, const uint32_t* word1, const uint32_t* word2, int width,
                       uint32_t* shadowTerm) {
