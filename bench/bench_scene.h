@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/scene.h"
+#include "passes/frame.h"
 #include "passes/frame_config.h"
 
 namespace ssgi {
@@ -18,5 +19,9 @@ struct BenchScene {
 // data/default.json with its frame configuration, loaded once; a missing or malformed file becomes the error every benchmark that
 // needs it reports.
 const BenchScene& DefaultBenchScene();
+
+// One whole frame of the default scene at size x size, rendered once per size: its buffers are the
+// inputs of the benchmarks of single passes.
+const Frame& DefaultBenchFrame(int size);
 
 }  // namespace ssgi

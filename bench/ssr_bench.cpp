@@ -1,6 +1,7 @@
 // Indirect-light pass timings at 1024x1024 on the default scene: Hi-Z, colour pyramid, SSR trace,
-// cone trace and composite, each on inputs made once, outputs reused between iterations (the
-// steady state of a renderer). bench/README.md records results.
+// cone trace and composite (also at 2048x2048, with either kernel path), each on inputs made once,
+// outputs reused between iterations (the steady state of a renderer). bench/README.md records
+// results.
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
@@ -12,22 +13,12 @@ namespace {
 
 constexpr int kSize = 1024;
 
-// One whole frame of the default scene, whose buffers are the passes' inputs.
-const Frame& DefaultFrame(const BenchScene& bench) {
-  static const Frame frame = [&] {
-    FrameConfig config = bench.config;
-    config.width = config.height = kSize;
-    return RenderFrame(bench.scene, config);
-  }();
-  return frame;
-}
-
 template <class Body>
 void Run(benchmark::State& state, Body&& body) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const Frame& frame = DefaultFrame(bench);
+  const Frame& frame = DefaultBenchFrame(kSize);
   for (auto _ : state) body(frame);
   state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -54,20 +45,32 @@ void BM_SsrCone(benchmark::State& state) {
   Run(state, [&](const Frame& f) { RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, cone); });
 }
 
+// Arguments: simd (1: KernelPath::kSimd, 0: kScalar), size (of the square image), threads.
 void BM_Composite(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelPath kernels = state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
+  const int size = int(state.range(1));
+  const ThreadLimit threads(int(state.range(2)));
+  const Frame& f = DefaultBenchFrame(size);
+  const CompositeInputs in{f.gbuffer.gbuffer,     f.view, f.direct.radiance, f.ssrCone.reflected,
+                           f.ssrTrace.confidence, bench.config.ssrTrace.roughnessCutoff};
   CompositeOutputs out;
-  Run(state, [&](const Frame& f) {
-    RunComposite({f.gbuffer.gbuffer, f.view, f.direct.radiance, f.ssrCone.reflected,
-                   f.ssrTrace.confidence, SsrTraceParams{}.roughnessCutoff},
-                  out);
-  });
+  // Outputs allocated before timing, as a renderer keeps them.
+  RunComposite(in, out, kernels);
+  for (auto _ : state) RunComposite(in, out, kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * size * size);
 }
 
 BENCHMARK(BM_HiZ)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ColorPyramid)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SsrTrace)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SsrCone)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Composite)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Composite)
+    ->ArgNames({"simd", "size", "threads"})
+    ->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace ssgi

@@ -19,7 +19,7 @@
 #include "core/image_compare.h"
 #include "core/image_io.h"
 #include "core/parallel.h"
-#include "core/reference.h"
+#include "core/reference/reference.h"
 #include "core/stopwatch.h"
 #include "passes/frame.h"
 

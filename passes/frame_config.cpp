@@ -69,14 +69,6 @@ bool IsEffectMode(const FrameSetting& s) {
   return s.kind == SettingKind::kChoice && s.choices == std::vector<std::string_view>{"auto", "on", "off"};
 }
 
-EffectMode ToEffectMode(const SettingValue& v) {
-  const std::string& name = std::get<std::string>(v);
-  return name == "on" ? EffectMode::kOn : name == "off" ? EffectMode::kOff : EffectMode::kAuto;
-}
-std::string EffectModeName(EffectMode mode) {
-  return mode == EffectMode::kOn ? "on" : mode == EffectMode::kOff ? "off" : "auto";
-}
-
 int ToInt(const SettingValue& v) { return int(std::get<double>(v)); }
 float ToFloat(const SettingValue& v) { return float(std::get<double>(v)); }
 

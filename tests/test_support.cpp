@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 
@@ -63,6 +64,12 @@ size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body
   }
   hwy::SetSupportedTargetsForTest(0);
   return targets;
+}
+
+size_t FirstDifferentBits(const float* a, const float* b, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (std::memcmp(a + i, b + i, sizeof(float)) != 0) return i;
+  return n;
 }
 
 CommandResult RunCli(const std::string& arguments) { return RunProgram(CliPath(), arguments); }

@@ -70,6 +70,10 @@ CommandResult RunProgram(const std::filesystem::path& program, const std::string
 // targets (DESIGN.md §11: each Highway twin must equal its scalar definition on every one).
 size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body);
 
+// The first index at which a and b hold different bits (NaN payloads and signed zeros count), or n
+// when all n floats are the same: for SIMD twins, which must equal their scalar definitions exactly.
+size_t FirstDifferentBits(const float* a, const float* b, size_t n);
+
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);
 

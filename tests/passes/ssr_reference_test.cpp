@@ -9,7 +9,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/reference.h"
+#include "core/reference/reference.h"
 #include "passes/frame.h"
 #include "tests/passes/test_scenes.h"
 

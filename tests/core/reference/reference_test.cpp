@@ -1,7 +1,7 @@
-// The Embree reference (core/reference.h): primary visibility against the rasterizer, direct light
+// The Embree reference (core/reference/reference.h): primary visibility against the rasterizer, direct light
 // against analytic values, area-light soft shadows, Monte Carlo convergence, determinism and
 // finiteness in degenerate set-ups.
-#include "core/reference.h"
+#include "core/reference/reference.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/reference.h"
+#include "core/reference/reference.h"
 
 #include <embree3/rtcore.h>
 
