@@ -1,10 +1,9 @@
-// The Highway twin of BlockerSearchRowScalar (shadow_map.cpp): lanes are the pixels of the row, each
-// tap a gather of the depth keys. Each lane runs the scalar definition's operations in its order:
-// std::min / std::max as the same compare and select (so a NaN goes where it goes there, whatever a
-// target's min instruction does), Mul then Add (never fused), exact division and square root, the
-// blocker distances summed tap by tap. A receiver the scalar code returns early for stays in the
-// vector under a mask: its lanes compute values that are never stored and gather only key 0. So every
-// target gives the scalar bytes (tests/passes/shadow_map_test.cpp checks each compiled target).
+// The Highway twin of BlockerSearchRowScalar (shadow_map.cpp): the same operations in the same order
+// through the core twins (core/*-inl.h), so every target gives the scalar bits
+// (tests/passes/shadow_map_test.cpp checks each compiled target). Lanes are the pixels of the row,
+// each tap a gather of the depth keys, the blocker distances summed tap by tap in every lane. A
+// receiver the scalar code returns early for stays in the vector under a mask: its lanes compute
+// values that are never stored and gather only key 0; a vector with no receiver left skips the taps.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/shadow_map_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -12,10 +11,12 @@
 #include "hwy/highway.h"
 
 #include "core/gbuffer-inl.h"
+#include "core/math-inl.h"
+#include "core/row-inl.h"
 #include "passes/shadow_map.h"
 
-#ifndef SSGI_PASSES_SHADOW_MAP_SIMD_ROW_INPUTS
-#define SSGI_PASSES_SHADOW_MAP_SIMD_ROW_INPUTS
+#ifndef SSGI_PASSES_SHADOW_MAP_SIMD_ONCE
+#define SSGI_PASSES_SHADOW_MAP_SIMD_ONCE
 namespace ssgi {
 namespace {
 
@@ -27,17 +28,17 @@ constexpr int kPrefetchRows = 16;
 constexpr size_t kPrefetchLaneStep = 8;
 
 // What the search of one row reads, flattened into plain values for the dispatch boundary: the
-// row's receiver rays, BlockerSearchContext's constants, and the per-pixel subexpressions of the
-// scalar kernel that do not depend on the pixel (computed once, by the same float expressions).
+// row's receiver rays, BlockerSearchContext's constants, and the subexpressions of the scalar kernel
+// that do not depend on the pixel (computed once, by the same float expressions).
 struct BlockerSearchRowInputs {
   const float* depthKey;  // the shadow map's depth keys, row ty at depthKey + ty * depthKeyStride
   size_t depthKeyStride;
   uint32_t lastKeyIndex;  // (resolution - 1) * depthKeyStride + resolution - 1
   const glm::vec2* pattern;
   size_t taps;
-  float origin[3], first[3], step[3];  // ReceiverPositions: At(row, x, d) = origin + (first + step x) d
-  float aheadFirst[3], aheadStep[3];   // the same for kPrefetchRows rows below, minus this row's
-  float normalToLight[3][3];           // [column][row], as glm::mat3
+  glm::vec3 origin, first, step;   // ReceiverPositions: At(row, x, d) = origin + (first + step x) d
+  glm::vec3 aheadFirst, aheadStep;  // first and step kPrefetchRows rows below, minus this row's
+  glm::mat3 normalToLight;
   NormalEncoding encoding;
   bool orthographic;
   float nearPlane, farMinusNear;  // ViewProjection::DepthFromKey
@@ -63,40 +64,38 @@ using DI = hn::RebindToSigned<DF>;
 using DU = hn::RebindToUnsigned<DF>;
 using VF = hn::Vec<DF>;
 
-// std::min(a, b) and std::max(a, b), NaN included: (b < a) ? b : a and (a < b) ? b : a. glm::min of
-// vectors is std::min per component.
-VF StdMin(VF a, VF b) { return hn::IfThenElse(hn::Lt(b, a), b, a); }
-VF StdMax(VF a, VF b) { return hn::IfThenElse(hn::Lt(a, b), b, a); }
+// glm's mat3 * vec3: row r is (m[0][r] v.x + m[1][r] v.y) + m[2][r] v.z.
+Vec3V<DF> MulMat3(const glm::mat3& m, const Vec3V<DF>& v) {
+  const DF df;
+  return Add3(Add3(Scale3(Set3(df, m[0]), v.x), Scale3(Set3(df, m[1]), v.y)), Scale3(Set3(df, m[2]), v.z));
+}
 
 // How far, as an index into the map, the pixel kPrefetchRows rows below taps from where this one
-// does, roughly: from the receivers at light-view positions p and view depths `depth` of the pixels
-// at x = fx, with no normal offset.
+// does, roughly: from the receiver at light-view position p, at x = fx and view depth `depth`,
+// without the normal offset.
 template <bool kOrthographic>
-hn::Vec<DI> PrefetchShift(const BlockerSearchRowInputs& in, const VF (&p)[3], VF fx, VF depth) {
+hn::Vec<DI> PrefetchShift(const BlockerSearchRowInputs& in, const Vec3V<DF>& p, VF fx, VF depth) {
   const DF df;
   const DI di;
-  VF below[3];
-  for (int c = 0; c < 3; ++c) {
-    const VF change = hn::Add(hn::Set(df, in.aheadFirst[c]), hn::Mul(hn::Set(df, in.aheadStep[c]), fx));
-    below[c] = hn::Add(p[c], hn::Mul(change, depth));
-  }
+  const Vec3V<DF> below =
+      Add3(p, Scale3(Add3(Set3(df, in.aheadFirst), Scale3(Set3(df, in.aheadStep), fx)), depth));
   VF shiftX, shiftY;
   if constexpr (kOrthographic) {
-    shiftX = hn::Sub(below[0], p[0]);
-    shiftY = hn::Sub(p[1], below[1]);
+    shiftX = hn::Sub(below.x, p.x);
+    shiftY = hn::Sub(p.y, below.y);
   } else {
-    shiftX = hn::Sub(hn::Div(below[0], hn::Neg(below[2])), hn::Div(p[0], hn::Neg(p[2])));
-    shiftY = hn::Sub(hn::Div(p[1], hn::Neg(p[2])), hn::Div(below[1], hn::Neg(below[2])));
+    shiftX = hn::Sub(hn::Div(below.x, hn::Neg(below.z)), hn::Div(p.x, hn::Neg(p.z)));
+    shiftY = hn::Sub(hn::Div(p.y, hn::Neg(p.z)), hn::Div(below.y, hn::Neg(below.z)));
   }
   const auto texelsX = hn::ConvertTo(di, hn::Mul(shiftX, hn::Set(df, in.invTexelX)));
   const auto texelsY = hn::ConvertTo(di, hn::Mul(shiftY, hn::Set(df, in.invTexelY)));
   return hn::Add(hn::Mul(texelsY, hn::Set(di, int32_t(in.depthKeyStride))), texelsX);
 }
 
-// SearchBlockers (shadow_map.cpp) for the Lanes(df) pixels from x of one row: words 1 and 2 in, word 3 out.
+// SearchBlockersRow's body (shadow_map.cpp) for the pixels at x = fx of one row: words 1 and 2 in,
+// word 3 out.
 template <bool kOrthographic>
-void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, const uint32_t* word2, int x,
-                     uint32_t* shadowTerm) {
+hn::Vec<DU> SearchBlockersV(const BlockerSearchRowInputs& in, hn::Vec<DU> word1, hn::Vec<DU> word2, VF fx) {
   const DF df;
   const DI di;
   const DU du;
@@ -105,95 +104,66 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
   const VF nearPlane = hn::Set(df, in.nearPlane);
   const VF resolution = hn::Set(df, in.resolution);
 
-  const VF depth = UnpackDepthV(df, hn::LoadU(du, word2));
+  const VF depth = UnpackDepthV(df, word2);
   auto receiver = hn::Lt(depth, hn::Set(df, kBackgroundDepth));
-  if (hn::AllFalse(df, receiver)) {
-    hn::StoreU(hn::Zero(du), du, shadowTerm);
-    return;
-  }
+  if (hn::AllFalse(df, receiver)) return hn::Zero(du);
+  const Vec3V<DF> p =
+      Add3(Set3(df, in.origin), Scale3(Add3(Set3(df, in.first), Scale3(Set3(df, in.step), fx)), depth));
+  const Vec3V<DF> n = MulMat3(in.normalToLight, UnpackNormalV(df, word1, in.encoding));
 
-  // ReceiverPositions::At and the normal rotated into the light view (glm's mat3 * vec3).
-  const VF fx = hn::ConvertTo(df, hn::Iota(di, x));
-  VF p[3];
-  for (int c = 0; c < 3; ++c) {
-    const VF direction = hn::Add(hn::Set(df, in.first[c]), hn::Mul(hn::Set(df, in.step[c]), fx));
-    p[c] = hn::Add(hn::Set(df, in.origin[c]), hn::Mul(direction, depth));
-  }
-  const Vec3V<DF> cameraNormal = UnpackNormalV(df, hn::LoadU(du, word1), in.encoding);
-  VF n[3];
-  for (int r = 0; r < 3; ++r) {
-    n[r] = hn::Add(hn::Add(hn::Mul(hn::Set(df, in.normalToLight[0][r]), cameraNormal.x),
-                           hn::Mul(hn::Set(df, in.normalToLight[1][r]), cameraNormal.y)),
-                   hn::Mul(hn::Set(df, in.normalToLight[2][r]), cameraNormal.z));
-  }
-
-  const VF lightDepth = hn::Neg(p[2]);
+  const VF lightDepth = hn::Neg(p.z);
   receiver = hn::And(receiver, hn::Gt(lightDepth, nearPlane));
-  VF distance, cosAngle;
-  if constexpr (kOrthographic) {
-    distance = lightDepth;
-    // dot(n, (0, 0, 1)), with its products by 0.
-    cosAngle = hn::Add(hn::Add(hn::Mul(n[0], zero), hn::Mul(n[1], zero)), hn::Mul(n[2], one));
-  } else {
-    distance = hn::Sqrt(hn::Add(hn::Add(hn::Mul(p[0], p[0]), hn::Mul(p[1], p[1])), hn::Mul(p[2], p[2])));
-    cosAngle = hn::Add(hn::Add(hn::Mul(n[0], hn::Div(hn::Neg(p[0]), distance)),
-                               hn::Mul(n[1], hn::Div(hn::Neg(p[1]), distance))),
-                       hn::Mul(n[2], hn::Div(hn::Neg(p[2]), distance)));
-  }
-  const VF sinAngle = hn::Sqrt(StdMax(zero, hn::Sub(one, hn::Mul(cosAngle, cosAngle))));
+  const VF distance = kOrthographic ? lightDepth : Length3(p);
+  const Vec3V<DF> toLight = kOrthographic ? Set3(df, glm::vec3(0.0f, 0.0f, 1.0f)) : Div3(Neg3(p), distance);
+  const VF cosAngle = Dot3(n, toLight);
+  const VF sinAngle = hn::Sqrt(MaxStd(zero, hn::Sub(one, hn::Mul(cosAngle, cosAngle))));
   const VF maxSlope = hn::Set(df, kMaxSlope);
   const VF slope = hn::IfThenElse(hn::Gt(hn::Mul(cosAngle, maxSlope), sinAngle), hn::Div(sinAngle, cosAngle), maxSlope);
   const VF texel = kOrthographic ? hn::Set(df, in.maxTexel) : hn::Mul(hn::Set(df, in.maxTexel), lightDepth);
-  const VF offset = hn::Mul(hn::Mul(hn::Set(df, kNormalOffsetTexels), texel), sinAngle);
-  const VF biasedX = hn::Add(p[0], hn::Mul(n[0], offset));
-  const VF biasedY = hn::Add(p[1], hn::Mul(n[1], offset));
-  const VF biasedDepth = hn::Neg(hn::Add(p[2], hn::Mul(n[2], offset)));
+  const Vec3V<DF> biased = Add3(p, Scale3(n, hn::Mul(hn::Mul(hn::Set(df, kNormalOffsetTexels), texel), sinAngle)));
+  const VF biasedDepth = hn::Neg(biased.z);
   receiver = hn::And(receiver, hn::Gt(biasedDepth, nearPlane));
   const VF toUnitDepth = kOrthographic ? one : hn::Div(one, biasedDepth);
   const VF centreX =
-      hn::Mul(hn::Add(hn::Mul(biasedX, toUnitDepth), hn::Set(df, in.halfX)), hn::Set(df, in.invTexelX));
+      hn::Mul(hn::Add(hn::Mul(biased.x, toUnitDepth), hn::Set(df, in.halfX)), hn::Set(df, in.invTexelX));
   const VF centreY =
-      hn::Mul(hn::Sub(hn::Set(df, in.halfY), hn::Mul(biasedY, toUnitDepth)), hn::Set(df, in.invTexelY));
+      hn::Mul(hn::Sub(hn::Set(df, in.halfY), hn::Mul(biased.y, toUnitDepth)), hn::Set(df, in.invTexelY));
   receiver = hn::And(receiver, hn::And(hn::And(hn::Ge(centreX, zero), hn::Lt(centreX, resolution)),
                                        hn::And(hn::Ge(centreY, zero), hn::Lt(centreY, resolution))));
-  if (hn::AllFalse(df, receiver)) {
-    hn::StoreU(hn::Zero(du), du, shadowTerm);
-    return;
-  }
+  if (hn::AllFalse(df, receiver)) return hn::Zero(du);
   const VF bias = hn::Mul(
       texel, hn::Add(hn::Set(df, kConstantBiasTexels), hn::Mul(hn::Set(df, kSlopeBiasTexels), slope)));
 
   VF radiusX, radiusY;
   if constexpr (kOrthographic) {
-    const VF world = hn::Mul(StdMin(hn::Sub(lightDepth, nearPlane), hn::Set(df, in.maxBlockerDistance)),
+    const VF world = hn::Mul(MinStd(hn::Sub(lightDepth, nearPlane), hn::Set(df, in.maxBlockerDistance)),
                              hn::Set(df, in.tanAngularRadius));
     radiusX = hn::Mul(world, hn::Set(df, in.invTexelX));
     radiusY = hn::Mul(world, hn::Set(df, in.invTexelY));
   } else {
-    const VF nearest = StdMax(nearPlane, hn::Sub(lightDepth, hn::Set(df, in.maxBlockerDistance)));
+    const VF nearest = MaxStd(nearPlane, hn::Sub(lightDepth, hn::Set(df, in.maxBlockerDistance)));
     radiusX = hn::Mul(hn::Div(hn::Mul(hn::Set(df, in.lightRadius), hn::Sub(lightDepth, nearest)),
                               hn::Mul(lightDepth, nearest)),
                       hn::Set(df, in.invTexelX));
     radiusY = radiusX;
   }
-  radiusX = StdMin(radiusX, resolution);
-  radiusY = StdMin(radiusY, resolution);
+  radiusX = MinStd(radiusX, resolution);
+  radiusY = MinStd(radiusY, resolution);
 
   // The receiver plane along texel (tx, ty)'s ray: m = m0 + mx tx + my ty.
-  const VF m0 = hn::Add(hn::Mul(n[0], hn::Set(df, in.planeX0)), hn::Mul(n[1], hn::Set(df, in.planeY0)));
-  const VF mx = hn::Mul(n[0], hn::Set(df, in.texelX));
-  const VF my = hn::Mul(hn::Neg(n[1]), hn::Set(df, in.texelY));
-  const VF c = hn::Add(hn::Mul(n[0], biasedX), hn::Mul(n[1], biasedY));
+  const VF m0 = hn::Add(hn::Mul(n.x, hn::Set(df, in.planeX0)), hn::Mul(n.y, hn::Set(df, in.planeY0)));
+  const VF mx = hn::Mul(n.x, hn::Set(df, in.texelX));
+  const VF my = hn::Mul(hn::Neg(n.y), hn::Set(df, in.texelY));
+  const VF c = hn::Add(hn::Mul(n.x, biased.x), hn::Mul(n.y, biased.y));
   const VF minFacing =
-      StdMax(hn::Div(hn::Sqrt(hn::Add(hn::Mul(n[0], n[0]), hn::Mul(n[1], n[1]))), maxSlope), hn::Set(df, kMinFacing));
-  const VF invFacing = kOrthographic ? hn::Div(one, StdMax(n[2], minFacing)) : zero;
+      MaxStd(hn::Div(hn::Sqrt(hn::Add(hn::Mul(n.x, n.x), hn::Mul(n.y, n.y))), maxSlope), hn::Set(df, kMinFacing));
+  const VF invFacing = kOrthographic ? hn::Div(one, MaxStd(n.z, minFacing)) : zero;
 
   const auto stride = hn::Set(di, int32_t(in.depthKeyStride));
   const auto prefetchShift = PrefetchShift<kOrthographic>(in, p, fx, depth);
   const auto lastKeyIndex = hn::Set(du, in.lastKeyIndex);
   HWY_ALIGN uint32_t prefetchIndex[HWY_MAX_BYTES / 4];
-
-  const auto receiverI = hn::RebindMask(di, receiver);
+  const auto searchedReceiver = hn::RebindMask(di, receiver);
   const auto mapSize = hn::Set(du, uint32_t(in.resolution));
   // A tap's texel in one step instead of the saturating float -> int conversion and back: Floor(t) + 2^23
   // is exact for 0 <= Floor(t) < 2^23 and its bits are 0x4B000000 + int(t); for any other t (negative, at
@@ -215,7 +185,7 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
     const auto tx = hn::Sub(hn::BitCast(di, hn::Add(ftx, twoPow23)), twoPow23Bits);
     const auto ty = hn::Sub(hn::BitCast(di, hn::Add(fty, twoPow23)), twoPow23Bits);
     const auto inMap = hn::And(hn::Lt(hn::BitCast(du, tx), mapSize), hn::Lt(hn::BitCast(du, ty), mapSize));
-    const auto searched = hn::And(receiverI, hn::RebindMask(di, inMap));
+    const auto searched = hn::And(searchedReceiver, hn::RebindMask(di, inMap));
     // The lanes that are not searched read key 0.
     const auto index = hn::IfThenElseZero(searched, hn::Add(hn::Mul(ty, stride), tx));
     const VF key = hn::GatherIndex(df, in.depthKey, index);
@@ -230,7 +200,7 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
       tapDepth = hn::Add(nearPlane, hn::Mul(hn::Sub(one, key), farMinusNear));
     } else {
       planeDepth = hn::Add(biasedDepth, hn::Div(hn::Sub(hn::Mul(biasedDepth, m), c),
-                                                StdMax(hn::Sub(n[2], m), minFacing)));
+                                                MaxStd(hn::Sub(n.z, m), minFacing)));
       tapDepth = hn::Div(nearPlane, key);
     }
     const auto blocker =
@@ -239,10 +209,9 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
     blockers = hn::IfThenElse(blocker, hn::Add(blockers, oneI), blockers);
     VF blockerDistance = tapDepth;
     if constexpr (!kOrthographic) {
-      const VF rayX = hn::Sub(hn::Mul(hn::Add(ftx, half), hn::Set(df, in.texelX)), hn::Set(df, in.halfX));
-      const VF rayY = hn::Sub(hn::Set(df, in.halfY), hn::Mul(hn::Add(fty, half), hn::Set(df, in.texelY)));
-      const VF rayLength = hn::Sqrt(hn::Add(hn::Add(hn::Mul(rayX, rayX), hn::Mul(rayY, rayY)), hn::Mul(one, one)));
-      blockerDistance = hn::Mul(tapDepth, rayLength);
+      const Vec3V<DF> ray{hn::Sub(hn::Mul(hn::Add(ftx, half), hn::Set(df, in.texelX)), hn::Set(df, in.halfX)),
+                          hn::Sub(hn::Set(df, in.halfY), hn::Mul(hn::Add(fty, half), hn::Set(df, in.texelY))), one};
+      blockerDistance = hn::Mul(tapDepth, Length3(ray));
     }
     blockerDistanceSum =
         hn::IfThenElse(hn::RebindMask(df, blocker), hn::Add(blockerDistanceSum, blockerDistance), blockerDistanceSum);
@@ -250,37 +219,34 @@ void SearchBlockersV(const BlockerSearchRowInputs& in, const uint32_t* word1, co
   const auto found = hn::Gt(blockers, hn::Zero(di));
   const VF average = hn::Sub(distance, hn::Div(blockerDistanceSum, hn::ConvertTo(df, blockers)));
   // PackShadowTerm(hardShadow, max(0, average)).
-  const auto packed = hn::Or(hn::BitCast(du, StdMax(zero, average)),
+  const auto packed = hn::Or(hn::BitCast(du, MaxStd(zero, average)),
                              hn::IfThenElseZero(hn::RebindMask(du, hardShadow), hn::Set(du, 0x80000000u)));
-  hn::StoreU(hn::IfThenElseZero(hn::RebindMask(du, found), packed), du, shadowTerm);
+  return hn::IfThenElseZero(hn::RebindMask(du, found), packed);
 }
 
 template <bool kOrthographic>
-void SearchBlockersRowV(const BlockerSearchRowInputs& in, const uint32_t* word1, const uint32_t* word2, int width,
+void SearchBlockersRowV(const BlockerSearchRowInputs& in, const uint32_t* word1, const uint32_t* word2, size_t width,
                         uint32_t* shadowTerm) {
   const DF df;
-  const int lanes = int(hn::Lanes(df));
-  int x = 0;
-  for (; x + lanes <= width; x += lanes) SearchBlockersV<kOrthographic>(in, word1 + x, word2 + x, x, shadowTerm + x);
-  if (x == width) return;
-  // The tail through one vector of copies, padded with background, so no load or store passes the row.
-  HWY_ALIGN uint32_t w1[HWY_MAX_BYTES / 4], w2[HWY_MAX_BYTES / 4], out[HWY_MAX_BYTES / 4];
-  for (int i = 0; i < lanes; ++i) {
-    w1[i] = x + i < width ? word1[x + i] : 0u;
-    w2[i] = x + i < width ? word2[x + i] : PackDepth(kBackgroundDepth);
+  const DU du;
+  const VF lane = hn::Iota(df, 0.0f);
+  for (size_t x = 0; x < width; x += hn::Lanes(df)) {
+    const hn::Vec<DU> term =
+        SearchBlockersV<kOrthographic>(in, LoadRow(du, word1, x, width, 0u),
+                                       LoadRow(du, word2, x, width, PackDepth(kBackgroundDepth)),
+                                       hn::Add(lane, hn::Set(df, float(x))));
+    StoreRow(term, du, shadowTerm, x, width);
   }
-  SearchBlockersV<kOrthographic>(in, w1, w2, x, out);
-  for (int i = 0; x + i < width; ++i) shadowTerm[x + i] = out[i];
 }
 
 }  // namespace
 
-void BlockerSearchRow(const BlockerSearchRowInputs* in, const uint32_t* word1, const uint32_t* word2, int width,
+void BlockerSearchRow(const BlockerSearchRowInputs& in, const uint32_t* word1, const uint32_t* word2, int width,
                       uint32_t* shadowTerm) {
-  if (in->orthographic) {
-    SearchBlockersRowV<true>(*in, word1, word2, width, shadowTerm);
+  if (in.orthographic) {
+    SearchBlockersRowV<true>(in, word1, word2, size_t(width), shadowTerm);
   } else {
-    SearchBlockersRowV<false>(*in, word1, word2, width, shadowTerm);
+    SearchBlockersRowV<false>(in, word1, word2, size_t(width), shadowTerm);
   }
 }
 
@@ -299,21 +265,19 @@ void BlockerSearchRowSimd(const BlockerSearchContext& context, const uint32_t* w
                           int width, uint32_t* shadowTerm) {
   const ViewProjection& light = context.light;
   const ReceiverPositions::Row row = context.receivers.AtRow(y);
-  const ReceiverPositions::Row ahead = context.receivers.AtRow(y + kPrefetchRows);
+  const ReceiverPositions::Row below = context.receivers.AtRow(y + kPrefetchRows);
   BlockerSearchRowInputs in;
   in.depthKey = context.depthKey.ConstRow(0);
   in.depthKeyStride = context.depthKey.bytes_per_row() / sizeof(float);
-  in.lastKeyIndex = uint32_t((light.width - 1) * in.depthKeyStride + size_t(light.width) - 1);
+  in.lastKeyIndex = uint32_t(size_t(light.width - 1) * in.depthKeyStride + size_t(light.width - 1));
   in.pattern = context.pattern;
   in.taps = context.taps;
-  for (int c = 0; c < 3; ++c) {
-    in.origin[c] = context.receivers.Origin()[c];
-    in.first[c] = row.first[c];
-    in.step[c] = row.step[c];
-    in.aheadFirst[c] = ahead.first[c] - row.first[c];
-    in.aheadStep[c] = ahead.step[c] - row.step[c];
-    for (int r = 0; r < 3; ++r) in.normalToLight[c][r] = context.normalToLight[c][r];
-  }
+  in.origin = context.receivers.Origin();
+  in.first = row.first;
+  in.step = row.step;
+  in.aheadFirst = below.first - row.first;
+  in.aheadStep = below.step - row.step;
+  in.normalToLight = context.normalToLight;
   in.encoding = context.encoding;
   in.orthographic = light.orthographic;
   in.nearPlane = light.nearPlane;
@@ -331,7 +295,7 @@ void BlockerSearchRowSimd(const BlockerSearchContext& context, const uint32_t* w
   in.tanAngularRadius = context.tanAngularRadius;
   in.lightRadius = context.lightRadius;
   in.maxBlockerDistance = context.maxBlockerDistance;
-  HWY_DYNAMIC_DISPATCH(BlockerSearchRow)(&in, word1, word2, width, shadowTerm);
+  HWY_DYNAMIC_DISPATCH(BlockerSearchRow)(in, word1, word2, width, shadowTerm);
 }
 
 }  // namespace ssgi
