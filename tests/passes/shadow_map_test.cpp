@@ -304,12 +304,7 @@ TEST_CASE("shadow map: spot light blocker distance along the light's rays", "[sh
 // (perspective map) whose cone leaves part of the scene outside its map.
 TestScene DefaultSceneWithSpot(int width, int height) {
   TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), width, height);
-  SpotLight spot;
-  spot.position = {0.5f, 2.5f, 1.0f};
-  spot.direction = glm::normalize(glm::vec3(-0.2f, -1.0f, -0.4f));
-  spot.outerConeDegrees = 50.0f;
-  spot.radius = 0.1f;
-  scene.spotLights.push_back(spot);
+  scene.spotLights.push_back(test::Spot({0.5f, 2.5f, 1.0f}, {-0.2f, -1.0f, -0.4f}, 50.0f, 0.1f));
   return scene;
 }
 
@@ -498,8 +493,7 @@ TEST_CASE("shadow map: the SIMD blocker search writes the scalar word 3 on every
           Plane<uint32_t> actual = MakePlane<uint32_t>(size.x, size.y, 0xABABABABu);
           RunShadowMap({scene, camera, g.gbuffer, light}, params, out, actual, KernelPath::kSimd);
           CAPTURE(target);
-          for (int y = 0; y < size.y; ++y)
-            REQUIRE(std::memcmp(actual.ConstRow(y), expected.ConstRow(y), size_t(size.x) * 4) == 0);
+          REQUIRE(test::SameBytes(actual, expected));
         });
       }
     }
