@@ -3,8 +3,7 @@
 // state of a renderer); bench/README.md records results.
 #include <benchmark/benchmark.h>
 
-#include <map>
-#include <memory>
+#include <vector>
 
 #include "bench/bench_scene.h"
 #include "core/lighting.h"
@@ -57,49 +56,28 @@ void BM_ShadowMap(benchmark::State& state) {
   state.counters["pixels"] = benchmark::Counter(double(stats.pixels), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// What RunShadowMap's blocker search reads for a G-buffer of size x size: the default scene's
-// G-buffer and its first shadow-casting light's map (default parameters), made once per size.
-struct SearchInputs {
-  ViewProjection view;
-  GBufferOutputs g;
-  ShadowMapParams params;
-  ShadowMapOutputs map;
-  std::unique_ptr<ReceiverPositions> positions;
-  std::vector<glm::vec2> pattern;
-  std::unique_ptr<BlockerSearchContext> context;
-  size_t receivers = 0;  // G-buffer pixels with geometry: the items searched
-};
-
-const SearchInputs& SearchInputsOfSize(const BenchScene& bench, int size) {
-  static std::map<int, std::unique_ptr<SearchInputs>> inputs;
-  std::unique_ptr<SearchInputs>& in = inputs[size];
-  if (in) return *in;
-  const Scene& scene = bench.scene;
-  in = std::make_unique<SearchInputs>();
-  in->view = MakePerspective(scene.camera, size, size);
-  RunGBuffer({scene, in->view}, {bench.config.normalEncoding}, in->g);
-  const size_t light = ShadowCastingLights(scene).front();
-  RunShadowMap({scene, in->view, in->g.gbuffer, light}, in->params, in->map, in->g.gbuffer.word[3]);
-  in->positions = std::make_unique<ReceiverPositions>(in->view, in->map.lightView.view * glm::inverse(in->view.view));
-  in->pattern = BlockerSearchPattern(in->params.blockerSearchTaps);
-  in->context = std::make_unique<BlockerSearchContext>(
-      MakeBlockerSearchContext(*in->positions, in->map, PrepareLights(scene, glm::mat4(1.0f))[light], in->pattern,
-                               in->params.maxBlockerDistance, in->g.gbuffer.normalEncoding));
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) in->receivers += UnpackDepth(in->g.gbuffer.word[2].ConstRow(y)[x]) < kBackgroundDepth;
-  return *in;
-}
-
+// The blocker search alone, on the G-buffer and the first shadow-casting light's map of one
+// default-scene frame at that size (its render block's shadow map parameters). Arguments: simd (1:
+// KernelPath::kSimd, 0: kScalar), size (of the square image), threads.
 void BM_BlockerSearch(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const KernelPath kernels = state.range(0) == 0 ? KernelPath::kSimd : KernelPath::kScalar;
+  const KernelPath kernels = state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
   const int size = int(state.range(1));
   const ThreadLimit threads(int(state.range(2)));
-  const SearchInputs& in = SearchInputsOfSize(bench, size);
+  const Frame& frame = DefaultBenchFrame(size);
+  if (!frame.shadowMap) return state.SkipWithError("the default scene has no shadow map");
+  const GBuffer& gbuffer = frame.gbuffer.gbuffer;
+  const ShadowMapOutputs& map = *frame.shadowMap;
+  const ShadowMapParams& params = bench.config.shadowMap;
+  const ReceiverPositions receivers(frame.view, map.lightView.view * glm::inverse(frame.view.view));
+  const std::vector<glm::vec2> pattern = BlockerSearchPattern(params.blockerSearchTaps);
+  const PreparedLight light = PrepareLights(bench.scene, glm::mat4(1.0f))[ShadowCastingLights(bench.scene).front()];
+  const BlockerSearchContext context =
+      MakeBlockerSearchContext(receivers, map, light, pattern, params.maxBlockerDistance, gbuffer.normalEncoding);
   Plane<uint32_t> term = MakePlane<uint32_t>(size, size, 0u);
-  for (auto _ : state) RunBlockerSearch(*in.context, in.g.gbuffer, term, kernels);
-  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(in.receivers));
+  for (auto _ : state) RunBlockerSearch(context, gbuffer, term, kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(frame.stats.shadowMap->pixels));
 }
 
 void BM_ShadowFilter(benchmark::State& state) {
@@ -121,8 +99,7 @@ void BM_ShadowFilter(benchmark::State& state) {
 // Arguments: threads (1, 2), then the shadow map resolution, or the filter (0 ssabss, 1 sspcss).
 BENCHMARK(BM_ShadowMap)->ArgNames({"threads", "resolution"})->ArgsProduct({{1, 2}, {1024, 2048}})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
-// Arguments: the row kernel (0 SIMD, 1 scalar), the G-buffer's width and height, threads (1, 2).
-BENCHMARK(BM_BlockerSearch)->ArgNames({"scalar", "size", "threads"})->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}})
+BENCHMARK(BM_BlockerSearch)->ArgNames({"simd", "size", "threads"})->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ShadowFilter)->ArgNames({"threads", "sspcss"})->ArgsProduct({{1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
