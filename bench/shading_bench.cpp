@@ -36,14 +36,12 @@ void ReportPixels(benchmark::State& state) {
 }
 
 // As a frame runs it: every light, the shadowed one scaled by its filtered visibility. Arguments:
-// simd (1: KernelPath::kSimd, 0: kScalar), size (of the square image), threads.
+// KernelBenchArgs.
 void BM_DirectLight(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const KernelPath kernels = state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
-  const int size = int(state.range(1));
-  const ThreadLimit threads(int(state.range(2)));
-  const Frame& frame = DefaultBenchFrame(size);
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
   DirectLightInputs in{frame.gbuffer.gbuffer, frame.view, bench.scene};
   if (frame.shadowMap) {
     in.lightVisibility = &frame.shadowVisibility.visibility;
@@ -51,9 +49,9 @@ void BM_DirectLight(benchmark::State& state) {
   }
   DirectLightOutputs out;
   // Outputs allocated before timing, as a renderer keeps them.
-  RunDirectLight(in, bench.config.directLight, out, kernels);
-  for (auto _ : state) RunDirectLight(in, bench.config.directLight, out, kernels);
-  state.SetItemsProcessed(int64_t(state.iterations()) * size * size);
+  RunDirectLight(in, bench.config.directLight, out, args.kernels);
+  for (auto _ : state) RunDirectLight(in, bench.config.directLight, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
 void BM_Tonemap(benchmark::State& state) {
@@ -66,11 +64,7 @@ void BM_Tonemap(benchmark::State& state) {
   ReportPixels(state);
 }
 
-BENCHMARK(BM_DirectLight)
-    ->ArgNames({"simd", "size", "threads"})
-    ->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_DirectLight)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_Tonemap)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

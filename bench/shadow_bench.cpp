@@ -57,15 +57,13 @@ void BM_ShadowMap(benchmark::State& state) {
 }
 
 // The blocker search alone, on the G-buffer and the first shadow-casting light's map of one
-// default-scene frame at that size (its render block's shadow map parameters). Arguments: simd (1:
-// KernelPath::kSimd, 0: kScalar), size (of the square image), threads.
+// default-scene frame at that size (its render block's shadow map parameters). Arguments:
+// KernelBenchArgs.
 void BM_BlockerSearch(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const KernelPath kernels = state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
-  const int size = int(state.range(1));
-  const ThreadLimit threads(int(state.range(2)));
-  const Frame& frame = DefaultBenchFrame(size);
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
   if (!frame.shadowMap) return state.SkipWithError("the default scene has no shadow map");
   const GBuffer& gbuffer = frame.gbuffer.gbuffer;
   const ShadowMapOutputs& map = *frame.shadowMap;
@@ -75,8 +73,8 @@ void BM_BlockerSearch(benchmark::State& state) {
   const PreparedLight light = PrepareLights(bench.scene, glm::mat4(1.0f))[ShadowCastingLights(bench.scene).front()];
   const BlockerSearchContext context =
       MakeBlockerSearchContext(receivers, map, light, pattern, params.maxBlockerDistance, gbuffer.normalEncoding);
-  Plane<uint32_t> term = MakePlane<uint32_t>(size, size, 0u);
-  for (auto _ : state) RunBlockerSearch(context, gbuffer, term, kernels);
+  Plane<uint32_t> term = MakePlane<uint32_t>(args.size, args.size, 0u);
+  for (auto _ : state) RunBlockerSearch(context, gbuffer, term, args.kernels);
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(frame.stats.shadowMap->pixels));
 }
 
@@ -99,8 +97,7 @@ void BM_ShadowFilter(benchmark::State& state) {
 // Arguments: threads (1, 2), then the shadow map resolution, or the filter (0 ssabss, 1 sspcss).
 BENCHMARK(BM_ShadowMap)->ArgNames({"threads", "resolution"})->ArgsProduct({{1, 2}, {1024, 2048}})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_BlockerSearch)->ArgNames({"simd", "size", "threads"})->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BlockerSearch)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_ShadowFilter)->ArgNames({"threads", "sspcss"})->ArgsProduct({{1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -45,32 +45,26 @@ void BM_SsrCone(benchmark::State& state) {
   Run(state, [&](const Frame& f) { RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, cone); });
 }
 
-// Arguments: simd (1: KernelPath::kSimd, 0: kScalar), size (of the square image), threads.
+// Arguments: KernelBenchArgs.
 void BM_Composite(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const KernelPath kernels = state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
-  const int size = int(state.range(1));
-  const ThreadLimit threads(int(state.range(2)));
-  const Frame& f = DefaultBenchFrame(size);
+  const KernelBenchArgs args(state);
+  const Frame& f = DefaultBenchFrame(args.size);
   const CompositeInputs in{f.gbuffer.gbuffer,     f.view, f.direct.radiance, f.ssrCone.reflected,
                            f.ssrTrace.confidence, bench.config.ssrTrace.roughnessCutoff};
   CompositeOutputs out;
   // Outputs allocated before timing, as a renderer keeps them.
-  RunComposite(in, out, kernels);
-  for (auto _ : state) RunComposite(in, out, kernels);
-  state.SetItemsProcessed(int64_t(state.iterations()) * size * size);
+  RunComposite(in, out, args.kernels);
+  for (auto _ : state) RunComposite(in, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
 BENCHMARK(BM_HiZ)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_ColorPyramid)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SsrTrace)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SsrCone)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Composite)
-    ->ArgNames({"simd", "size", "threads"})
-    ->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_Composite)->Apply(KernelBenchArgs::Register);
 
 }  // namespace
 }  // namespace ssgi
