@@ -43,16 +43,19 @@ void HiZDownsampleRowScalar(const float* const* sourceRows, size_t footprintRows
   }
 }
 
-HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out) {
+HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out, KernelPath kernels) {
   const Stopwatch watch;
   const size_t width = depthWord.xsize();
   const size_t height = depthWord.ysize();
   SSGI_CHECK(width > 0 && height > 0);
   ShapeLevels(width, height, out.levels);
+  const bool simd = kernels == KernelPath::kSimd;
+  const auto inverseDepthRow = simd ? HiZInverseDepthRowSimd : HiZInverseDepthRowScalar;
+  const auto downsampleRow = simd ? HiZDownsampleRowSimd : HiZDownsampleRowScalar;
 
   HiZStats stats;
   ParallelFor("hiz.level0", height, [&](size_t y) {
-    HiZInverseDepthRowScalar(depthWord.ConstRow(y), width, out.levels[0].MutableRow(y));
+    inverseDepthRow(depthWord.ConstRow(y), width, out.levels[0].MutableRow(y));
   });
   stats.texels += width * height;
   // Levels are sequential (each reads the previous); rows of one level are independent.
@@ -63,7 +66,7 @@ HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out) {
       const size_t footprintRows = PyramidFootprintEnd(y, level.ysize(), source.ysize()) - 2 * y + 1;
       const float* sourceRows[kMaxPyramidFootprint];
       for (size_t r = 0; r < footprintRows; ++r) sourceRows[r] = source.ConstRow(2 * y + r);
-      HiZDownsampleRowScalar(sourceRows, footprintRows, source.xsize(), level.xsize(), level.MutableRow(y));
+      downsampleRow(sourceRows, footprintRows, source.xsize(), level.xsize(), level.MutableRow(y));
     });
     stats.texels += level.xsize() * level.ysize();
   }
