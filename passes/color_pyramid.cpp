@@ -11,7 +11,7 @@
 namespace ssgi {
 namespace {
 
-constexpr int kRadius = int(kColorPyramidWeights.size()) / 2;
+constexpr int kRadius = kColorPyramidRadius;
 
 void ShapeLevels(size_t width, size_t height, std::vector<Plane3<float>>& levels) {
   const std::vector<PyramidSize> sizes = PyramidLevelSizes(width, height);
@@ -91,7 +91,7 @@ void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t fo
   }
 }
 
-ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out) {
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels) {
   const Stopwatch watch;
   const size_t width = radiance.c[0].xsize();
   const size_t height = radiance.c[0].ysize();
@@ -101,12 +101,16 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
     SSGI_CHECK_EQ(channel.ysize(), height);
   }
   ShapeLevels(width, height, out.levels);
+  const bool simd = kernels == KernelPath::kSimd;
+  const auto sanitizeRow = simd ? ColorPyramidSanitizeRowSimd : ColorPyramidSanitizeRowScalar;
+  const auto horizontalRow = simd ? ColorPyramidHorizontalRowSimd : ColorPyramidHorizontalRowScalar;
+  const auto verticalRow = simd ? ColorPyramidVerticalRowSimd : ColorPyramidVerticalRowScalar;
 
   ColorPyramidStats stats;
   ParallelFor("color_pyramid.sanitize", 3 * height, [&](size_t item) {
     const size_t c = item / height;
     const size_t y = item % height;
-    ColorPyramidSanitizeRowScalar(radiance.c[c].ConstRow(y), width, out.levels[0].c[c].MutableRow(y));
+    sanitizeRow(radiance.c[c].ConstRow(y), width, out.levels[0].c[c].MutableRow(y));
   });
   stats.texels += width * height;
 
@@ -124,7 +128,7 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
     ParallelFor("color_pyramid.horizontal", 3 * sourceHeight, [&](size_t item) {
       const size_t c = item / sourceHeight;
       const size_t y = item % sourceHeight;
-      ColorPyramidHorizontalRowScalar(source.c[c].ConstRow(y), sourceWidth, horizontal.c[c].MutableRow(y));
+      horizontalRow(source.c[c].ConstRow(y), sourceWidth, horizontal.c[c].MutableRow(y));
     });
     const size_t destinationHeight = destination.c[0].ysize();
     ParallelFor("color_pyramid.vertical", 3 * destinationHeight, [&](size_t item) {
@@ -135,9 +139,8 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
       for (size_t i = 0; i < footprintRows + 2 * kRadius; ++i)
         horizontalRows[i] = horizontal.c[c].ConstRow(ClampIndex(ptrdiff_t(2 * y + i) - kRadius, sourceHeight));
       std::vector<float> scratch(footprintRows * sourceWidth);
-      ColorPyramidVerticalRowScalar(horizontalRows, footprintRows, rowCoverage.data() + 2 * y, columnCoverage.data(),
-                                    sourceWidth, destination.c[c].xsize(), scratch.data(),
-                                    destination.c[c].MutableRow(y));
+      verticalRow(horizontalRows, footprintRows, rowCoverage.data() + 2 * y, columnCoverage.data(), sourceWidth,
+                  destination.c[c].xsize(), scratch.data(), destination.c[c].MutableRow(y));
     });
     columnCoverage = NextCoverage(columnCoverage, destination.c[0].xsize());
     rowCoverage = NextCoverage(rowCoverage, destinationHeight);
