@@ -1,10 +1,11 @@
 // Indirect-light pass timings at 1024x1024 on the default scene: Hi-Z, colour pyramid, SSR trace,
-// cone trace and composite (also at 2048x2048, with either kernel path), each on inputs made once,
-// outputs reused between iterations (the steady state of a renderer). bench/README.md records
-// results.
+// cone trace and composite (the pyramids and the composite also at 2048x2048, with either kernel
+// path; the pyramids beside the memory floors of their bytes), each on inputs made once, outputs
+// reused between iterations (the steady state of a renderer). bench/README.md records results.
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
+#include "bench/memory_floor.h"
 #include "core/parallel.h"
 #include "passes/frame.h"
 
@@ -23,15 +24,35 @@ void Run(benchmark::State& state, Body&& body) {
   state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// Arguments: KernelBenchArgs. Items: texels written, all levels.
 void BM_HiZ(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelBenchArgs args(state);
+  const Plane<uint32_t>& depthWord = DefaultBenchFrame(args.size).gbuffer.gbuffer.word[2];
   HiZ hiz;
-  Run(state, [&](const Frame& f) { RunHiZ(f.gbuffer.gbuffer.word[2], hiz); });
+  // Levels allocated before timing, as a renderer keeps them.
+  const size_t texels = RunHiZ(depthWord, hiz, args.kernels).texels;
+  for (auto _ : state) RunHiZ(depthWord, hiz, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(texels));
 }
 
+// Arguments: KernelBenchArgs. Items: RGB texels written, all levels.
 void BM_ColorPyramid(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelBenchArgs args(state);
+  const Plane3<float>& radiance = DefaultBenchFrame(args.size).direct.radiance;
   ColorPyramid pyramid;
-  Run(state, [&](const Frame& f) { RunColorPyramid(f.direct.radiance, pyramid); });
+  const size_t texels = RunColorPyramid(radiance, pyramid, args.kernels).texels;
+  for (auto _ : state) RunColorPyramid(radiance, pyramid, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(texels));
 }
+
+// The memory floors of the pyramids' bytes per level-0 pixel. Hi-Z: word 2 read (4), levels written
+// (4 x 4/3 = 5.33, rounded down, so its floor is a shade low). Colour pyramid: three float planes
+// read (12), levels written (12 x 4/3 = 16).
+[[maybe_unused]] const bool kPyramidFloors = (RegisterMemoryFloor(4, 5), RegisterMemoryFloor(12, 16), true);
 
 void BM_SsrTrace(benchmark::State& state) {
   SsrTraceOutputs trace;
@@ -60,8 +81,8 @@ void BM_Composite(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
-BENCHMARK(BM_HiZ)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_ColorPyramid)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HiZ)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_ColorPyramid)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_SsrTrace)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SsrCone)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Composite)->Apply(KernelBenchArgs::Register);
