@@ -76,6 +76,23 @@ struct HiZMarch {
   int iterations = 0;   // <= maxIterations
 };
 
+// MarchHiZ's constants, shared with the SIMD twin of the trace (passes/ssr_trace_simd.cpp).
+// Stands in for 1/0 and "never": finite, so products with it stay finite and comparable (the
+// largest step distance, 16384 pixels, times it is still far below FLT_MAX).
+inline constexpr float kHiZNever = 1e30f;
+// Direction components below this are treated as 0 (their reciprocal would overflow to inf).
+inline constexpr float kHiZTinyComponent = 1e-20f;
+// How far past a crossed cell boundary the ray is put, in level-0 pixels, along the winning axis
+// only: several ulps at the largest image coordinate (16384, ulp 1/512), a negligible offset.
+inline constexpr float kHiZBoundaryNudge = 1.0f / 64.0f;
+// Level-0 coordinates are clamped to [0, this] before they become cell indices, so a stray
+// coordinate can never overflow the int.
+inline constexpr float kHiZMaxCoordinate = 16384.0f * 2.0f;
+// Reflected segments are cut at this many view depths of their origin: farther hits are sub-pixel
+// next to the vanishing point, and the bound keeps the projected end finite for rays parallel to
+// the image plane.
+inline constexpr float kSsrMaxRayLengthInDepths = 1000.0f;
+
 // Uludag's march: at level k the ray steps to the nearer of the current cell's boundary (then
 // k + 1) and the cell's closest-depth plane 1/d = max (then k - 1, a hit below level 0). The first
 // step leaves the origin's level-0 cell; the march goes on at startLevel.
