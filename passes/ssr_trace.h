@@ -13,6 +13,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/plane.h"
 #include "passes/hiz.h"
 
@@ -98,8 +99,10 @@ inline constexpr float kSsrMaxRayLengthInDepths = 1000.0f;
 // step leaves the origin's level-0 cell; the march goes on at startLevel.
 HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int startLevel);
 
-// Reuses out's planes when their sizes already match, else allocates them.
-SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out);
+// Reuses out's planes when their sizes already match, else allocates them. `kernels` chooses the row
+// kernel; both give the same bytes.
+SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out,
+                          KernelPath kernels = KernelPath::kSimd);
 
 struct SsrTraceCounts {
   size_t rays = 0;          // pixels traced
@@ -112,5 +115,8 @@ struct SsrTraceCounts {
 // `counts`.
 void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
                        float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
+// Its Highway twin, dispatched to the machine's best target: lanes are the row's rays.
+void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
+                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
 
 }  // namespace ssgi
