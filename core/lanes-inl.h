@@ -12,6 +12,9 @@
 #define SSGI_CORE_LANES_INL_H_
 #endif
 
+#include <algorithm>
+#include <cstddef>
+
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -25,10 +28,36 @@ V StdMinV(V a, V b) {
   return hn::IfThenElse(hn::Lt(b, a), b, a);
 }
 
+// std::max(a, b): a < b ? b : a.
+template <class V>
+V StdMaxV(V a, V b) {
+  return hn::IfThenElse(hn::Lt(a, b), b, a);
+}
+
 // std::clamp(v, lo, hi): v < lo ? lo : hi < v ? hi : v.
 template <class V>
 V StdClampV(V v, V lo, V hi) {
   return hn::IfThenElse(hn::Lt(v, lo), lo, hn::IfThenElse(hn::Lt(hi, v), hi, v));
+}
+
+// The first `count` (<= Lanes(d)) elements from p, the other lanes 0: a whole vector, or element by
+// element so that a partial vector never reads past the end of a row segment.
+template <class D>
+hn::Vec<D> LoadFirstLanes(D d, const hn::TFromD<D>* p, size_t count) {
+  if (count == hn::Lanes(d)) return hn::LoadU(d, p);
+  HWY_ALIGN hn::TFromD<D> lanes[hn::MaxLanes(D())] = {};
+  std::copy(p, p + count, lanes);
+  return hn::Load(d, lanes);
+}
+
+// Stores the first `count` (<= Lanes(d)) lanes of v at p: a whole vector, or lane by lane so that a
+// partial vector never writes past the end of a row segment (which another thread may own).
+template <class D>
+void StoreFirstLanes(D d, hn::Vec<D> v, size_t count, hn::TFromD<D>* p) {
+  if (count == hn::Lanes(d)) return hn::StoreU(v, d, p);
+  HWY_ALIGN hn::TFromD<D> lanes[hn::MaxLanes(D())];
+  hn::Store(v, d, lanes);
+  std::copy(lanes, lanes + count, p);
 }
 
 }  // namespace HWY_NAMESPACE

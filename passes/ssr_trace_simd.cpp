@@ -232,26 +232,6 @@ VF EdgeFadeV(VF p, float size, float edgeFade) {
   return StdClampV(fade, hn::Zero(df), hn::Set(df, 1.0f));
 }
 
-// The first `count` lanes from p, the rest 0: a whole vector, or lane by lane so that a partial
-// vector never reads past the row segment.
-hn::Vec<DU> LoadLanes(const uint32_t* p, size_t count) {
-  const DU du;
-  if (count == hn::Lanes(du)) return hn::LoadU(du, p);
-  HWY_ALIGN uint32_t lanes[hn::MaxLanes(DU())] = {};
-  std::copy(p, p + count, lanes);
-  return hn::Load(du, lanes);
-}
-
-// Stores the first `count` lanes of v at out: a whole vector, or lane by lane so that a partial
-// vector never writes past the row segment (which another thread may own).
-void StoreLanes(VF v, size_t count, float* out) {
-  const DF df;
-  if (count == hn::Lanes(df)) return hn::StoreU(v, df, out);
-  HWY_ALIGN float lanes[hn::MaxLanes(DF())];
-  hn::Store(v, df, lanes);
-  std::copy(lanes, lanes + count, out);
-}
-
 // PixelTracer::Trace's rays for a vector of pixels, up to the march.
 struct RayLanes {
   MF traced;
@@ -321,9 +301,9 @@ RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, int
 // Stores "no hit" for the first `count` lanes at x0.
 void StoreNoHits(int x0, size_t count, float* hitX, float* hitY, float* confidence) {
   const DF df;
-  StoreLanes(hn::Set(df, -1.0f), count, hitX + x0);
-  StoreLanes(hn::Set(df, -1.0f), count, hitY + x0);
-  StoreLanes(hn::Zero(df), count, confidence + x0);
+  StoreFirstLanes(df, hn::Set(df, -1.0f), count, hitX + x0);
+  StoreFirstLanes(df, hn::Set(df, -1.0f), count, hitY + x0);
+  StoreFirstLanes(df, hn::Zero(df), count, confidence + x0);
 }
 
 // The rest of PixelTracer::Trace after the march: the surface at the hit must be in front of the
@@ -356,14 +336,15 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   const VF fadeY = EdgeFadeV(m.posY, float(frame.height), params.edgeFade);
   const VF fade = hn::Mul(hn::Mul(hn::Mul(thickness, rays.towardCamera), fadeX), fadeY);
   found = hn::And(found, hn::Gt(fade, zero));
-  StoreLanes(hn::IfThenElse(found, m.posX, none), count, hitX + x0);
-  StoreLanes(hn::IfThenElse(found, m.posY, none), count, hitY + x0);
-  StoreLanes(hn::IfThenElseZero(found, StdMinV(fade, one)), count, confidence + x0);
+  StoreFirstLanes(df, hn::IfThenElse(found, m.posX, none), count, hitX + x0);
+  StoreFirstLanes(df, hn::IfThenElse(found, m.posY, none), count, hitY + x0);
+  StoreFirstLanes(df, hn::IfThenElseZero(found, StdMinV(fade, one)), count, confidence + x0);
 }
 
 void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int xBegin, int xEnd, float* hitX,
               float* hitY, float* confidence, SsrTraceCounts& counts) {
   const DF df;
+  const DU du;
   const size_t lanes = hn::Lanes(df);
   // The rows of a tile are pages apart, a stride the hardware prefetchers do not follow: fetch the
   // outputs this row writes after the march, and the words the next row reads.
@@ -381,8 +362,8 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
   for (int x0 = xBegin; x0 < xEnd; x0 += int(lanes)) {
     const size_t count = std::min(lanes, size_t(xEnd - x0));
     const size_t pixel = size_t(y) * size_t(frame.gbufferStride) + size_t(x0);
-    const auto word1 = LoadLanes(frame.word1 + pixel, count);
-    const VF d = UnpackDepthV(df, LoadLanes(frame.word2 + pixel, count));
+    const auto word1 = LoadFirstLanes(du, frame.word1 + pixel, count);
+    const VF d = UnpackDepthV(df, LoadFirstLanes(du, frame.word2 + pixel, count));
     // The scalar tracer's first two tests: geometry, and smooth enough.
     MF candidates = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
     candidates = hn::And(hn::FirstN(df, count), candidates);

@@ -13,8 +13,6 @@
 #include <catch2/catch.hpp>
 
 #include "core/parallel.h"
-#include "core/scene.h"
-#include "passes/frame.h"
 #include "passes/gbuffer.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
@@ -394,20 +392,12 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
   }
 }
 
-// The default scene as its scene file renders it, at the given size.
-Frame DefaultSceneFrame(int width, int height) {
-  SceneFile file = LoadSceneFile(test::SourceDir() / "data" / "default.json");
-  FrameConfig config = FrameConfigFromSceneFile(file);
-  config.width = width;
-  config.height = height;
-  return RenderFrame(file.scene, config);
-}
-
 TEST_CASE("SSR trace: the SIMD pass gives the scalar pass's bytes on every target, default scene", "[ssr][simd]") {
+  const test::DefaultScene defaultScene = test::LoadDefaultScene();
   for (const auto& [width, height] :
        {std::pair{1024, 1024}, std::pair{1023, 769}, std::pair{67, 45}, std::pair{1, 1}}) {
     CAPTURE(width, height);
-    const Frame frame = DefaultSceneFrame(width, height);
+    const Frame frame = defaultScene.Render(width, height);
     REQUIRE(frame.reflections);
     const SsrTraceInputs in{frame.gbuffer.gbuffer, frame.view, frame.hiz};
     SsrTraceOutputs expected;
