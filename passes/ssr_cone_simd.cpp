@@ -33,7 +33,8 @@ struct SsrConeFrame {
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 
-#include "core/lanes-inl.h"
+#include "core/math-inl.h"
+#include "core/row-inl.h"
 #include "passes/ssr_cone.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -47,10 +48,6 @@ using DU = hn::RebindToUnsigned<DF>;
 using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
-
-struct RgbLanes {
-  VF r, g, b;
-};
 
 // Where SampleLevel reads for each lane: level k at (x, y) for the lanes of `mask`.
 struct TapLanes {
@@ -118,7 +115,7 @@ void ForEachLane(MF mask, const Load& load) {
 }
 
 // SampleLevel from the loaded taps; lanes out of the mask are 0.
-RgbLanes Bilinear(const TapLanes& taps) {
+Vec3V<DF> Bilinear(const TapLanes& taps) {
   const DF df;
   VF out[3];
   for (int c = 0; c < 3; ++c) {
@@ -134,7 +131,7 @@ RgbLanes Bilinear(const TapLanes& taps) {
 }
 
 // SampleLevel of level 0 at (x, y) for the lanes of `mask`.
-RgbLanes SampleLevel0(const SsrConeFrame& frame, VF x, VF y, MF mask) {
+Vec3V<DF> SampleLevel0(const SsrConeFrame& frame, VF x, VF y, MF mask) {
   TapLanes taps;
   FindTaps(frame, hn::Zero(DI()), x, y, mask, taps);
   ForEachLane(mask, [&](size_t i) { LoadTaps(frame, i, taps); });
@@ -144,7 +141,7 @@ RgbLanes SampleLevel0(const SsrConeFrame& frame, VF x, VF y, MF mask) {
 // SampleCircle for the lanes of `mask`: the trilinear fetch at level log2(diameter), diameter >= 1.
 // frexp from the bits: diameter = 1.f * 2^(e - 127) = (1.f / 2) * 2^(e - 126), so frexp's exponent
 // minus 1 is e - 127 and its mantissa is the float with the exponent field of 0.5.
-RgbLanes SampleCircleLanes(const SsrConeFrame& frame, VF x, VF y, VF diameter, MF mask) {
+Vec3V<DF> SampleCircleLanes(const SsrConeFrame& frame, VF x, VF y, VF diameter, MF mask) {
   const DF df;
   const DI di;
   const DU du;
@@ -159,34 +156,31 @@ RgbLanes SampleCircleLanes(const SsrConeFrame& frame, VF x, VF y, VF diameter, M
   FindTaps(frame, hn::Add(level, hn::Set(di, 1)), x, y, both, coarse);
   ForEachLane(mask, [&](size_t i) { LoadTaps(frame, i, fine); });
   ForEachLane(both, [&](size_t i) { LoadTaps(frame, i, coarse); });
-  const RgbLanes f = Bilinear(fine);
-  const RgbLanes c = Bilinear(coarse);
+  const Vec3V<DF> f = Bilinear(fine);
+  const Vec3V<DF> c = Bilinear(coarse);
   const VF t = hn::Sub(hn::Mul(hn::Set(df, 2.0f), mantissa), hn::Set(df, 1.0f));
   const auto blend = [&](VF a, VF b) { return hn::IfThenElse(beyond, a, hn::Add(a, hn::Mul(hn::Sub(b, a), t))); };
-  return {blend(f.r, c.r), blend(f.g, c.g), blend(f.b, c.b)};
+  return {blend(f.x, c.x), blend(f.y, c.y), blend(f.z, c.z)};
 }
 
-// SsrConeRowScalar for the pixels x0 .. x0 + count - 1 of row y.
+// SsrConeRowScalar for the pixels x0, x0 + 1, ... of row y, `width` pixels long; red, green, blue
+// are its output rows.
 void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hitX, const float* hitY,
-               const float* confidence, size_t y, size_t x0, size_t count, float* red, float* green, float* blue,
+               const float* confidence, size_t y, size_t x0, size_t width, float* const rgb[3],
                SsrConeCounts& counts) {
   const DF df;
   const DI di;
   const DU du;
   const VF zero = hn::Zero(df);
-  const MF active = hn::Gt(LoadFirstLanes(df, confidence + x0, count), zero);
-  if (hn::AllFalse(df, active)) {
-    StoreFirstLanes(df, zero, count, red + x0);
-    StoreFirstLanes(df, zero, count, green + x0);
-    StoreFirstLanes(df, zero, count, blue + x0);
-    return;
-  }
+  const MF active = hn::Gt(LoadRow(df, confidence, x0, width, 0.0f), zero);
+  Vec3V<DF> radiance{zero, zero, zero};
+  if (hn::AllFalse(df, active)) return StoreRow3(radiance, df, rgb, x0, width);
   counts.pixels += hn::CountTrue(df, active);
-  const VI code = hn::BitCast(di, hn::ShiftRight<24>(LoadFirstLanes(du, word1 + x0, count)));
+  const VI code = hn::BitCast(di, hn::ShiftRight<24>(LoadRow(du, word1, x0, width, 0u)));
   // Lanes without a hit sample (0, 0), whatever their trace outputs hold.
-  const VF hx = hn::IfThenElseZero(active, LoadFirstLanes(df, hitX + x0, count));
-  const VF hy = hn::IfThenElseZero(active, LoadFirstLanes(df, hitY + x0, count));
-  const VF originX = hn::Add(hn::ConvertTo(df, hn::Iota(di, int32_t(x0))), hn::Set(df, 0.5f));
+  const VF hx = hn::IfThenElseZero(active, LoadRow(df, hitX, x0, width, 0.0f));
+  const VF hy = hn::IfThenElseZero(active, LoadRow(df, hitY, x0, width, 0.0f));
+  const VF originX = hn::Add(hn::Add(hn::Iota(df, 0.0f), hn::Set(df, float(x0))), hn::Set(df, 0.5f));
   const VF originY = hn::Set(df, float(y) + 0.5f);
   const VF deltaX = hn::Sub(hx, originX);
   const VF deltaY = hn::Sub(hy, originY);
@@ -195,7 +189,6 @@ void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hi
   const MF mirror = hn::RebindMask(df, hn::Eq(code, hn::Zero(di)));
   const MF walks = hn::AndNot(mirror, hn::And(active, hn::Ge(h, hn::Set(df, kConeMinHeight))));
   const MF atHit = hn::AndNot(walks, active);
-  RgbLanes radiance{zero, zero, zero};
   if (!hn::AllFalse(df, atHit)) {
     radiance = SampleLevel0(frame, hx, hy, atHit);
     counts.samples += hn::CountTrue(df, atHit);
@@ -204,6 +197,7 @@ void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hi
   if (!hn::AllFalse(df, walks)) {
     // TraceCone; lanes that do not walk compute along on a harmless cone (h = 1) and are not used.
     const VF one = hn::Set(df, 1.0f);
+    const VF two = hn::Set(df, 2.0f);
     const VF height = hn::IfThenElse(walks, h, one);
     const VF tanTheta = hn::GatherIndex(df, frame.coneTan, hn::IfThenElseZero(hn::RebindMask(di, walks), code));
     const VF directionX = hn::Div(deltaX, height);
@@ -211,7 +205,7 @@ void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hi
     const VF inRadiusPerHeight =
         hn::Mul(tanTheta, hn::Sub(hn::Sqrt(hn::Add(one, hn::Mul(tanTheta, tanTheta))), tanTheta));
     const VF footprintRadius = hn::Mul(height, tanTheta);
-    RgbLanes sum{zero, zero, zero};
+    Vec3V<DF> sum{zero, zero, zero};
     VF coverage = zero;
     VF adjacent = height;
     MF live = walks;
@@ -219,35 +213,30 @@ void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hi
       counts.samples += hn::CountTrue(df, live);
       const VF radius = hn::Mul(adjacent, inRadiusPerHeight);
       const VF ratio = hn::Div(radius, footprintRadius);
-      const VF weight = StdMinV(hn::Mul(ratio, ratio), hn::Sub(one, coverage));
+      const VF weight = MinStd(hn::Mul(ratio, ratio), hn::Sub(one, coverage));
       const VF along = hn::Sub(adjacent, radius);
       const VF centreX = hn::Add(originX, hn::Mul(directionX, along));
       const VF centreY = hn::Add(originY, hn::Mul(directionY, along));
-      const VF diameter = StdMaxV(hn::Mul(hn::Set(df, 2.0f), radius), one);
-      const RgbLanes circle = SampleCircleLanes(frame, centreX, centreY, diameter, live);
-      sum.r = hn::IfThenElse(live, hn::Add(sum.r, hn::Mul(weight, circle.r)), sum.r);
-      sum.g = hn::IfThenElse(live, hn::Add(sum.g, hn::Mul(weight, circle.g)), sum.g);
-      sum.b = hn::IfThenElse(live, hn::Add(sum.b, hn::Mul(weight, circle.b)), sum.b);
+      const VF diameter = MaxStd(hn::Mul(two, radius), one);
+      const Vec3V<DF> circle = SampleCircleLanes(frame, centreX, centreY, diameter, live);
+      sum = IfThenElse3(live, Add3(sum, Scale3(circle, weight)), sum);
       coverage = hn::IfThenElse(live, hn::Add(coverage, weight), coverage);
-      adjacent = hn::IfThenElse(live, hn::Sub(adjacent, hn::Mul(hn::Set(df, 2.0f), radius)), adjacent);
+      adjacent = hn::IfThenElse(live, hn::Sub(adjacent, hn::Mul(two, radius)), adjacent);
       live = hn::And(live, hn::Lt(coverage, one));
     }
-    radiance.r = hn::IfThenElse(walks, hn::Div(sum.r, coverage), radiance.r);
-    radiance.g = hn::IfThenElse(walks, hn::Div(sum.g, coverage), radiance.g);
-    radiance.b = hn::IfThenElse(walks, hn::Div(sum.b, coverage), radiance.b);
+    radiance = IfThenElse3(walks, Div3(sum, coverage), radiance);
   }
-  StoreFirstLanes(df, radiance.r, count, red + x0);
-  StoreFirstLanes(df, radiance.g, count, green + x0);
-  StoreFirstLanes(df, radiance.b, count, blue + x0);
+  StoreRow3(radiance, df, rgb, x0, width);
 }
 
-void ConeRow(const SsrConeFrame& frame, const uint32_t* word1, const float* hitX, const float* hitY,
-             const float* confidence, size_t y, size_t width, float* red, float* green, float* blue,
-             SsrConeCounts& counts) {
-  const size_t lanes = hn::Lanes(DF());
-  for (size_t x0 = 0; x0 < width; x0 += lanes) {
-    ConeLanes(frame, word1, hitX, hitY, confidence, y, x0, std::min(lanes, width - x0), red, green, blue, counts);
+SsrConeCounts ConeRow(const SsrConeFrame& frame, const uint32_t* word1, const float* hitX, const float* hitY,
+                      const float* confidence, size_t y, size_t width, float* red, float* green, float* blue) {
+  float* const rgb[3] = {red, green, blue};
+  SsrConeCounts counts;
+  for (size_t x0 = 0; x0 < width; x0 += hn::Lanes(DF())) {
+    ConeLanes(frame, word1, hitX, hitY, confidence, y, x0, width, rgb, counts);
   }
+  return counts;
 }
 
 }  // namespace HWY_NAMESPACE
@@ -282,9 +271,7 @@ SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word
   }
   frame.coneTan = context.coneTan.data();
   frame.maxSamples = context.maxSamples;
-  SsrConeCounts counts;
-  HWY_DYNAMIC_DISPATCH(ConeRow)(frame, word1, hitX, hitY, confidence, y, width, red, green, blue, counts);
-  return counts;
+  return HWY_DYNAMIC_DISPATCH(ConeRow)(frame, word1, hitX, hitY, confidence, y, width, red, green, blue);
 }
 
 }  // namespace ssgi

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/camera.h"
 #include "core/render_modes.h"
 
 namespace ssgi {
@@ -23,8 +24,8 @@ struct SsrTraceFrame {
   const uint32_t* word2;
   int32_t gbufferStride;
   NormalEncoding encoding;
-  float halfX, halfY, nearPlane;  // ViewProjection
-  int levels;                     // Hi-Z levels; level k is max(1, width >> k) x max(1, height >> k)
+  const ViewProjection* view;  // the perspective camera
+  int levels;                  // Hi-Z levels; level k is max(1, width >> k) x max(1, height >> k)
   const float* hiz[kMaxHiZLevels];
   int32_t hizStride[kMaxHiZLevels];
 };
@@ -38,8 +39,10 @@ struct SsrTraceFrame {
 #include "hwy/cache_control.h"
 #include "hwy/highway.h"
 
+#include "core/camera-inl.h"
 #include "core/gbuffer-inl.h"
-#include "core/lanes-inl.h"
+#include "core/math-inl.h"
+#include "core/row-inl.h"
 #include "passes/ssr_trace.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -82,13 +85,13 @@ struct MarchLanes {
 
 // MarchHiZ's set-up for the lanes of `live`, whose origins are pixel centres: already strictly
 // inside their level-0 cells, where MarchHiZ's snap leaves them.
-HWY_INLINE MarchLanes StartMarch(const SsrTraceFrame& frame, MF live, VF originX, VF originY, VF originZ, VF endX,
-                                  VF endY, VF endZ) {
+HWY_INLINE MarchLanes StartMarch(const SsrTraceFrame& frame, MF live, VF originX, VF originY, VF originZ,
+                                  const Vec3V<DF>& end) {
   const DF df;
   const DI di;
   MarchLanes m;
   m.live = hn::And(live, hn::And(hn::IsFinite(originZ),
-                                 hn::And(hn::IsFinite(endX), hn::And(hn::IsFinite(endY), hn::IsFinite(endZ)))));
+                                 hn::And(hn::IsFinite(end.x), hn::And(hn::IsFinite(end.y), hn::IsFinite(end.z)))));
   m.hit = hn::FirstN(df, 0);
   // Lanes that do not march start at 0 and never move, so no NaN or out-of-range value reaches a
   // float -> int conversion or a gather index.
@@ -97,9 +100,9 @@ HWY_INLINE MarchLanes StartMarch(const SsrTraceFrame& frame, MF live, VF originX
   m.posZ = hn::IfThenElseZero(m.live, originZ);
   m.t = hn::Zero(df);
   m.level = hn::Zero(di);
-  m.dirX = hn::Sub(hn::IfThenElseZero(m.live, endX), m.posX);
-  m.dirY = hn::Sub(hn::IfThenElseZero(m.live, endY), m.posY);
-  m.dirZ = hn::Sub(hn::IfThenElseZero(m.live, endZ), m.posZ);
+  m.dirX = hn::Sub(hn::IfThenElseZero(m.live, end.x), m.posX);
+  m.dirY = hn::Sub(hn::IfThenElseZero(m.live, end.y), m.posY);
+  m.dirZ = hn::Sub(hn::IfThenElseZero(m.live, end.z), m.posZ);
   m.invX = SafeReciprocalV(m.dirX);
   m.invY = SafeReciprocalV(m.dirY);
   m.invZ = SafeReciprocalV(m.dirZ);
@@ -114,12 +117,12 @@ HWY_INLINE MarchLanes StartMarch(const SsrTraceFrame& frame, MF live, VF originX
   const VF borderY = hn::IfThenElseZero(m.positiveY, hn::Set(df, float(frame.height)));
   const VF exitX = hn::Mul(hn::Sub(borderX, m.posX), m.invX);
   const VF exitY = hn::Mul(hn::Sub(borderY, m.posY), m.invY);
-  m.tEnd = StdMinV(StdMinV(hn::Set(df, 1.0f), exitX), exitY);
+  m.tEnd = MinStd(MinStd(hn::Set(df, 1.0f), exitX), exitY);
   return m;
 }
 
-// int(v) for v in [0, 2^23): the float's bits once v's fraction is shifted out. hn::ConvertTo
-// gives the same integers but pays for clamping out-of-range inputs on every call.
+// int(v) for v in [0, 2^23): floor(v) + 2^23 holds that integer in its mantissa bits. hn::ConvertTo
+// gives the same integers but pays for fixing up out-of-range inputs on every call.
 HWY_INLINE VI TruncateSmall(VF v) {
   const DF df;
   const DI di;
@@ -191,7 +194,7 @@ HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& para
   const VF boundaryY = hn::ConvertTo(df, hn::IfThenElse(positiveYi, upperY, cellY << m.level));
   const VF tX = hn::Mul(hn::Sub(boundaryX, m.posX), m.invX);
   const VF tY = hn::Mul(hn::Sub(boundaryY, m.posY), m.invY);
-  const VF tCell = StdMinV(tX, tY);
+  const VF tCell = MinStd(tX, tY);
 
   const MF depthStep = hn::Lt(tDepth, tCell);
   const VF tStep = hn::IfThenElse(depthStep, tDepth, tCell);
@@ -219,8 +222,7 @@ HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& para
   const VI topLevel = hn::Set(di, frame.levels - 1);
   const VI coarser = step == 1 ? hn::Set(di, std::min(params.startLevel, frame.levels - 1))
                                : hn::Min(hn::Add(m.level, one), topLevel);
-  // Finished lanes keep a level >= 0 (a hit's would be -1): every lane indexes a level's plane.
-  m.level = hn::IfThenElse(hn::RebindMask(di, hn::AndNot(hitNow, depthMove)), hn::Sub(m.level, one),
+  m.level = hn::IfThenElse(hn::RebindMask(di, depthMove), hn::Sub(m.level, one),
                            hn::IfThenElse(hn::RebindMask(di, cellMove), coarser, m.level));
 }
 
@@ -228,88 +230,69 @@ HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& para
 VF EdgeFadeV(VF p, float size, float edgeFade) {
   const DF df;
   if (!(edgeFade > 0.0f)) return hn::Set(df, 1.0f);
-  const VF fade = hn::Div(StdMinV(p, hn::Sub(hn::Set(df, size), p)), hn::Set(df, edgeFade * size));
-  return StdClampV(fade, hn::Zero(df), hn::Set(df, 1.0f));
+  const VF fade = hn::Div(MinStd(p, hn::Sub(hn::Set(df, size), p)), hn::Set(df, edgeFade * size));
+  return ClampStd(fade, hn::Zero(df), hn::Set(df, 1.0f));
 }
 
 // PixelTracer::Trace's rays for a vector of pixels, up to the march.
 struct RayLanes {
   MF traced;
   VF originX, originZ;  // the origin's y is the row's
-  VF endX, endY, endZ;
-  VF rX, rY, rZ;  // the view-space reflected direction
+  Vec3V<DF> end;        // (x, y, 1/d)
+  Vec3V<DF> r;          // the view-space reflected direction
   VF towardCamera;
 };
 
-// The rays of pixels x0 .. x0 + count - 1 of row y (count <= the vector length), whose G-buffer
-// words 1 and 2 are word1 and word2: `candidates` are the lanes with geometry below the roughness
-// cut-off.
-RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int x0, hn::Vec<DU> word1, VF d,
-                   MF candidates) {
+// The rays of the pixels at image positions px of row y, whose G-buffer words 1 and 2 are word1 and
+// d: `candidates` are the lanes with geometry below the roughness cut-off. Other lanes compute along,
+// unused.
+RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, VF px, float py, hn::Vec<DU> word1,
+                   VF d, MF candidates) {
   const DF df;
-  const DI di;
   const VF zero = hn::Zero(df);
   const VF one = hn::Set(df, 1.0f);
-  const VF width = hn::Set(df, float(frame.width));
-  const VF height = hn::Set(df, float(frame.height));
+  const ViewProjection& view = *frame.view;
   RayLanes rays;
-  rays.traced = candidates;
-
-  // PixelRay, then the reflection about the normal; untraced lanes compute along, unused.
-  rays.originX = hn::Add(hn::ConvertTo(df, hn::Iota(di, x0)), hn::Set(df, 0.5f));
-  const float py = float(y) + 0.5f;
-  const float rowY = (1.0f - 2.0f * py / float(frame.height)) * frame.halfY;
-  const VF columnX =
-      hn::Mul(hn::Sub(hn::Div(hn::Mul(hn::Set(df, 2.0f), rays.originX), width), one), hn::Set(df, frame.halfX));
-  const VF pX = hn::Mul(columnX, d);
-  const VF pY = hn::Mul(hn::Set(df, rowY), d);
-  const VF pZ = hn::Mul(hn::Set(df, -1.0f), d);
+  rays.originX = px;
+  const Vec3V<DF> p = Scale3(PixelRayV(df, view, px, py).direction, d);
+  const Vec3V<DF> v = Div3(p, Length3(p));
   const Vec3V<DF> n = UnpackNormalV(df, word1, frame.encoding);
-  const VF pLength = hn::Sqrt(hn::Add(hn::Add(hn::Mul(pX, pX), hn::Mul(pY, pY)), hn::Mul(pZ, pZ)));
-  const VF vX = hn::Div(pX, pLength);
-  const VF vY = hn::Div(pY, pLength);
-  const VF vZ = hn::Div(pZ, pLength);
-  const VF vn = hn::Add(hn::Add(hn::Mul(vX, n.x), hn::Mul(vY, n.y)), hn::Mul(vZ, n.z));
-  const VF twiceVN = hn::Mul(hn::Set(df, 2.0f), vn);
-  rays.rX = hn::Sub(vX, hn::Mul(twiceVN, n.x));
-  rays.rY = hn::Sub(vY, hn::Mul(twiceVN, n.y));
-  rays.rZ = hn::Sub(vZ, hn::Mul(twiceVN, n.z));
-  rays.towardCamera =
-      hn::IfThenElse(hn::Le(rays.rZ, zero), one, hn::Sub(one, hn::Div(rays.rZ, hn::Set(df, params.towardCameraFade))));
-  rays.traced = hn::And(rays.traced, hn::Gt(rays.towardCamera, zero));
+  rays.r = Sub3(v, Scale3(n, hn::Mul(hn::Set(df, 2.0f), Dot3(v, n))));
+  const VF fadeToCamera = hn::Sub(one, hn::Div(rays.r.z, hn::Set(df, params.towardCameraFade)));
+  rays.towardCamera = hn::IfThenElse(hn::Le(rays.r.z, zero), one, fadeToCamera);
+  // Near-plane clip before projecting.
   VF length = hn::Mul(hn::Set(df, kSsrMaxRayLengthInDepths), d);
-  length = hn::IfThenElse(hn::Gt(rays.rZ, zero),
-                          StdMinV(length, hn::Div(hn::Sub(d, hn::Set(df, frame.nearPlane)), rays.rZ)), length);
-  rays.traced = hn::And(rays.traced, hn::Gt(length, zero));
-  const VF qX = hn::Add(pX, hn::Mul(rays.rX, length));
-  const VF qY = hn::Add(pY, hn::Mul(rays.rY, length));
-  const VF qZ = hn::Add(pZ, hn::Mul(rays.rZ, length));
-  const VF depth = hn::Neg(qZ);
-  rays.traced = hn::And(rays.traced, hn::Gt(depth, zero));
+  length = hn::IfThenElse(hn::Gt(rays.r.z, zero),
+                          MinStd(length, hn::Div(hn::Sub(d, hn::Set(df, view.nearPlane)), rays.r.z)), length);
+  const Vec3V<DF> q = Add3(p, Scale3(rays.r, length));
+  const VF depth = hn::Neg(q.z);
+  rays.traced = hn::And(candidates, hn::Gt(rays.towardCamera, zero));
+  rays.traced = hn::And(rays.traced, hn::And(hn::Gt(length, zero), hn::Gt(depth, zero)));
 
   // Project.
   const VF half = hn::Set(df, 0.5f);
-  const VF ndcX = hn::Div(qX, hn::Mul(depth, hn::Set(df, frame.halfX)));
-  const VF ndcY = hn::Div(qY, hn::Mul(depth, hn::Set(df, frame.halfY)));
-  rays.endX = hn::Mul(hn::Add(hn::Mul(ndcX, half), half), width);
-  rays.endY = hn::Mul(hn::Sub(half, hn::Mul(ndcY, half)), height);
-  rays.endZ = hn::Div(one, depth);
+  const VF ndcX = hn::Div(q.x, hn::Mul(depth, hn::Set(df, view.halfX)));
+  const VF ndcY = hn::Div(q.y, hn::Mul(depth, hn::Set(df, view.halfY)));
+  rays.end.x = hn::Mul(hn::Add(hn::Mul(ndcX, half), half), hn::Set(df, float(frame.width)));
+  rays.end.y = hn::Mul(hn::Sub(half, hn::Mul(ndcY, half)), hn::Set(df, float(frame.height)));
+  rays.end.z = hn::Div(one, depth);
   rays.originZ = hn::Div(one, d);
   return rays;
 }
 
-// Stores "no hit" for the first `count` lanes at x0.
-void StoreNoHits(int x0, size_t count, float* hitX, float* hitY, float* confidence) {
+// Stores "no hit" at x0, x0 + 1, ... of a row segment ending at xEnd.
+void StoreNoHits(size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence) {
   const DF df;
-  StoreFirstLanes(df, hn::Set(df, -1.0f), count, hitX + x0);
-  StoreFirstLanes(df, hn::Set(df, -1.0f), count, hitY + x0);
-  StoreFirstLanes(df, hn::Zero(df), count, confidence + x0);
+  StoreRow(hn::Set(df, -1.0f), df, hitX, x0, xEnd);
+  StoreRow(hn::Set(df, -1.0f), df, hitY, x0, xEnd);
+  StoreRow(hn::Zero(df), df, confidence, x0, xEnd);
 }
 
 // The rest of PixelTracer::Trace after the march: the surface at the hit must be in front of the
-// background and face the ray; the confidence fades. Stores the first `count` lanes at x0.
+// background and face the ray; the confidence fades. Stores at x0, x0 + 1, ... of a row segment
+// ending at xEnd.
 void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const RayLanes& rays, const MarchLanes& m,
-                int x0, size_t count, float* hitX, float* hitY, float* confidence) {
+                size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence) {
   const DF df;
   const DI di;
   const DU du;
@@ -318,7 +301,7 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   const VF none = hn::Set(df, -1.0f);
   MF found = hn::And(m.hit, hn::And(InsideImageV(m.posX, m.posY, float(frame.width), float(frame.height)),
                                     hn::Gt(m.posZ, zero)));
-  if (hn::AllFalse(df, found)) return StoreNoHits(x0, count, hitX, hitY, confidence);
+  if (hn::AllFalse(df, found)) return StoreNoHits(x0, xEnd, hitX, hitY, confidence);
   const auto foundI = hn::RebindMask(di, found);
   const VI hx = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posX)), hn::Set(di, frame.width - 1));
   const VI hy = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posY)), hn::Set(di, frame.height - 1));
@@ -326,19 +309,17 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   const VF hitDepth = UnpackDepthV(df, hn::GatherIndex(du, frame.word2, index));
   found = hn::And(found, hn::Lt(hitDepth, hn::Set(df, kBackgroundDepth)));
   const Vec3V<DF> hitNormal = UnpackNormalV(df, hn::GatherIndex(du, frame.word1, index), frame.encoding);
-  const VF facing =
-      hn::Add(hn::Add(hn::Mul(hitNormal.x, rays.rX), hn::Mul(hitNormal.y, rays.rY)), hn::Mul(hitNormal.z, rays.rZ));
-  found = hn::AndNot(hn::Ge(facing, zero), found);
+  found = hn::AndNot(hn::Ge(Dot3(hitNormal, rays.r), zero), found);
 
   const VF excess = hn::Sub(hn::Div(hn::Div(one, m.posZ), hitDepth), one);
-  const VF thickness = StdClampV(hn::Sub(hn::Set(df, 2.0f), hn::Div(excess, hn::Set(df, params.thickness))), zero, one);
+  const VF thickness = ClampStd(hn::Sub(hn::Set(df, 2.0f), hn::Div(excess, hn::Set(df, params.thickness))), zero, one);
   const VF fadeX = EdgeFadeV(m.posX, float(frame.width), params.edgeFade);
   const VF fadeY = EdgeFadeV(m.posY, float(frame.height), params.edgeFade);
   const VF fade = hn::Mul(hn::Mul(hn::Mul(thickness, rays.towardCamera), fadeX), fadeY);
   found = hn::And(found, hn::Gt(fade, zero));
-  StoreFirstLanes(df, hn::IfThenElse(found, m.posX, none), count, hitX + x0);
-  StoreFirstLanes(df, hn::IfThenElse(found, m.posY, none), count, hitY + x0);
-  StoreFirstLanes(df, hn::IfThenElseZero(found, StdMinV(fade, one)), count, confidence + x0);
+  StoreRow(hn::IfThenElse(found, m.posX, none), df, hitX, x0, xEnd);
+  StoreRow(hn::IfThenElse(found, m.posY, none), df, hitY, x0, xEnd);
+  StoreRow(hn::IfThenElseZero(found, MinStd(fade, one)), df, confidence, x0, xEnd);
 }
 
 void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int xBegin, int xEnd, float* hitX,
@@ -359,27 +340,28 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
       hwy::Prefetch(frame.word2 + next + size_t(x));
     }
   }
-  for (int x0 = xBegin; x0 < xEnd; x0 += int(lanes)) {
-    const size_t count = std::min(lanes, size_t(xEnd - x0));
-    const size_t pixel = size_t(y) * size_t(frame.gbufferStride) + size_t(x0);
-    const auto word1 = LoadFirstLanes(du, frame.word1 + pixel, count);
-    const VF d = UnpackDepthV(df, LoadFirstLanes(du, frame.word2 + pixel, count));
+  const float py = float(y) + 0.5f;
+  const uint32_t* word1Row = frame.word1 + size_t(y) * size_t(frame.gbufferStride);
+  const uint32_t* word2Row = frame.word2 + size_t(y) * size_t(frame.gbufferStride);
+  const size_t end = size_t(xEnd);
+  for (size_t x0 = size_t(xBegin); x0 < end; x0 += lanes) {
+    const auto word1 = LoadRow(du, word1Row, x0, end, 0u);
+    const VF d = UnpackDepthV(df, LoadRow(du, word2Row, x0, end, PackDepth(kBackgroundDepth)));
     // The scalar tracer's first two tests: geometry, and smooth enough.
     MF candidates = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
-    candidates = hn::And(hn::FirstN(df, count), candidates);
     candidates = hn::And(candidates, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
     if (hn::AllFalse(df, candidates)) {
-      StoreNoHits(x0, count, hitX, hitY, confidence);
+      StoreNoHits(x0, end, hitX, hitY, confidence);
       continue;
     }
-    const RayLanes rays = SetUpRays(frame, params, y, x0, word1, d, candidates);
-    MarchLanes march = StartMarch(frame, rays.traced, rays.originX, hn::Set(df, float(y) + 0.5f), rays.originZ,
-                                  rays.endX, rays.endY, rays.endZ);
+    const VF px = hn::Add(hn::Add(hn::Iota(df, 0.0f), hn::Set(df, float(x0))), hn::Set(df, 0.5f));
+    const RayLanes rays = SetUpRays(frame, params, px, py, word1, d, candidates);
+    MarchLanes march = StartMarch(frame, rays.traced, rays.originX, hn::Set(df, py), rays.originZ, rays.end);
     counts.rays += hn::CountTrue(df, rays.traced);
     for (int step = 1; step <= params.maxIterations && !hn::AllFalse(df, march.live); ++step) {
       StepMarch(frame, params, step, march, counts.iterations);
     }
-    FinishRays(frame, params, rays, march, x0, count, hitX, hitY, confidence);
+    FinishRays(frame, params, rays, march, x0, end, hitX, hitY, confidence);
   }
 }
 
@@ -405,9 +387,7 @@ void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int
   SSGI_CHECK_EQ(g.word[1].PixelsPerRow(), g.word[2].PixelsPerRow());
   frame.gbufferStride = int32_t(g.word[1].PixelsPerRow());
   frame.encoding = g.normalEncoding;
-  frame.halfX = in.view.halfX;
-  frame.halfY = in.view.halfY;
-  frame.nearPlane = in.view.nearPlane;
+  frame.view = &in.view;
   frame.levels = int(in.hiz.levels.size());
   SSGI_CHECK_LE(frame.levels, kMaxHiZLevels);
   for (int k = 0; k < frame.levels; ++k) {

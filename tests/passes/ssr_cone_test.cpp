@@ -134,23 +134,35 @@ TEST_CASE("Cone reflection blur widens with roughness", "[cone]") {
   CHECK(widths.back() > widths.front() + 8.0f);
 }
 
+// The pyramid of a width x height image of random radiance in [0, 100].
+ColorPyramid RandomPyramid(size_t width, size_t height, std::mt19937& rng) {
+  Plane3<float> image = MakePlane3<float>(width, height, 0.0f);
+  std::uniform_real_distribution<float> radiance(0.0f, 100.0f);
+  for (Plane<float>& channel : image.c) {
+    for (size_t y = 0; y < height; ++y) {
+      for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = radiance(rng);
+    }
+  }
+  ColorPyramid pyramid;
+  RunColorPyramid(image, pyramid);
+  return pyramid;
+}
+
+// The positions of the four corner pixels of a width x height image nearest its corners.
+std::vector<std::pair<float, float>> Corners(size_t width, size_t height) {
+  const float w = std::nextafter(float(width), 0.0f), h = std::nextafter(float(height), 0.0f);
+  return {{0.0f, 0.0f}, {w, 0.0f}, {0.0f, h}, {w, h}};
+}
+
+const std::vector<std::pair<size_t, size_t>> kOddSizes{{1, 1}, {67, 45}, {1, 9}, {33, 2}};
+
 TEST_CASE("Cone trace is finite for every code, h = 0, corners and a 1x1 image", "[cone]") {
   std::mt19937 rng(7);
-  for (const auto& [width, height] : std::vector<std::pair<size_t, size_t>>{{1, 1}, {67, 45}, {1, 9}, {33, 2}}) {
-    Plane3<float> image = MakePlane3<float>(width, height, 0.0f);
-    std::uniform_real_distribution<float> radiance(0.0f, 100.0f);
-    for (Plane<float>& channel : image.c) {
-      for (size_t y = 0; y < height; ++y) {
-        for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = radiance(rng);
-      }
-    }
-    ColorPyramid pyramid;
-    RunColorPyramid(image, pyramid);
+  for (const auto& [width, height] : kOddSizes) {
+    const ColorPyramid pyramid = RandomPyramid(width, height, rng);
     // Hits: the pixel itself (h = 0), the four image corners, and random points.
     const float w = float(width), h = float(height);
-    const std::vector<std::pair<float, float>> corners{{0.0f, 0.0f}, {std::nextafter(w, 0.0f), 0.0f},
-                                                       {0.0f, std::nextafter(h, 0.0f)},
-                                                       {std::nextafter(w, 0.0f), std::nextafter(h, 0.0f)}};
+    const std::vector<std::pair<float, float>> corners = Corners(width, height);
     std::uniform_real_distribution<float> hitX(0.0f, std::nextafter(w, 0.0f)), hitY(0.0f, std::nextafter(h, 0.0f));
     for (int pattern = 0; pattern < 6; ++pattern) {
       SsrTraceOutputs trace{MakePlane<float>(width, height, 0.0f), MakePlane<float>(width, height, 0.0f),
@@ -245,7 +257,7 @@ void CheckConeRowTwins(const GBuffer& gbuffer, const ColorPyramid& pyramid, cons
     for (size_t i = 0; i < segments.size(); ++i) {
       const SsrConeCounts counts = run(segments[i], actual, true);
       CAPTURE(target, segments[i].y, segments[i].width, maxSamples);
-      REQUIRE(std::memcmp(actual.data(), expected[i].data(), actual.size() * sizeof(float)) == 0);
+      REQUIRE(test::FirstDifferentBits(actual.data(), expected[i].data(), actual.size()) == actual.size());
       REQUIRE(counts.samples == expectedCounts[i].samples);
       REQUIRE(counts.pixels == expectedCounts[i].pixels);
     }
@@ -269,16 +281,9 @@ TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target
   }
   SECTION("random images: hits at the pixel itself, the corners and anywhere; some without a hit") {
     std::mt19937 rng(11);
-    for (const auto& [width, height] : std::vector<std::pair<size_t, size_t>>{{1, 1}, {67, 45}, {1, 9}, {33, 2}}) {
-      Plane3<float> image = MakePlane3<float>(width, height, 0.0f);
-      std::uniform_real_distribution<float> radiance(0.0f, 100.0f);
-      for (Plane<float>& channel : image.c) {
-        for (size_t y = 0; y < height; ++y) {
-          for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = radiance(rng);
-        }
-      }
-      ColorPyramid pyramid;
-      RunColorPyramid(image, pyramid);
+    for (const auto& [width, height] : kOddSizes) {
+      const ColorPyramid pyramid = RandomPyramid(width, height, rng);
+      const std::vector<std::pair<float, float>> corners = Corners(width, height);
       const float w = float(width), h = float(height);
       std::uniform_real_distribution<float> hitX(0.0f, std::nextafter(w, 0.0f)), hitY(0.0f, std::nextafter(h, 0.0f));
       std::uniform_int_distribution<uint32_t> code(0, 255);
@@ -291,11 +296,8 @@ TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target
           gbuffer.word[1].MutableRow(y)[x] = code(rng) << 24;
           const int p = pattern(rng);
           if (p == 6) continue;  // no hit
-          const std::pair<float, float> corners[4] = {
-              {0.0f, 0.0f}, {std::nextafter(w, 0.0f), 0.0f}, {0.0f, std::nextafter(h, 0.0f)},
-              {std::nextafter(w, 0.0f), std::nextafter(h, 0.0f)}};
           std::pair<float, float> hit{float(x) + 0.5f, float(y) + 0.5f};
-          if (p >= 1 && p <= 4) hit = corners[p - 1];
+          if (p >= 1 && p <= 4) hit = corners[size_t(p - 1)];
           if (p == 5) hit = {hitX(rng), hitY(rng)};
           trace.hitX.MutableRow(y)[x] = hit.first;
           trace.hitY.MutableRow(y)[x] = hit.second;
@@ -308,31 +310,23 @@ TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target
 }
 
 TEST_CASE("Cone trace: the SIMD pass gives the scalar pass's bytes on every target, default scene", "[cone][simd]") {
-  const test::DefaultScene defaultScene = test::LoadDefaultScene();
-  for (const auto& [width, height] :
-       {std::pair{1024, 1024}, std::pair{1023, 769}, std::pair{67, 45}, std::pair{1, 1}}) {
-    CAPTURE(width, height);
-    const Frame frame = defaultScene.Render(width, height);
+  test::ForEachDefaultSceneFrame([](const Frame& frame) {
+    CAPTURE(frame.view.width, frame.view.height);
     REQUIRE(frame.reflections);
     const SsrConeInputs in{frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace};
     SsrConeOutputs expected;
     const SsrConeStats expectedStats = RunSsrCone(in, {}, expected, KernelPath::kScalar);
-    if (width > 1) CHECK(expectedStats.pixels > size_t(width));
+    if (frame.view.width > 1) CHECK(expectedStats.pixels > size_t(frame.view.width));
     const size_t targets = test::ForEachSimdTarget([&](const char* target) {
       CAPTURE(target);
       SsrConeOutputs actual;
       const SsrConeStats stats = RunSsrCone(in, {}, actual, KernelPath::kSimd);
-      for (int c = 0; c < 3; ++c) {
-        for (size_t y = 0; y < size_t(height); ++y) {
-          REQUIRE(std::memcmp(actual.reflected.c[c].ConstRow(y), expected.reflected.c[c].ConstRow(y),
-                              size_t(width) * sizeof(float)) == 0);
-        }
-      }
+      for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(actual.reflected.c[c], expected.reflected.c[c]));
       CHECK(stats.samples == expectedStats.samples);
       CHECK(stats.pixels == expectedStats.pixels);
     });
     CHECK(targets >= 2);
-  }
+  });
 }
 
 }  // namespace

@@ -285,8 +285,6 @@ GBuffer AxisAlignedGBuffer(int width, int height, uint32_t seed) {
   return g;
 }
 
-bool SameBits(const float* a, const float* b, size_t count) { return std::memcmp(a, b, count * sizeof(float)) == 0; }
-
 // SsrTraceRowSimd against SsrTraceRowScalar on every compiled and supported target: every row whole,
 // and on every fifth row segments of every length from 1 to 49 (three AVX-512 vectors and one lane)
 // at varying offsets. Same bits in the segment, nothing written outside it, same counts.
@@ -323,7 +321,7 @@ void CheckRowTwins(const GBuffer& g, const ViewProjection& view, const HiZ& hiz,
       SsrTraceRowSimd(in, params, s.y, s.xBegin, s.xEnd, actual.data(), actual.data() + row,
                       actual.data() + 2 * row, counts);
       CAPTURE(target, s.y, s.xBegin, s.xEnd, params.maxIterations, params.startLevel);
-      REQUIRE(SameBits(actual.data(), expected.data() + i * 3 * row, 3 * row));
+      REQUIRE(test::FirstDifferentBits(actual.data(), expected.data() + i * 3 * row, 3 * row) == 3 * row);
       REQUIRE(counts.rays == expectedCounts[i].rays);
       REQUIRE(counts.iterations == expectedCounts[i].iterations);
     }
@@ -393,29 +391,26 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
 }
 
 TEST_CASE("SSR trace: the SIMD pass gives the scalar pass's bytes on every target, default scene", "[ssr][simd]") {
-  const test::DefaultScene defaultScene = test::LoadDefaultScene();
-  for (const auto& [width, height] :
-       {std::pair{1024, 1024}, std::pair{1023, 769}, std::pair{67, 45}, std::pair{1, 1}}) {
-    CAPTURE(width, height);
-    const Frame frame = defaultScene.Render(width, height);
+  test::ForEachDefaultSceneFrame([](const Frame& frame) {
+    CAPTURE(frame.view.width, frame.view.height);
     REQUIRE(frame.reflections);
     const SsrTraceInputs in{frame.gbuffer.gbuffer, frame.view, frame.hiz};
     SsrTraceOutputs expected;
     const SsrTraceStats expectedStats = RunSsrTrace(in, {}, expected, KernelPath::kScalar);
-    if (width > 1) CHECK(expectedStats.rays > size_t(width));
+    if (frame.view.width > 1) CHECK(expectedStats.rays > size_t(frame.view.width));
     const size_t targets = test::ForEachSimdTarget([&](const char* target) {
       CAPTURE(target);
       SsrTraceOutputs actual;
       const SsrTraceStats stats = RunSsrTrace(in, {}, actual, KernelPath::kSimd);
-      CheckSame(actual.hitX, expected.hitX);
-      CheckSame(actual.hitY, expected.hitY);
-      CheckSame(actual.confidence, expected.confidence);
+      CHECK(test::SameBytes(actual.hitX, expected.hitX));
+      CHECK(test::SameBytes(actual.hitY, expected.hitY));
+      CHECK(test::SameBytes(actual.confidence, expected.confidence));
       CHECK(stats.rays == expectedStats.rays);
       CHECK(stats.meanIterations == expectedStats.meanIterations);
       CHECK(stats.tilesTraced == expectedStats.tilesTraced);
     });
     CHECK(targets >= 2);
-  }
+  });
 }
 
 }  // namespace
