@@ -1,52 +1,44 @@
-// Indirect-light pass timings at 1024x1024 on the default scene: Hi-Z, colour pyramid, SSR trace,
-// cone trace and composite (the pyramids and the composite also at 2048x2048, with either kernel
-// path; the pyramids beside the memory floors of their bytes), each on inputs made once, outputs
-// reused between iterations (the steady state of a renderer). bench/README.md records results.
+// Indirect-light pass timings on the default scene: Hi-Z, colour pyramid, SSR trace, cone trace and
+// composite at 1024x1024 and 2048x2048 with either kernel path, the pyramids beside the memory
+// floors of their bytes, each on inputs made once, outputs reused between iterations (the steady
+// state of a renderer). bench/README.md records results.
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
 #include "bench/memory_floor.h"
-#include "core/parallel.h"
 #include "passes/frame.h"
 
 namespace ssgi {
 namespace {
 
-constexpr int kSize = 1024;
-
-template <class Body>
-void Run(benchmark::State& state, Body&& body) {
+// Times items += pass(frame, kernels) with KernelBenchArgs; a first call, untimed, allocates the
+// outputs, as a renderer keeps them. Items: what the pass returns, summed.
+template <class Pass>
+void RunKernels(benchmark::State& state, Pass&& pass) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const ThreadLimit threads(int(state.range(0)));
-  const Frame& frame = DefaultBenchFrame(kSize);
-  for (auto _ : state) body(frame);
-  state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
+  const KernelBenchArgs args(state);
+  const Frame& f = DefaultBenchFrame(args.size);
+  pass(f, args.kernels);
+  int64_t items = 0;
+  for (auto _ : state) items += int64_t(pass(f, args.kernels));
+  state.SetItemsProcessed(items);
 }
 
-// Arguments: KernelBenchArgs. Items: texels written, all levels.
+// Items: texels written, all levels.
 void BM_HiZ(benchmark::State& state) {
-  const BenchScene& bench = DefaultBenchScene();
-  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const KernelBenchArgs args(state);
-  const Plane<uint32_t>& depthWord = DefaultBenchFrame(args.size).gbuffer.gbuffer.word[2];
-  HiZ hiz;
-  // Levels allocated before timing, as a renderer keeps them.
-  const size_t texels = RunHiZ(depthWord, hiz, args.kernels).texels;
-  for (auto _ : state) RunHiZ(depthWord, hiz, args.kernels);
-  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(texels));
+  HiZ out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunHiZ(f.gbuffer.gbuffer.word[2], out, kernels).texels;
+  });
 }
 
-// Arguments: KernelBenchArgs. Items: RGB texels written, all levels.
+// Items: RGB texels written, all levels.
 void BM_ColorPyramid(benchmark::State& state) {
-  const BenchScene& bench = DefaultBenchScene();
-  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const KernelBenchArgs args(state);
-  const Plane3<float>& radiance = DefaultBenchFrame(args.size).direct.radiance;
-  ColorPyramid pyramid;
-  const size_t texels = RunColorPyramid(radiance, pyramid, args.kernels).texels;
-  for (auto _ : state) RunColorPyramid(radiance, pyramid, args.kernels);
-  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(texels));
+  ColorPyramid out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunColorPyramid(f.direct.radiance, out, kernels).texels;
+  });
 }
 
 // The memory floors of the pyramids' bytes per level-0 pixel. Hi-Z: word 2 read (4), levels written
@@ -54,16 +46,20 @@ void BM_ColorPyramid(benchmark::State& state) {
 // read (12), levels written (12 x 4/3 = 16).
 [[maybe_unused]] const bool kPyramidFloors = (RegisterMemoryFloor(4, 5), RegisterMemoryFloor(12, 16), true);
 
+// Items: rays traced.
 void BM_SsrTrace(benchmark::State& state) {
-  SsrTraceOutputs trace;
-  Run(state, [&](const Frame& f) {
-    RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz}, {}, trace);
+  SsrTraceOutputs out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz}, {}, out, kernels).rays;
   });
 }
 
+// Items: pixels with a hit.
 void BM_SsrCone(benchmark::State& state) {
-  SsrConeOutputs cone;
-  Run(state, [&](const Frame& f) { RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, cone); });
+  SsrConeOutputs out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, out, kernels).pixels;
+  });
 }
 
 // Arguments: KernelBenchArgs.
@@ -83,8 +79,8 @@ void BM_Composite(benchmark::State& state) {
 
 BENCHMARK(BM_HiZ)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_ColorPyramid)->Apply(KernelBenchArgs::Register);
-BENCHMARK(BM_SsrTrace)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_SsrCone)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SsrTrace)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_SsrCone)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_Composite)->Apply(KernelBenchArgs::Register);
 
 }  // namespace

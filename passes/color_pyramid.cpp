@@ -163,7 +163,8 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
       return out.levels[0].c[c].MutableRow(sy);
     };
     if (k == 1) {
-      for (size_t sy = firstTap; sy <= lastTap; ++sy) sanitizeRow(radiance.c[c].ConstRow(sy), sourceWidth, levelZeroRow(sy));
+      for (size_t sy = firstTap; sy <= lastTap; ++sy)
+        sanitizeRow(radiance.c[c].ConstRow(sy), sourceWidth, levelZeroRow(sy));
     }
     const auto sourceRow = [&](size_t sy) -> const float* { return k == 1 ? levelZeroRow(sy) : source.ConstRow(sy); };
     size_t nextBlurred = firstTap;

@@ -118,7 +118,8 @@ TEST_CASE("Hi-Z is identical at 1, 2 and 3 threads and reuses or reshapes its pl
   }
   for (int i = 1; i < 3; ++i) {
     REQUIRE(results[i].levels.size() == results[0].levels.size());
-    for (size_t k = 0; k < results[0].levels.size(); ++k) REQUIRE(test::SameBytes(results[i].levels[k], results[0].levels[k]));
+    for (size_t k = 0; k < results[0].levels.size(); ++k)
+      REQUIRE(test::SameBytes(results[i].levels[k], results[0].levels[k]));
   }
   // A smaller frame into the same outputs gets the smaller pyramid.
   RunHiZ(RandomDepth(5, 3, rng), results[0]);

@@ -121,6 +121,12 @@ Frame DefaultScene::Render(int width, int height) const {
   return RenderFrame(scene, sized);
 }
 
+void ForEachDefaultSceneFrame(const std::function<void(const Frame&)>& check) {
+  const DefaultScene scene = LoadDefaultScene();
+  for (const auto& [width, height] : {std::pair{1024, 1024}, std::pair{1023, 769}, std::pair{67, 45}, std::pair{1, 1}})
+    check(scene.Render(width, height));
+}
+
 DefaultScene LoadDefaultScene() {
   SceneFile file = LoadSceneFile(SourceDir() / "data" / "default.json");
   const FrameConfig config = FrameConfigFromSceneFile(file);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <random>
 #include <vector>
@@ -81,6 +82,10 @@ struct DefaultScene {
   Frame Render(int width, int height) const;
 };
 DefaultScene LoadDefaultScene();
+
+// Calls check(frame) for data/default.json rendered at its own size, 1024x1024, and at 1023x769,
+// 67x45 and 1x1: frames on which a pass's SIMD kernels must give its scalar kernels' bytes.
+void ForEachDefaultSceneFrame(const std::function<void(const Frame&)>& check);
 
 // Whether two planes of one size hold the same bytes in every pixel (padding aside).
 template <class T>
