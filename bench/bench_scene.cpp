@@ -1,6 +1,8 @@
 #include "bench/bench_scene.h"
 
 #include <exception>
+#include <map>
+#include <mutex>
 
 namespace ssgi {
 
@@ -15,6 +17,20 @@ const BenchScene& DefaultBenchScene() {
     }
   }();
   return scene;
+}
+
+const Frame& DefaultBenchFrame(int size) {
+  static std::mutex mutex;
+  static std::map<int, Frame> frames;
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto found = frames.find(size);
+  if (found == frames.end()) {
+    const BenchScene& bench = DefaultBenchScene();
+    FrameConfig config = bench.config;
+    config.width = config.height = size;
+    found = frames.emplace(size, RenderFrame(bench.scene, config)).first;
+  }
+  return found->second;
 }
 
 }  // namespace ssgi

@@ -1,11 +1,12 @@
-// Direct light and tonemap timings at 1024x1024 on the default scene's G-buffer (made once, with its
-// shadow term); bench/README.md records results.
+// Direct light and tonemap timings on the default scene's buffers (made once), outputs reused
+// between iterations; bench/README.md records results.
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
 #include "core/parallel.h"
 #include "passes/direct_light.h"
 #include "passes/gbuffer.h"
+#include "passes/shadow_map.h"
 #include "passes/tonemap.h"
 
 namespace ssgi {
@@ -34,14 +35,23 @@ void ReportPixels(benchmark::State& state) {
   state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// As a frame runs it: every light, the shadowed one scaled by its filtered visibility. Arguments:
+// KernelBenchArgs.
 void BM_DirectLight(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const ThreadLimit threads(int(state.range(0)));
-  const ShadingInputs& in = Inputs(bench);
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
+  DirectLightInputs in{frame.gbuffer.gbuffer, frame.view, bench.scene};
+  if (frame.shadowMap) {
+    in.lightVisibility = &frame.shadowVisibility.visibility;
+    in.shadowedLight = ShadowCastingLights(bench.scene).front();
+  }
   DirectLightOutputs out;
-  for (auto _ : state) RunDirectLight({in.g.gbuffer, in.view, bench.scene}, bench.config.directLight, out);
-  ReportPixels(state);
+  // Outputs allocated before timing, as a renderer keeps them.
+  RunDirectLight(in, bench.config.directLight, out, args.kernels);
+  for (auto _ : state) RunDirectLight(in, bench.config.directLight, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
 void BM_Tonemap(benchmark::State& state) {
@@ -54,7 +64,7 @@ void BM_Tonemap(benchmark::State& state) {
   ReportPixels(state);
 }
 
-BENCHMARK(BM_DirectLight)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DirectLight)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_Tonemap)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

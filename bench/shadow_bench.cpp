@@ -1,9 +1,9 @@
-// Shadow pass timings on the default scene: the shadow map with its blocker search at 1024x1024, and
-// the shadow filters at 1024x1024 and 2048x2048. Buffers are reused from iteration to iteration (the
-// steady state of a renderer); bench/README.md records results.
-#include <map>
-
+// Shadow pass timings on the default scene: the shadow map with its blocker search, the blocker
+// search alone, and the shadow filters. Buffers are reused from iteration to iteration (the steady
+// state of a renderer); bench/README.md records results.
 #include <benchmark/benchmark.h>
+
+#include <vector>
 
 #include "bench/bench_scene.h"
 #include "core/lighting.h"
@@ -17,7 +17,7 @@ namespace {
 
 constexpr int kSize = 1024;
 
-// The default scene's G-buffer at size x size, with word 3 from a 2048 shadow map, made once per size.
+// The default scene's G-buffer, with word 3 from a 2048 shadow map, made once.
 struct ShadowInputs {
   ViewProjection view;
   GBufferOutputs g;
@@ -25,26 +25,26 @@ struct ShadowInputs {
   size_t lightIndex = 0;
 };
 
-const ShadowInputs& Inputs(const BenchScene& bench, int size) {
-  static std::map<int, ShadowInputs> inputs;
-  const auto found = inputs.find(size);
-  if (found != inputs.end()) return found->second;
-  const Scene& scene = bench.scene;
-  ShadowInputs in;
-  in.view = MakePerspective(scene.camera, size, size);
-  RunGBuffer({scene, in.view}, {bench.config.normalEncoding}, in.g);
-  in.lightIndex = ShadowCastingLights(scene).front();
-  in.light = PrepareLights(scene, in.view.view)[in.lightIndex];
-  ShadowMapOutputs out;
-  RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out, in.g.gbuffer.word[3]);
-  return inputs.emplace(size, std::move(in)).first->second;
+const ShadowInputs& Inputs(const BenchScene& bench) {
+  static const ShadowInputs inputs = [&] {
+    const Scene& scene = bench.scene;
+    ShadowInputs in;
+    in.view = MakePerspective(scene.camera, kSize, kSize);
+    RunGBuffer({scene, in.view}, {bench.config.normalEncoding}, in.g);
+    in.lightIndex = ShadowCastingLights(scene).front();
+    in.light = PrepareLights(scene, in.view.view)[in.lightIndex];
+    ShadowMapOutputs out;
+    RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out, in.g.gbuffer.word[3]);
+    return in;
+  }();
+  return inputs;
 }
 
 void BM_ShadowMap(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(0)));
-  const ShadowInputs& in = Inputs(bench, kSize);
+  const ShadowInputs& in = Inputs(bench);
   ShadowMapParams params;
   params.resolution = int(state.range(1));
   Plane<uint32_t> term = MakePlane<uint32_t>(kSize, kSize, 0u);
@@ -56,29 +56,57 @@ void BM_ShadowMap(benchmark::State& state) {
   state.counters["pixels"] = benchmark::Counter(double(stats.pixels), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The blocker search alone, on the G-buffer and the first shadow-casting light's map of one
+// default-scene frame at that size (its render block's shadow map parameters). Arguments:
+// KernelBenchArgs.
+void BM_BlockerSearch(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
+  if (!frame.shadowMap) return state.SkipWithError("the default scene has no shadow map");
+  const GBuffer& gbuffer = frame.gbuffer.gbuffer;
+  const ShadowMapOutputs& map = *frame.shadowMap;
+  const ShadowMapParams& params = bench.config.shadowMap;
+  const ReceiverPositions receivers(frame.view, map.lightView.view * glm::inverse(frame.view.view));
+  const std::vector<glm::vec2> pattern = BlockerSearchPattern(params.blockerSearchTaps);
+  const PreparedLight light = PrepareLights(bench.scene, glm::mat4(1.0f))[ShadowCastingLights(bench.scene).front()];
+  const BlockerSearchContext context =
+      MakeBlockerSearchContext(receivers, map, light, pattern, params.maxBlockerDistance, gbuffer.normalEncoding);
+  Plane<uint32_t> term = MakePlane<uint32_t>(args.size, args.size, 0u);
+  for (auto _ : state) RunBlockerSearch(context, gbuffer, term, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(frame.stats.shadowMap->pixels));
+}
+
+// The shadow filter on the G-buffer (word 3 from the first shadow-casting light's map) of one
+// default-scene frame at that size, its render block's filter parameters, the output allocated
+// before timing. Arguments: KernelBenchArgs, then sspcss (0 SSABSS, 1 SSPCSS).
 void BM_ShadowFilter(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const int size = int(state.range(0));
-  const ThreadLimit threads(int(state.range(1)));
-  const ShadowInputs& in = Inputs(bench, size);
-  ShadowFilterParams params;
-  params.filter = state.range(2) == 0 ? ShadowFilter::kSsabss : ShadowFilter::kSspcss;
-  const KernelPath kernels = state.range(3) != 0 ? KernelPath::kSimd : KernelPath::kScalar;
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
+  if (!frame.shadowMap) return state.SkipWithError("the default scene has no shadow map");
+  const PreparedLight light = PrepareLights(bench.scene, frame.view.view)[ShadowCastingLights(bench.scene).front()];
+  const ShadowFilterInputs in{frame.gbuffer.gbuffer, frame.view, light};
+  ShadowFilterParams params = bench.config.shadowFilter;
+  params.filter = state.range(3) == 0 ? ShadowFilter::kSsabss : ShadowFilter::kSspcss;
   ShadowFilterOutputs out;
-  ShadowFilterStats stats;
-  for (auto _ : state) stats = RunShadowFilter({in.g.gbuffer, in.view, in.light}, params, out, kernels);
+  ShadowFilterStats stats = RunShadowFilter(in, params, out, args.kernels);
+  for (auto _ : state) stats = RunShadowFilter(in, params, out, args.kernels);
   state.counters["tilesBlurred"] = double(stats.tilesBlurred);
-  state.SetItemsProcessed(int64_t(state.iterations()) * size * size);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
 // Arguments: threads (1, 2), then the shadow map resolution.
 BENCHMARK(BM_ShadowMap)->ArgNames({"threads", "resolution"})->ArgsProduct({{1, 2}, {1024, 2048}})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
-// Arguments: image size, threads (1, 2), the filter (0 ssabss, 1 sspcss), the row kernels (0 scalar,
-// 1 SIMD).
-BENCHMARK(BM_ShadowFilter)->ArgNames({"size", "threads", "sspcss", "simd"})
-    ->ArgsProduct({{1024, 2048}, {1, 2}, {0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BlockerSearch)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_ShadowFilter)
+    ->ArgNames({"simd", "size", "threads", "sspcss"})
+    ->ArgsProduct({{0, 1}, {1024, 2048}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace ssgi

@@ -1,73 +1,87 @@
-// Indirect-light pass timings at 1024x1024 on the default scene: Hi-Z, colour pyramid, SSR trace,
-// cone trace and composite, each on inputs made once, outputs reused between iterations (the
-// steady state of a renderer). bench/README.md records results.
+// Indirect-light pass timings on the default scene: Hi-Z, colour pyramid, SSR trace, cone trace and
+// composite at 1024x1024 and 2048x2048 with either kernel path, the pyramids beside the memory
+// floors of their bytes, each on inputs made once, outputs reused between iterations (the steady
+// state of a renderer). bench/README.md records results.
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
-#include "core/parallel.h"
+#include "bench/memory_floor.h"
 #include "passes/frame.h"
 
 namespace ssgi {
 namespace {
 
-constexpr int kSize = 1024;
-
-// One whole frame of the default scene, whose buffers are the passes' inputs.
-const Frame& DefaultFrame(const BenchScene& bench) {
-  static const Frame frame = [&] {
-    FrameConfig config = bench.config;
-    config.width = config.height = kSize;
-    return RenderFrame(bench.scene, config);
-  }();
-  return frame;
-}
-
-template <class Body>
-void Run(benchmark::State& state, Body&& body) {
+// Times items += pass(frame, kernels) with KernelBenchArgs; a first call, untimed, allocates the
+// outputs, as a renderer keeps them. Items: what the pass returns, summed.
+template <class Pass>
+void RunKernels(benchmark::State& state, Pass&& pass) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const ThreadLimit threads(int(state.range(0)));
-  const Frame& frame = DefaultFrame(bench);
-  for (auto _ : state) body(frame);
-  state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
+  const KernelBenchArgs args(state);
+  const Frame& f = DefaultBenchFrame(args.size);
+  pass(f, args.kernels);
+  int64_t items = 0;
+  for (auto _ : state) items += int64_t(pass(f, args.kernels));
+  state.SetItemsProcessed(items);
 }
 
+// Items: texels written, all levels.
 void BM_HiZ(benchmark::State& state) {
-  HiZ hiz;
-  Run(state, [&](const Frame& f) { RunHiZ(f.gbuffer.gbuffer.word[2], hiz); });
+  HiZ out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunHiZ(f.gbuffer.gbuffer.word[2], out, kernels).texels;
+  });
 }
 
+// Items: RGB texels written, all levels.
 void BM_ColorPyramid(benchmark::State& state) {
-  ColorPyramid pyramid;
-  Run(state, [&](const Frame& f) { RunColorPyramid(f.direct.radiance, pyramid); });
+  ColorPyramid out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunColorPyramid(f.direct.radiance, out, kernels).texels;
+  });
 }
 
+// The memory floors of the pyramids' bytes per level-0 pixel. Hi-Z: word 2 read (4), levels written
+// (4 x 4/3 = 5.33, rounded down, so its floor is a shade low). Colour pyramid: three float planes
+// read (12), levels written (12 x 4/3 = 16).
+[[maybe_unused]] const bool kPyramidFloors = (RegisterMemoryFloor(4, 5), RegisterMemoryFloor(12, 16), true);
+
+// Items: rays traced.
 void BM_SsrTrace(benchmark::State& state) {
-  SsrTraceOutputs trace;
-  Run(state, [&](const Frame& f) {
-    RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz}, {}, trace);
+  SsrTraceOutputs out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz}, {}, out, kernels).rays;
   });
 }
 
+// Items: pixels with a hit.
 void BM_SsrCone(benchmark::State& state) {
-  SsrConeOutputs cone;
-  Run(state, [&](const Frame& f) { RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, cone); });
-}
-
-void BM_Composite(benchmark::State& state) {
-  CompositeOutputs out;
-  Run(state, [&](const Frame& f) {
-    RunComposite({f.gbuffer.gbuffer, f.view, f.direct.radiance, f.ssrCone.reflected,
-                   f.ssrTrace.confidence, SsrTraceParams{}.roughnessCutoff},
-                  out);
+  SsrConeOutputs out;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, out, kernels).pixels;
   });
 }
 
-BENCHMARK(BM_HiZ)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_ColorPyramid)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_SsrTrace)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_SsrCone)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Composite)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Arguments: KernelBenchArgs.
+void BM_Composite(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelBenchArgs args(state);
+  const Frame& f = DefaultBenchFrame(args.size);
+  const CompositeInputs in{f.gbuffer.gbuffer,     f.view, f.direct.radiance, f.ssrCone.reflected,
+                           f.ssrTrace.confidence, bench.config.ssrTrace.roughnessCutoff};
+  CompositeOutputs out;
+  // Outputs allocated before timing, as a renderer keeps them.
+  RunComposite(in, out, args.kernels);
+  for (auto _ : state) RunComposite(in, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
+}
+
+BENCHMARK(BM_HiZ)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_ColorPyramid)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_SsrTrace)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_SsrCone)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_Composite)->Apply(KernelBenchArgs::Register);
 
 }  // namespace
 }  // namespace ssgi

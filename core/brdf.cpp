@@ -83,4 +83,9 @@ glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness) {
   return f0 * ab.x + glm::vec3(ab.y);
 }
 
+const float* DfgTableForKernels() {
+  static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
+  return &SharedDfgTable().ab[0].x;
+}
+
 }  // namespace ssgi

@@ -79,5 +79,8 @@ struct DfgTable {
 DfgTable BuildDfgTable();
 // F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in a table built once.
 glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness);
+// The table SpecularWeight reads, its (A, B) pairs as interleaved floats, for SIMD kernels that
+// gather from it and so give the same values.
+const float* DfgTableForKernels();
 
 }  // namespace ssgi

@@ -57,6 +57,8 @@ const SrgbEncodeTables& SrgbEncodeTablesForKernels() { return Tables().forKernel
 
 float SrgbCodeToLinear(uint8_t code) { return Tables().codeToLinear[code]; }
 
+const float* SrgbDecodeTableForKernels() { return Tables().codeToLinear.data(); }
+
 uint8_t LinearToSrgbCode(float linear) {
   if (!(linear > 0.0f)) return 0;
   if (linear >= 1.0f) return 255;

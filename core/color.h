@@ -13,6 +13,9 @@ float LinearToSrgb(float linear);
 
 // Linear value of an 8-bit sRGB code.
 float SrgbCodeToLinear(uint8_t code);
+// The table behind SrgbCodeToLinear (256 entries, indexed by code), for SIMD kernels that gather
+// from it and so give the same values.
+const float* SrgbDecodeTableForKernels();
 
 // The 8-bit sRGB code nearest in encoded space to a linear value: round(LinearToSrgb(x) * 255),
 // found by bisection over the 255 thresholds, so the result does not depend on pow's rounding.

@@ -12,18 +12,13 @@
 #endif
 
 #include "core/gbuffer.h"
+#include "core/math-inl.h"
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-// A vector per component: lanes are pixels.
-template <class D>
-struct Vec3V {
-  hn::Vec<D> x, y, z;
-};
 
 // DequantizeSigned: float(code) / maxCode * 2 - 1, for codes below 2^24 (exact as floats).
 template <class D>
@@ -55,6 +50,25 @@ Vec3V<D> UnpackNormalV(D d, hn::Vec<hn::RebindToUnsigned<D>> word1, NormalEncodi
   }
   const auto length = hn::Sqrt(hn::Add(hn::Add(hn::Mul(n.x, n.x), hn::Mul(n.y, n.y)), hn::Mul(n.z, n.z)));
   return {hn::Div(n.x, length), hn::Div(n.y, length), hn::Div(n.z, length)};
+}
+
+// UnpackAlbedo: the linear value of each 8-bit sRGB code, gathered from `srgbDecodeTable`
+// (SrgbDecodeTableForKernels(), core/color.h), the table SrgbCodeToLinear reads.
+template <class D>
+Vec3V<D> UnpackAlbedoV(D d, hn::Vec<hn::RebindToUnsigned<D>> word0, const float* srgbDecodeTable) {
+  const hn::RebindToSigned<D> di;
+  const auto byte = hn::Set(di, 0xFF);
+  const auto codes = hn::BitCast(di, word0);
+  return {hn::GatherIndex(d, srgbDecodeTable, hn::And(codes, byte)),
+          hn::GatherIndex(d, srgbDecodeTable, hn::And(hn::ShiftRight<8>(codes), byte)),
+          hn::GatherIndex(d, srgbDecodeTable, hn::And(hn::ShiftRight<16>(codes), byte))};
+}
+
+// UnpackMetallic: float(word0 >> 24) / 255.
+template <class D>
+hn::Vec<D> UnpackMetallicV(D d, hn::Vec<hn::RebindToUnsigned<D>> word0) {
+  const hn::RebindToSigned<D> di;
+  return hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::ShiftRight<24>(word0))), hn::Set(d, 255.0f));
 }
 
 // UnpackRoughness: float(word1 >> 24) / 255.

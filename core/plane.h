@@ -58,4 +58,16 @@ Plane3<T> MakePlane3(size_t width, size_t height, T fill) {
                     MakePlane<T>(width, height, fill)}};
 }
 
+// Makes `planes` width x height, keeping their memory (and contents) when they already have that
+// size: for a pass's output that its kernel overwrites pixel by pixel, so a caller that keeps its
+// buffers from frame to frame pays for the allocation and the fill once.
+template <class T>
+void ReusePlane3(Plane3<T>& planes, size_t width, size_t height) {
+  for (const Plane<T>& plane : planes.c)
+    if (plane.xsize() != width || plane.ysize() != height) {
+      planes = MakePlane3<T>(width, height, T(0));
+      return;
+    }
+}
+
 }  // namespace ssgi

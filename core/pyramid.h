@@ -19,6 +19,12 @@ inline size_t PyramidFootprintEnd(size_t x, size_t destinationSize, size_t sourc
 }
 // The widest footprint along one axis, in source texels: an odd source's last texel.
 inline constexpr size_t kMaxPyramidFootprint = 3;
+// How many destination texels 0, 1, ... have the footprint 2x, 2x + 1 along one axis: all of them
+// when the source is twice as long, else all but the last (an odd source's 3-wide footprint, or a
+// 1-texel source's 1-wide one).
+inline size_t PyramidPairedTexels(size_t destinationSize, size_t sourceSize) {
+  return sourceSize == 2 * destinationSize ? destinationSize : destinationSize - 1;
+}
 
 struct PyramidSize {
   size_t width = 0;

@@ -11,7 +11,7 @@
 namespace ssgi {
 namespace {
 
-constexpr int kRadius = int(kColorPyramidWeights.size()) / 2;
+constexpr int kRadius = kColorPyramidRadius;
 
 void ShapeLevels(size_t width, size_t height, std::vector<Plane3<float>>& levels) {
   const std::vector<PyramidSize> sizes = PyramidLevelSizes(width, height);
@@ -31,12 +31,13 @@ size_t ClampIndex(ptrdiff_t i, size_t size) {
   return size_t(std::clamp<ptrdiff_t>(i, 0, ptrdiff_t(size) - 1));
 }
 
-// Vertical taps of one row: taps[t] is the row t - kRadius rows away, clamped to the level.
+// Vertical taps of one row: taps[t] is the row t - kRadius rows away, clamped to the level; summed in
+// tap order, as the horizontal blur sums its taps.
 void BlurRowVertical(const float* const* taps, size_t width, float* out) {
-  std::fill(out, out + width, 0.0f);
-  for (int t = 0; t < int(kColorPyramidWeights.size()); ++t) {
-    const float* row = taps[t];
-    for (size_t x = 0; x < width; ++x) out[x] += kColorPyramidWeights[t] * row[x];
+  for (size_t x = 0; x < width; ++x) {
+    float sum = 0.0f;
+    for (size_t t = 0; t < kColorPyramidWeights.size(); ++t) sum += kColorPyramidWeights[t] * taps[t][x];
+    out[x] = sum;
   }
 }
 
@@ -51,6 +52,31 @@ std::vector<float> NextCoverage(const std::vector<float>& coverage, size_t nextS
   }
   return next;
 }
+
+// The vertical taps of a row of the next level read at most this many rows of the horizontal blur:
+// a 3-row footprint and the taps' reach on either side.
+constexpr size_t kTapRows = kMaxPyramidFootprint + 2 * kRadius;
+
+// Rows of the next level per parallel item. Fewer rows per band blur more rows twice (the 3 above
+// and the 3 below a band, which its neighbours blur too). For level 1, a band's level-0 rows of one
+// channel (twice as many) are sanitised in one sweep, then read again by the horizontal blur: at up
+// to 256 KiB (32 rows of a 1024-wide level 0, 16 of a 2048-wide one) they stay in a 1 MiB L2 cache
+// beside the radiance the sweep reads.
+size_t BandRows(size_t sourceWidth) {
+  constexpr size_t kBandBytes = size_t(256) << 10;
+  return std::clamp<size_t>(kBandBytes / (2 * sourceWidth * sizeof(float)), 8, 32);
+}
+
+// One item's working rows, for levels up to `width` texels wide.
+struct BandScratch {
+  explicit BandScratch(size_t width)
+      : ring(MakePlane<float>(width, kTapRows, 0.0f)),
+        sanitized(MakePlane<float>(width, 2 * kRadius, 0.0f)),
+        vertical(MakePlane<float>(kMaxPyramidFootprint * width, 1, 0.0f)) {}
+  Plane<float> ring;       // row sy of the horizontal blur in row sy % kTapRows: the taps of one output row
+  Plane<float> sanitized;  // the level-0 rows above and below the band, which other bands write
+  Plane<float> vertical;   // the vertical kernel's scratch
+};
 
 }  // namespace
 
@@ -91,7 +117,7 @@ void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t fo
   }
 }
 
-ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out) {
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels) {
   const Stopwatch watch;
   const size_t width = radiance.c[0].xsize();
   const size_t height = radiance.c[0].ysize();
@@ -101,48 +127,88 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
     SSGI_CHECK_EQ(channel.ysize(), height);
   }
   ShapeLevels(width, height, out.levels);
+  const size_t levels = out.levels.size();
+  const bool simd = kernels == KernelPath::kSimd;
+  const auto sanitizeRow = simd ? ColorPyramidSanitizeRowSimd : ColorPyramidSanitizeRowScalar;
+  const auto horizontalRow = simd ? ColorPyramidHorizontalRowSimd : ColorPyramidHorizontalRowScalar;
+  const auto verticalRow = simd ? ColorPyramidVerticalRowSimd : ColorPyramidVerticalRowScalar;
+
+  // Level-0 texel counts covered per column and per row of each level (exact in float below 2^24).
+  std::vector<std::vector<float>> columnCoverage{std::vector<float>(width, 1.0f)};
+  std::vector<std::vector<float>> rowCoverage{std::vector<float>(height, 1.0f)};
+  for (size_t k = 1; k < levels; ++k) {
+    columnCoverage.push_back(NextCoverage(columnCoverage.back(), out.levels[k].c[0].xsize()));
+    rowCoverage.push_back(NextCoverage(rowCoverage.back(), out.levels[k].c[0].ysize()));
+  }
+
+  // Rows [yBegin, yEnd) of channel c of level k >= 1. Level k - 1's horizontal blur is made row by
+  // row, in order, into the scratch's ring, just before the first vertical taps that read it: the
+  // taps of consecutive rows overlap in all but two rows, so a band blurs each row of its taps once
+  // and the blur never goes to memory.
+  const auto makeRows = [&](size_t c, size_t k, size_t yBegin, size_t yEnd, BandScratch& scratch) {
+    const Plane<float>& source = out.levels[k - 1].c[c];
+    Plane<float>& destination = out.levels[k].c[c];
+    const size_t sourceWidth = source.xsize();
+    const size_t sourceHeight = source.ysize();
+    const size_t firstTap = 2 * yBegin > size_t(kRadius) ? 2 * yBegin - kRadius : 0;
+    const size_t lastTap = std::min(sourceHeight - 1, 2 * yEnd + kRadius - 1);
+    // Level 1's source, level 0, is sanitised here, in one sweep over the band's taps before any
+    // blur: streamed in one go, the reads keep the memory busy, where row by row between blurs each
+    // row would wait for memory on its own. The band writes the level-0 rows of its own footprints
+    // and sanitises again, into scratch, the rows of its neighbours' footprints that its taps reach.
+    const size_t ownedEnd = yEnd == destination.ysize() ? sourceHeight : 2 * yEnd;
+    const auto levelZeroRow = [&](size_t sy) {
+      if (sy < 2 * yBegin) return scratch.sanitized.MutableRow(sy - firstTap);
+      if (sy >= ownedEnd) return scratch.sanitized.MutableRow(kRadius + sy - ownedEnd);
+      return out.levels[0].c[c].MutableRow(sy);
+    };
+    if (k == 1) {
+      for (size_t sy = firstTap; sy <= lastTap; ++sy)
+        sanitizeRow(radiance.c[c].ConstRow(sy), sourceWidth, levelZeroRow(sy));
+    }
+    const auto sourceRow = [&](size_t sy) -> const float* { return k == 1 ? levelZeroRow(sy) : source.ConstRow(sy); };
+    size_t nextBlurred = firstTap;
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const size_t footprintRows = PyramidFootprintEnd(y, destination.ysize(), sourceHeight) - 2 * y + 1;
+      const size_t rowLastTap = std::min(sourceHeight - 1, 2 * y + footprintRows - 1 + kRadius);
+      for (; nextBlurred <= rowLastTap; ++nextBlurred)
+        horizontalRow(sourceRow(nextBlurred), sourceWidth, scratch.ring.MutableRow(nextBlurred % kTapRows));
+      const float* horizontalRows[kTapRows];
+      for (size_t i = 0; i < footprintRows + 2 * kRadius; ++i)
+        horizontalRows[i] = scratch.ring.ConstRow(ClampIndex(ptrdiff_t(2 * y + i) - kRadius, sourceHeight) % kTapRows);
+      verticalRow(horizontalRows, footprintRows, rowCoverage[k - 1].data() + 2 * y, columnCoverage[k - 1].data(),
+                  sourceWidth, destination.xsize(), scratch.vertical.MutableRow(0), destination.MutableRow(y));
+    }
+  };
+
+  // Levels in sequence (each reads the previous), by bands of rows with all three channels.
+  size_t k = 1;
+  for (; k < levels; ++k) {
+    const size_t rows = out.levels[k].c[0].ysize();
+    const size_t bandRows = BandRows(out.levels[k - 1].c[0].xsize());
+    if (rows <= bandRows) break;
+    ParallelFor("color_pyramid.level", (rows + bandRows - 1) / bandRows, [&](size_t band) {
+      const size_t yBegin = band * bandRows;
+      const size_t yEnd = std::min(rows, yBegin + bandRows);
+      BandScratch scratch(out.levels[k - 1].c[0].xsize());
+      for (size_t c = 0; c < 3; ++c) makeRows(c, k, yBegin, yEnd, scratch);
+    });
+  }
+  // The levels of one band or less: each channel makes all of them in one item, as a parallel region
+  // per level would cost more than their work.
+  if (k < levels) {
+    ParallelFor("color_pyramid.small_levels", 3, [&](size_t c) {
+      BandScratch scratch(out.levels[k - 1].c[0].xsize());
+      for (size_t j = k; j < levels; ++j) makeRows(c, j, 0, out.levels[j].c[0].ysize(), scratch);
+    });
+  }
+  // A 1 x 1 image has no level 1, in whose sweep level 0 is otherwise sanitised.
+  if (levels == 1) {
+    for (size_t c = 0; c < 3; ++c) sanitizeRow(radiance.c[c].ConstRow(0), width, out.levels[0].c[c].MutableRow(0));
+  }
 
   ColorPyramidStats stats;
-  ParallelFor("color_pyramid.sanitize", 3 * height, [&](size_t item) {
-    const size_t c = item / height;
-    const size_t y = item % height;
-    ColorPyramidSanitizeRowScalar(radiance.c[c].ConstRow(y), width, out.levels[0].c[c].MutableRow(y));
-  });
-  stats.texels += width * height;
-
-  // Level k's horizontal blur, in planes of level 0's size reused by every level (each level uses
-  // its top-left corner).
-  Plane3<float> horizontal = MakePlane3<float>(width, height, 0.0f);
-  // Level-0 texel counts covered per column and per row of level k (exact in float below 2^24).
-  std::vector<float> columnCoverage(width, 1.0f);
-  std::vector<float> rowCoverage(height, 1.0f);
-  for (size_t k = 1; k < out.levels.size(); ++k) {
-    const Plane3<float>& source = out.levels[k - 1];
-    Plane3<float>& destination = out.levels[k];
-    const size_t sourceWidth = source.c[0].xsize();
-    const size_t sourceHeight = source.c[0].ysize();
-    ParallelFor("color_pyramid.horizontal", 3 * sourceHeight, [&](size_t item) {
-      const size_t c = item / sourceHeight;
-      const size_t y = item % sourceHeight;
-      ColorPyramidHorizontalRowScalar(source.c[c].ConstRow(y), sourceWidth, horizontal.c[c].MutableRow(y));
-    });
-    const size_t destinationHeight = destination.c[0].ysize();
-    ParallelFor("color_pyramid.vertical", 3 * destinationHeight, [&](size_t item) {
-      const size_t c = item / destinationHeight;
-      const size_t y = item % destinationHeight;
-      const size_t footprintRows = PyramidFootprintEnd(y, destinationHeight, sourceHeight) - 2 * y + 1;
-      const float* horizontalRows[kMaxPyramidFootprint + 2 * kRadius];
-      for (size_t i = 0; i < footprintRows + 2 * kRadius; ++i)
-        horizontalRows[i] = horizontal.c[c].ConstRow(ClampIndex(ptrdiff_t(2 * y + i) - kRadius, sourceHeight));
-      std::vector<float> scratch(footprintRows * sourceWidth);
-      ColorPyramidVerticalRowScalar(horizontalRows, footprintRows, rowCoverage.data() + 2 * y, columnCoverage.data(),
-                                    sourceWidth, destination.c[c].xsize(), scratch.data(),
-                                    destination.c[c].MutableRow(y));
-    });
-    columnCoverage = NextCoverage(columnCoverage, destination.c[0].xsize());
-    rowCoverage = NextCoverage(rowCoverage, destinationHeight);
-    stats.texels += destination.c[0].xsize() * destinationHeight;
-  }
+  for (const Plane3<float>& level : out.levels) stats.texels += level.c[0].xsize() * level.c[0].ysize();
   stats.ms = watch.Milliseconds();
   return stats;
 }

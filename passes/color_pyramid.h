@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/kernel_path.h"
 #include "core/plane.h"
 
 namespace ssgi {
@@ -19,6 +20,8 @@ namespace ssgi {
 inline constexpr std::array<float, 7> kColorPyramidWeights = {
     float(0.001 / 0.998), float(0.028 / 0.998), float(0.233 / 0.998), float(0.474 / 0.998),
     float(0.233 / 0.998), float(0.028 / 0.998), float(0.001 / 0.998)};
+// How far the taps reach on either side of the centre texel.
+inline constexpr int kColorPyramidRadius = int(kColorPyramidWeights.size()) / 2;
 
 // Level 0's ceiling, in the radiance's units: the largest half float. Sanitising +inf to a finite
 // cap (rather than 0) keeps a blown-out pixel bright; clamping every larger finite value too keeps
@@ -42,14 +45,19 @@ struct ColorPyramidStats {
 // odd level's last column / row), of level k blurred by kColorPyramidWeights horizontally then
 // vertically with clamp-to-edge addressing; each footprint texel weighted by the level-0 area it
 // covers, so a texel is the mean of its own level-0 area at every size. Reuses out's planes when their sizes already match.
-ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out);
+// kernels: which definition of the row kernels runs (the same bytes either way).
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out,
+                                  KernelPath kernels = KernelPath::kSimd);
 
-// The colour pyramid's scalar row kernels, one channel row per call: the definitions a SIMD twin
-// (passes/color_pyramid_simd.cpp) must equal bit for bit.
+// The colour pyramid's row kernels, one channel row per call: the scalar definitions
+// (color_pyramid.cpp) and their Highway twins (color_pyramid_simd.cpp), equal bit for bit on every
+// SIMD target.
 // Level 0: level0[x] = radiance[x] sanitised, for x in [0, width).
 void ColorPyramidSanitizeRowScalar(const float* radiance, size_t width, float* level0);
+void ColorPyramidSanitizeRowSimd(const float* radiance, size_t width, float* level0);
 // Horizontal blur of one row of level k (width texels): kColorPyramidWeights, clamp-to-edge.
 void ColorPyramidHorizontalRowScalar(const float* level, size_t width, float* blurred);
+void ColorPyramidHorizontalRowSimd(const float* level, size_t width, float* blurred);
 // Row y of level k + 1 (width texels) from level k's horizontal blur: the vertical blur, then the
 // coverage-weighted mean over each texel's footprint.
 //  horizontalRows: the blurred rows 2y - 3 .. 2y + footprintRows + 2 of level k, clamped to its rows
@@ -61,5 +69,8 @@ void ColorPyramidHorizontalRowScalar(const float* level, size_t width, float* bl
 void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t footprintRows,
                                    const float* rowCoverage, const float* columnCoverage, size_t sourceWidth,
                                    size_t width, float* scratch, float* out);
+void ColorPyramidVerticalRowSimd(const float* const* horizontalRows, size_t footprintRows,
+                                 const float* rowCoverage, const float* columnCoverage, size_t sourceWidth,
+                                 size_t width, float* scratch, float* out);
 
 }  // namespace ssgi

@@ -30,12 +30,13 @@ void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row
   }
 }
 
-CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out) {
+CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, KernelPath kernels) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
-  out.indirect = MakePlane3<float>(width, height, 0.0f);
-  out.result = MakePlane3<float>(width, height, 0.0f);
+  ReusePlane3(out.indirect, size_t(width), size_t(height));
+  ReusePlane3(out.result, size_t(width), size_t(height));
   const CompositeContext context{in.view, in.gbuffer.normalEncoding, in.roughnessCutoff};
+  const auto composite = kernels == KernelPath::kSimd ? CompositeRowSimd : CompositeRowScalar;
   ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {
       const CompositeRow row{
@@ -48,7 +49,7 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out) {
           {out.indirect.c[0].MutableRow(y), out.indirect.c[1].MutableRow(y), out.indirect.c[2].MutableRow(y)},
           {out.result.c[0].MutableRow(y), out.result.c[1].MutableRow(y), out.result.c[2].MutableRow(y)},
       };
-      CompositeRowScalar(context, row, y, width);
+      composite(context, row, y, width);
     }
   });
   CompositeStats stats;

@@ -10,6 +10,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/plane.h"
 
 namespace ssgi {
@@ -37,7 +38,7 @@ struct CompositeStats {
   size_t pixels = 0;
 };
 
-CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out);
+CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, KernelPath kernels = KernelPath::kSimd);
 
 // What the composite of every row shares: the frame's constants (as in CompositeInputs).
 struct CompositeContext {
@@ -62,5 +63,7 @@ struct CompositeRow {
 // The composite's scalar row kernel, the definition a SIMD twin (passes/composite_simd.cpp) must
 // equal bit for bit: indirect and result of row y, pixels [0, width).
 void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int width);
+// Its Highway twin (passes/composite_simd.cpp): lanes are pixels of the row.
+void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int width);
 
 }  // namespace ssgi

@@ -41,23 +41,27 @@ size_t DirectLightRowScalar(const DirectLightContext& context, const uint32_t* w
 }
 
 DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightParams& params,
-                                DirectLightOutputs& out) {
+                                DirectLightOutputs& out, KernelPath kernels) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
   const std::vector<PreparedLight> lights = PrepareLights(in.scene, in.view.view);
   const DirectLightContext context{
       in.view, lights.data(), lights.size(), in.shadowedLight, in.gbuffer.normalEncoding, params.background,
   };
-  out.radiance = MakePlane3<float>(width, height, 0.0f);
+  const auto row = kernels == KernelPath::kSimd ? DirectLightRowSimd : DirectLightRowScalar;
+  ReusePlane3(out.radiance, size_t(width), size_t(height));
   std::vector<size_t> shadedPerBand(RowBandCount(size_t(height)), 0);
 
   ParallelForRowBands("direct_light", size_t(height), [&](size_t band, size_t yBegin, size_t yEnd) {
+    // Counted locally: neighbouring bands' counters share a cache line.
+    size_t shaded = 0;
     for (size_t y = yBegin; y < yEnd; ++y) {
-      shadedPerBand[band] += DirectLightRowScalar(
-          context, in.gbuffer.word[0].ConstRow(y), in.gbuffer.word[1].ConstRow(y), in.gbuffer.word[2].ConstRow(y),
-          in.lightVisibility ? in.lightVisibility->ConstRow(y) : nullptr, y, width, out.radiance.c[0].MutableRow(y),
-          out.radiance.c[1].MutableRow(y), out.radiance.c[2].MutableRow(y));
+      shaded +=
+          row(context, in.gbuffer.word[0].ConstRow(y), in.gbuffer.word[1].ConstRow(y), in.gbuffer.word[2].ConstRow(y),
+              in.lightVisibility ? in.lightVisibility->ConstRow(y) : nullptr, y, width,
+              out.radiance.c[0].MutableRow(y), out.radiance.c[1].MutableRow(y), out.radiance.c[2].MutableRow(y));
     }
+    shadedPerBand[band] = shaded;
   });
 
   DirectLightStats stats;

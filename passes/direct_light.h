@@ -8,6 +8,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/lighting.h"
 #include "core/plane.h"
 #include "core/scene.h"
@@ -38,7 +39,7 @@ struct DirectLightStats {
 };
 
 DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightParams& params,
-                                DirectLightOutputs& out);
+                                DirectLightOutputs& out, KernelPath kernels = KernelPath::kSimd);
 
 // What the shading of every row shares: the frame's constants.
 struct DirectLightContext {
@@ -57,5 +58,9 @@ struct DirectLightContext {
 size_t DirectLightRowScalar(const DirectLightContext& context, const uint32_t* word0, const uint32_t* word1,
                             const uint32_t* word2, const float* visibility, size_t y, int width, float* red,
                             float* green, float* blue);
+// Its Highway twin (passes/direct_light_simd.cpp): lanes are pixels of the row.
+size_t DirectLightRowSimd(const DirectLightContext& context, const uint32_t* word0, const uint32_t* word1,
+                          const uint32_t* word2, const float* visibility, size_t y, int width, float* red,
+                          float* green, float* blue);
 
 }  // namespace ssgi

@@ -23,6 +23,10 @@ void ShapeLevels(size_t width, size_t height, std::vector<Plane<float>>& levels)
   }
 }
 
+// Levels per parallel region: a band of the first region is 16 rows of level 0 (kRowsPerBand,
+// core/parallel.h) and the levels 1..4 they make.
+constexpr size_t kLevelsPerRegion = 5;
+
 }  // namespace
 
 // 1/(+inf) is exactly 0, so background needs no branch.
@@ -43,29 +47,44 @@ void HiZDownsampleRowScalar(const float* const* sourceRows, size_t footprintRows
   }
 }
 
-HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out) {
+HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out, KernelPath kernels) {
   const Stopwatch watch;
   const size_t width = depthWord.xsize();
   const size_t height = depthWord.ysize();
   SSGI_CHECK(width > 0 && height > 0);
   ShapeLevels(width, height, out.levels);
-
-  HiZStats stats;
-  ParallelFor("hiz.level0", height, [&](size_t y) {
-    HiZInverseDepthRowScalar(depthWord.ConstRow(y), width, out.levels[0].MutableRow(y));
-  });
-  stats.texels += width * height;
-  // Levels are sequential (each reads the previous); rows of one level are independent.
-  for (size_t k = 1; k < out.levels.size(); ++k) {
+  const bool simd = kernels == KernelPath::kSimd;
+  const auto inverseDepthRow = simd ? HiZInverseDepthRowSimd : HiZInverseDepthRowScalar;
+  const auto downsampleRow = simd ? HiZDownsampleRowSimd : HiZDownsampleRowScalar;
+  const auto makeRow = [&](size_t k, size_t y) {
+    if (k == 0) return inverseDepthRow(depthWord.ConstRow(y), width, out.levels[0].MutableRow(y));
     const Plane<float>& source = out.levels[k - 1];
     Plane<float>& level = out.levels[k];
-    ParallelFor("hiz.downsample", level.ysize(), [&](size_t y) {
-      const size_t footprintRows = PyramidFootprintEnd(y, level.ysize(), source.ysize()) - 2 * y + 1;
-      const float* sourceRows[kMaxPyramidFootprint];
-      for (size_t r = 0; r < footprintRows; ++r) sourceRows[r] = source.ConstRow(2 * y + r);
-      HiZDownsampleRowScalar(sourceRows, footprintRows, source.xsize(), level.xsize(), level.MutableRow(y));
+    const size_t footprintRows = PyramidFootprintEnd(y, level.ysize(), source.ysize()) - 2 * y + 1;
+    const float* sourceRows[kMaxPyramidFootprint];
+    for (size_t r = 0; r < footprintRows; ++r) sourceRows[r] = source.ConstRow(2 * y + r);
+    downsampleRow(sourceRows, footprintRows, source.xsize(), level.xsize(), level.MutableRow(y));
+  };
+
+  // Levels first..last in one parallel region, band by band: a band is one row of level `last` and
+  // the 2^(last - k) rows of each level k above it that the row covers (the last band also the rows
+  // past a whole number of bands: the 3-row footprints of odd heights). Past level `first`, a band
+  // reads only rows it has just written, from cache, and the small levels need no region of their
+  // own. The bands depend only on the level sizes.
+  HiZStats stats;
+  const size_t levels = out.levels.size();
+  for (size_t first = 0; first < levels;) {
+    const size_t last = std::min(levels - 1, first + kLevelsPerRegion - 1);
+    const size_t bands = out.levels[last].ysize();
+    ParallelFor("hiz.levels", bands, [&](size_t band) {
+      for (size_t k = first; k <= last; ++k) {
+        const size_t shift = last - k;
+        const size_t yEnd = band + 1 == bands ? out.levels[k].ysize() : (band + 1) << shift;
+        for (size_t y = band << shift; y < yEnd; ++y) makeRow(k, y);
+      }
     });
-    stats.texels += level.xsize() * level.ysize();
+    for (size_t k = first; k <= last; ++k) stats.texels += out.levels[k].xsize() * out.levels[k].ysize();
+    first = last + 1;
   }
   stats.ms = watch.Milliseconds();
   return stats;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/kernel_path.h"
 #include "core/plane.h"
 
 namespace ssgi {
@@ -26,17 +27,21 @@ struct HiZStats {
 };
 
 // depthWord: G-buffer word 2 (view depth d in metres as float bits, d > 0, +inf = background).
-// Reuses out's planes when their sizes already match, else allocates them.
-HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out);
+// Reuses out's planes when their sizes already match, else allocates them. kernels: which definition
+// of the row kernels runs (the same bytes either way).
+HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out, KernelPath kernels = KernelPath::kSimd);
 
-// The Hi-Z's scalar row kernels, the definitions a SIMD twin (passes/hiz_simd.cpp) must equal bit for
-// bit.
+// The Hi-Z's row kernels: the scalar definitions (hiz.cpp) and their Highway twins (hiz_simd.cpp),
+// equal bit for bit on every SIMD target.
 // Level 0, one row: inverseDepth[x] = 1/d of depthWord[x] (G-buffer word 2), for x in [0, width).
 void HiZInverseDepthRowScalar(const uint32_t* depthWord, size_t width, float* inverseDepth);
+void HiZInverseDepthRowSimd(const uint32_t* depthWord, size_t width, float* inverseDepth);
 // Level k + 1, row y: closestRow[x] = the max of level k over texel x's footprint, for x in
 // [0, width). sourceRows: level k's rows 2y .. PyramidFootprintEnd(y, ...), footprintRows of them (2,
 // or 3 at an odd level's last row), each sourceWidth texels; columns as rows (PyramidFootprintEnd).
 void HiZDownsampleRowScalar(const float* const* sourceRows, size_t footprintRows, size_t sourceWidth,
                             size_t width, float* closestRow);
+void HiZDownsampleRowSimd(const float* const* sourceRows, size_t footprintRows, size_t sourceWidth,
+                          size_t width, float* closestRow);
 
 }  // namespace ssgi

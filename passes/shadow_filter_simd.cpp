@@ -1,8 +1,7 @@
 // The Highway twins of the shadow filter's row kernels (shadow_filter.cpp). Lanes are pixels; each
 // lane does the scalar definition's operations in the same order: no fused multiply-add, exact
-// division and square root, std::min / std::max as IfThenElse on the same comparison (hn::Min and
-// hn::Max answer differently for NaN), the taps' sums in the scalar order, a lane whose kernel has
-// fewer taps masked off where its scalar loop ends. So every target gives the scalar bytes
+// division and square root, std::min / std::max as MinStd / MaxStd (core/math-inl.h), the taps'
+// sums in the scalar order, a lane whose kernel has fewer taps masked off where its scalar loop ends. So every target gives the scalar bytes
 // (tests/passes/shadow_filter_test.cpp checks each compiled target).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/shadow_filter_simd.cpp"
@@ -12,12 +11,14 @@
 #include <algorithm>
 
 #include "core/gbuffer-inl.h"
+#include "core/math-inl.h"
 #include "passes/shadow_filter.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+namespace {
 
 using DF = hn::ScalableTag<float>;
 using DI = hn::RebindToSigned<DF>;
@@ -25,14 +26,6 @@ using DU = hn::RebindToUnsigned<DF>;
 using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
-
-// std::min(a, b) and std::max(a, b).
-VF StdMin(VF a, VF b) { return hn::IfThenElse(hn::Lt(b, a), b, a); }
-VF StdMax(VF a, VF b) { return hn::IfThenElse(hn::Lt(a, b), b, a); }
-
-VF Dot(const Vec3V<DF>& a, const Vec3V<DF>& b) {
-  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
-}
 
 // Background: !(depth > 0 && depth < inf).
 MF Geometry(DF d, VF depth) {
@@ -51,53 +44,20 @@ VF PenumbraRadiusV(DF d, const ShadowFilterSetupContext& context, const Vec3V<DF
   const VF blocker2 = hn::Mul(blocker, hn::Set(d, 2.0f));
   VF width;
   if (light.isSpot) {
-    const Vec3V<DF> toLight{hn::Sub(hn::Set(d, light.position.x), position.x),
-                            hn::Sub(hn::Set(d, light.position.y), position.y),
-                            hn::Sub(hn::Set(d, light.position.z), position.z)};
-    const VF distance = hn::Sqrt(Dot(toLight, toLight));
+    const VF distance = Length3(Sub3(Set3(d, light.position), position));
     width = hn::Div(hn::Mul(blocker2, hn::Set(d, light.radius)),
-                    StdMax(hn::Sub(distance, blocker), hn::Set(d, kShadowFilterMinLightToBlocker)));
+                    MaxStd(hn::Sub(distance, blocker), hn::Set(d, kShadowFilterMinLightToBlocker)));
   } else {
     width = hn::Mul(blocker2, hn::Set(d, light.tanAngularRadius));
   }
   const VF radius =
       hn::Mul(hn::Mul(hn::Set(d, 0.5f), width), hn::Div(hn::Set(d, context.pixelsPerMetreAtUnitDepth), depth));
-  return hn::IfThenElseZero(hn::Gt(radius, hn::Zero(d)), StdMin(radius, hn::Set(d, context.maxRadius)));
+  return hn::IfThenElseZero(hn::Gt(radius, hn::Zero(d)), MinStd(radius, hn::Set(d, context.maxRadius)));
 }
 
 // The hard value of word 3 for geometry: flag ? 0 : 1.
 VF HardV(DF d, hn::Vec<DU> word3) {
   return hn::IfThenZeroElse(UnpackHardShadowV(d, word3), hn::Set(d, 1.0f));
-}
-
-void PenumbraRow(const ShadowFilterSetupContext& context, const uint32_t* word2, const uint32_t* word3, int x, int y,
-                 int count, float* hard, ShadowFilterTileSummary* tiles) {
-  const DF d;
-  const DU du;
-  const int lanes = int(hn::Lanes(d));
-  int i = 0;
-  while (i < count) {
-    // Vectors within one tile, so that each adds to one summary.
-    const int tileEnd = std::min(count, ((x + i) / kShadowFilterTileSize + 1) * kShadowFilterTileSize - x);
-    ShadowFilterTileSummary& tile = tiles[(x + i) / kShadowFilterTileSize];
-    for (; i + lanes <= tileEnd; i += lanes) {
-      const VF depth = UnpackDepthV(d, hn::LoadU(du, word2 + i));
-      const auto w3 = hn::LoadU(du, word3 + i);
-      const MF geometry = Geometry(d, depth);
-      const VF hardV = HardV(d, w3);
-      const VF radius = PenumbraRadiusV(d, context, ViewPositionV(d, context, x + i, y, depth), depth,
-                                        UnpackBlockerDistanceV(d, w3));
-      hn::StoreU(hn::IfThenElse(geometry, hardV, hn::Set(d, 1.0f)), d, hard + i);
-      // The radii are never NaN, so the maximum does not depend on the order of comparison.
-      const VF tileRadius =
-          hn::MaxOfLanes(d, hn::IfThenElse(geometry, radius, hn::Set(d, kShadowFilterNoRadius)));
-      tile.maxRadius = std::max(tile.maxRadius, hn::GetLane(tileRadius));
-      tile.geometryPixels += int32_t(hn::CountTrue(d, geometry));
-      tile.litPixels += int32_t(hn::CountTrue(d, hn::And(geometry, hn::Ne(hardV, hn::Zero(d)))));
-    }
-    ShadowFilterPenumbraRowScalar(context, word2 + i, word3 + i, x + i, y, tileEnd - i, hard + i, tiles);
-    i = tileEnd;
-  }
 }
 
 struct KernelV {
@@ -119,49 +79,13 @@ KernelV MakeKernelV(DF d, ShadowFilter filter, const Vec3V<DF>& p, const Vec3V<D
     const VF length = hn::Sqrt(hn::Add(hn::Mul(projectedX, projectedX), hn::Mul(projectedY, projectedY)));
     const MF facesCamera = hn::Lt(length, hn::Set(d, kShadowFilterMinProjectedNormal));
     const VF mx = hn::Div(projectedX, length), my = hn::Div(projectedY, length);
-    const Vec3V<DF> toCamera{hn::Neg(p.x), hn::Neg(p.y), hn::Neg(p.z)};
-    const VF facing = hn::Div(hn::Abs(Dot(n, toCamera)), hn::Sqrt(Dot(p, p)));
+    const VF facing = hn::Div(hn::Abs(Dot3(n, Neg3(p))), hn::Sqrt(Dot3(p, p)));
     k.majorX = hn::IfThenElse(facesCamera, one, my);
     k.majorY = hn::IfThenElse(facesCamera, zero, hn::Neg(mx));
     k.minorLength = hn::IfThenElse(facesCamera, radius, hn::Mul(radius, facing));
   }
   return {hn::IfThenElse(blurs, k.majorX, one), hn::IfThenElse(blurs, k.majorY, zero),
           hn::IfThenElseZero(blurs, k.majorLength), hn::IfThenElseZero(blurs, k.minorLength)};
-}
-
-void SetupRow(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
-              const uint32_t* word3, int x, int y, int count, const ShadowFilterTexels& texels,
-              const ShadowFilterKernels* kernels) {
-  const DF d;
-  const DU du;
-  const int lanes = int(hn::Lanes(d));
-  const VF zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-  int i = 0;
-  for (; i + lanes <= count; i += lanes) {
-    const VF depth = UnpackDepthV(d, hn::LoadU(du, word2 + i));
-    const auto w3 = hn::LoadU(du, word3 + i);
-    const MF geometry = Geometry(d, depth);
-    const Vec3V<DF> p = ViewPositionV(d, context, x + i, y, depth);
-    const Vec3V<DF> n = UnpackNormalV(d, hn::LoadU(du, word1 + i), context.normalEncoding);
-    hn::StoreU(hn::IfThenElseZero(geometry, p.x), d, texels.positionX + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, p.y), d, texels.positionY + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, p.z), d, texels.positionZ + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, n.x), d, texels.normalX + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, n.y), d, texels.normalY + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, n.z), d, texels.normalZ + i);
-    hn::StoreU(hn::IfThenElse(geometry, HardV(d, w3), one), d, texels.hard + i);
-    if (!kernels) continue;
-    const VF radius = PenumbraRadiusV(d, context, p, depth, UnpackBlockerDistanceV(d, w3));
-    const KernelV k = MakeKernelV(d, context.filter, p, n, hn::IfThenElseZero(geometry, radius));
-    hn::StoreU(hn::IfThenElse(geometry, k.majorX, one), d, kernels->majorX + i);
-    hn::StoreU(hn::IfThenElse(geometry, k.majorY, zero), d, kernels->majorY + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, k.majorLength), d, kernels->majorLength + i);
-    hn::StoreU(hn::IfThenElseZero(geometry, k.minorLength), d, kernels->minorLength + i);
-  }
-  if (i == count) return;
-  const ShadowFilterKernels tailKernels = kernels ? *kernels + size_t(i) : ShadowFilterKernels{};
-  ShadowFilterSetupRowScalar(context, word1 + i, word2 + i, word3 + i, x + i, y, count - i, texels + size_t(i),
-                             kernels ? &tailKernels : nullptr);
 }
 
 // ShadowFilterImage::Index of the pixels (x, y), lane by lane.
@@ -214,7 +138,7 @@ void BlurVector(const ShadowFilterImage& image, const float* values, int taps, i
   for (int k = 1; k <= maxCount; ++k) {
     const MF active = hn::RebindMask(d, hn::Lt(hn::Set(di, k - 1), count));
     const VF t = hn::Mul(hn::Set(d, float(k)), spacing);
-    const VF weight = taps > 0 ? one : StdMin(one, hn::Sub(length, hn::Sub(t, hn::Set(d, 0.5f))));
+    const VF weight = taps > 0 ? one : MinStd(one, hn::Sub(length, hn::Sub(t, hn::Set(d, 0.5f))));
     for (const float side : {-1.0f, 1.0f}) {
       const VF offset = hn::Mul(hn::Set(d, side), t);
       const VF sx = hn::Floor(hn::Add(centreX, hn::Mul(offset, directionX)));
@@ -228,10 +152,9 @@ void BlurVector(const ShadowFilterImage& image, const float* values, int taps, i
                               hn::IfThenElse(takenI, hn::ConvertTo(di, sy), pixelY));
       const Vec3V<DF> tp = GatherVec3(d, p.positionX, p.positionY, p.positionZ, index);
       const Vec3V<DF> tn = GatherVec3(d, p.normalX, p.normalY, p.normalZ, index);
-      const Vec3V<DF> fromCentre{hn::Sub(tp.x, cp.x), hn::Sub(tp.y, cp.y), hn::Sub(tp.z, cp.z)};
       const MF accepted = hn::And(hn::And(taken, hn::Lt(tp.z, zero)),
-                                  hn::And(hn::Gt(Dot(tn, cn), hn::Set(d, kShadowFilterMinNormalDot)),
-                                          hn::Lt(hn::Abs(Dot(cn, fromCentre)), maxPlaneDistance)));
+                                  hn::And(hn::Gt(Dot3(tn, cn), hn::Set(d, kShadowFilterMinNormalDot)),
+                                          hn::Lt(hn::Abs(Dot3(cn, Sub3(tp, cp))), maxPlaneDistance)));
       const VF tapValue = hn::GatherIndex(d, values, index);
       sum = hn::IfThenElse(accepted, hn::Add(sum, hn::Mul(weight, tapValue)), sum);
       weightSum = hn::IfThenElse(accepted, hn::Add(weightSum, weight), weightSum);
@@ -258,13 +181,80 @@ void BlurRow(const ShadowFilterImage& image, const float* values, int taps, int 
   }
 }
 
-void MajorRow(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin, int xEnd,
-              float* out) {
+}  // namespace
+
+void ShadowPenumbraRow(const ShadowFilterSetupContext& context, const uint32_t* word2, const uint32_t* word3, int x, int y,
+                 int count, float* hard, ShadowFilterTileSummary* tiles) {
+  const DF d;
+  const DU du;
+  const int lanes = int(hn::Lanes(d));
+  int i = 0;
+  while (i < count) {
+    // Vectors within one tile, so that each adds to one summary.
+    const int tileEnd = std::min(count, ((x + i) / kShadowFilterTileSize + 1) * kShadowFilterTileSize - x);
+    ShadowFilterTileSummary& tile = tiles[(x + i) / kShadowFilterTileSize];
+    for (; i + lanes <= tileEnd; i += lanes) {
+      const VF depth = UnpackDepthV(d, hn::LoadU(du, word2 + i));
+      const auto w3 = hn::LoadU(du, word3 + i);
+      const MF geometry = Geometry(d, depth);
+      const VF hardV = HardV(d, w3);
+      const VF radius = PenumbraRadiusV(d, context, ViewPositionV(d, context, x + i, y, depth), depth,
+                                        UnpackBlockerDistanceV(d, w3));
+      hn::StoreU(hn::IfThenElse(geometry, hardV, hn::Set(d, 1.0f)), d, hard + i);
+      // The radii are never NaN, so the maximum does not depend on the order of comparison.
+      const VF tileRadius =
+          hn::MaxOfLanes(d, hn::IfThenElse(geometry, radius, hn::Set(d, kShadowFilterNoRadius)));
+      tile.maxRadius = std::max(tile.maxRadius, hn::GetLane(tileRadius));
+      tile.geometryPixels += int32_t(hn::CountTrue(d, geometry));
+      tile.litPixels += int32_t(hn::CountTrue(d, hn::And(geometry, hn::Ne(hardV, hn::Zero(d)))));
+    }
+    ShadowFilterPenumbraRowScalar(context, word2 + i, word3 + i, x + i, y, tileEnd - i, hard + i, tiles);
+    i = tileEnd;
+  }
+}
+
+void ShadowSetupRow(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
+                    const uint32_t* word3, int x, int y, int count, const ShadowFilterTexels& texels,
+                    const ShadowFilterKernels* kernels) {
+  const DF d;
+  const DU du;
+  const int lanes = int(hn::Lanes(d));
+  const VF zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  int i = 0;
+  for (; i + lanes <= count; i += lanes) {
+    const VF depth = UnpackDepthV(d, hn::LoadU(du, word2 + i));
+    const auto w3 = hn::LoadU(du, word3 + i);
+    const MF geometry = Geometry(d, depth);
+    const Vec3V<DF> p = ViewPositionV(d, context, x + i, y, depth);
+    const Vec3V<DF> n = UnpackNormalV(d, hn::LoadU(du, word1 + i), context.normalEncoding);
+    hn::StoreU(hn::IfThenElseZero(geometry, p.x), d, texels.positionX + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, p.y), d, texels.positionY + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, p.z), d, texels.positionZ + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, n.x), d, texels.normalX + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, n.y), d, texels.normalY + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, n.z), d, texels.normalZ + i);
+    hn::StoreU(hn::IfThenElse(geometry, HardV(d, w3), one), d, texels.hard + i);
+    if (!kernels) continue;
+    const VF radius = PenumbraRadiusV(d, context, p, depth, UnpackBlockerDistanceV(d, w3));
+    const KernelV k = MakeKernelV(d, context.filter, p, n, hn::IfThenElseZero(geometry, radius));
+    hn::StoreU(hn::IfThenElse(geometry, k.majorX, one), d, kernels->majorX + i);
+    hn::StoreU(hn::IfThenElse(geometry, k.majorY, zero), d, kernels->majorY + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, k.majorLength), d, kernels->majorLength + i);
+    hn::StoreU(hn::IfThenElseZero(geometry, k.minorLength), d, kernels->minorLength + i);
+  }
+  if (i == count) return;
+  const ShadowFilterKernels tailKernels = kernels ? *kernels + size_t(i) : ShadowFilterKernels{};
+  ShadowFilterSetupRowScalar(context, word1 + i, word2 + i, word3 + i, x + i, y, count - i, texels + size_t(i),
+                             kernels ? &tailKernels : nullptr);
+}
+
+void ShadowMajorRow(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin, int xEnd,
+                    float* out) {
   BlurRow<false>(image, values, taps, y, xBegin, xEnd, out);
 }
 
-void MinorRow(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin, int xEnd,
-              float* out) {
+void ShadowMinorRow(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin, int xEnd,
+                    float* out) {
   BlurRow<true>(image, values, taps, y, xBegin, xEnd, out);
 }
 
@@ -275,30 +265,30 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace ssgi {
 
-HWY_EXPORT(PenumbraRow);
-HWY_EXPORT(SetupRow);
-HWY_EXPORT(MajorRow);
-HWY_EXPORT(MinorRow);
+HWY_EXPORT(ShadowPenumbraRow);
+HWY_EXPORT(ShadowSetupRow);
+HWY_EXPORT(ShadowMajorRow);
+HWY_EXPORT(ShadowMinorRow);
 
 void ShadowFilterPenumbraRowSimd(const ShadowFilterSetupContext& context, const uint32_t* word2, const uint32_t* word3,
                                  int x, int y, int count, float* hard, ShadowFilterTileSummary* tiles) {
-  HWY_DYNAMIC_DISPATCH(PenumbraRow)(context, word2, word3, x, y, count, hard, tiles);
+  HWY_DYNAMIC_DISPATCH(ShadowPenumbraRow)(context, word2, word3, x, y, count, hard, tiles);
 }
 
 void ShadowFilterSetupRowSimd(const ShadowFilterSetupContext& context, const uint32_t* word1, const uint32_t* word2,
                               const uint32_t* word3, int x, int y, int count, const ShadowFilterTexels& texels,
                               const ShadowFilterKernels* kernels) {
-  HWY_DYNAMIC_DISPATCH(SetupRow)(context, word1, word2, word3, x, y, count, texels, kernels);
+  HWY_DYNAMIC_DISPATCH(ShadowSetupRow)(context, word1, word2, word3, x, y, count, texels, kernels);
 }
 
 void ShadowFilterMajorRowSimd(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
                               int xEnd, float* out) {
-  HWY_DYNAMIC_DISPATCH(MajorRow)(image, values, taps, y, xBegin, xEnd, out);
+  HWY_DYNAMIC_DISPATCH(ShadowMajorRow)(image, values, taps, y, xBegin, xEnd, out);
 }
 
 void ShadowFilterMinorRowSimd(const ShadowFilterImage& image, const float* values, int taps, int y, int xBegin,
                               int xEnd, float* out) {
-  HWY_DYNAMIC_DISPATCH(MinorRow)(image, values, taps, y, xBegin, xEnd, out);
+  HWY_DYNAMIC_DISPATCH(ShadowMinorRow)(image, values, taps, y, xBegin, xEnd, out);
 }
 
 }  // namespace ssgi

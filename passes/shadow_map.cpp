@@ -17,18 +17,6 @@ namespace {
 
 constexpr size_t kVerticesPerItem = 16384;  // mesh vertices per parallel work item
 
-// Bias (docs/pipeline.md §Shadow map and blocker search). The receiver moves along its normal by
-// kNormalOffsetTexels texels times sin(angle between normal and light) (normal offset, Holbert 2011,
-// "Saying goodbye to shadow acne"); every tap compares against the receiver's tangent plane along the
-// tap's own ray (receiver plane depth bias, Isidoro 2006, "Shadow mapping: GPU-based tips and
-// techniques"), minus kConstantBiasTexels + kSlopeBiasTexels * tan(angle) texels of depth.
-constexpr float kNormalOffsetTexels = 1.0f;
-constexpr float kConstantBiasTexels = 0.25f;
-constexpr float kSlopeBiasTexels = 0.25f;
-// The tangent plane's depth slope is clamped (about 87 degrees) so grazing receivers stay finite.
-constexpr float kMaxSlope = 20.0f;
-constexpr float kMinFacing = 1e-6f;
-
 constexpr float kMaxSpotFovDegrees = 170.0f;
 constexpr float kMinSpotNear = 1e-3f;     // metres
 constexpr float kMinHalfExtent = 1e-3f;   // metres; a single receiver still gets a map of some size
@@ -38,22 +26,6 @@ constexpr float kMinDepthMargin = 1e-3f;  // metres between the outermost geomet
 // pattern needs no libm call and is the same on every target.
 constexpr double kCosGoldenAngle = -0.7373688780783197;
 constexpr double kSinGoldenAngle = 0.6754902942615238;
-
-// Tap i of n in the unit disc: radius sqrt(i / (n - 1)), angle i * golden angle. Tap 0 is the centre
-// (the receiver's own texel, which gives the hard-shadow flag) and tap n - 1 is on the rim; equal
-// areas per tap, no two taps on one ray from the centre.
-std::vector<glm::vec2> BlockerSearchPattern(int taps) {
-  std::vector<glm::vec2> pattern(size_t(taps), glm::vec2(0.0f));
-  double c = 1.0, s = 0.0;  // cos and sin of i * golden angle, by repeated rotation
-  for (int i = 0; i < taps; ++i) {
-    const double r = taps > 1 ? std::sqrt(double(i) / double(taps - 1)) : 0.0;
-    pattern[size_t(i)] = glm::vec2(float(r * c), float(r * s));
-    const double nextC = c * kCosGoldenAngle - s * kSinGoldenAngle;
-    s = s * kCosGoldenAngle + c * kSinGoldenAngle;
-    c = nextC;
-  }
-  return pattern;
-}
 
 struct Bounds {
   glm::vec3 lo{std::numeric_limits<float>::infinity()};
@@ -262,6 +234,55 @@ void BlockerSearchRowScalar(const BlockerSearchContext& context, const uint32_t*
   }
 }
 
+// Tap i of n in the unit disc: radius sqrt(i / (n - 1)), angle i * golden angle. Tap 0 is the centre
+// (the receiver's own texel, which gives the hard-shadow flag) and tap n - 1 is on the rim; equal
+// areas per tap, no two taps on one ray from the centre.
+std::vector<glm::vec2> BlockerSearchPattern(int taps) {
+  std::vector<glm::vec2> pattern(size_t(taps), glm::vec2(0.0f));
+  double c = 1.0, s = 0.0;  // cos and sin of i * golden angle, by repeated rotation
+  for (int i = 0; i < taps; ++i) {
+    const double r = taps > 1 ? std::sqrt(double(i) / double(taps - 1)) : 0.0;
+    pattern[size_t(i)] = glm::vec2(float(r * c), float(r * s));
+    const double nextC = c * kCosGoldenAngle - s * kSinGoldenAngle;
+    s = s * kCosGoldenAngle + c * kSinGoldenAngle;
+    c = nextC;
+  }
+  return pattern;
+}
+
+BlockerSearchContext MakeBlockerSearchContext(const ReceiverPositions& receivers, const ShadowMapOutputs& map,
+                                              const PreparedLight& light, const std::vector<glm::vec2>& pattern,
+                                              float maxBlockerDistance, NormalEncoding encoding) {
+  const ViewProjection& lightView = map.lightView;
+  const float resolution = float(lightView.width);
+  return {
+      receivers,
+      lightView,
+      map.shadowMap.depthKey,
+      pattern.data(),
+      pattern.size(),
+      receivers.Rotation(),
+      2.0f * lightView.halfX / resolution,
+      2.0f * lightView.halfY / resolution,
+      resolution / (2.0f * lightView.halfX),
+      resolution / (2.0f * lightView.halfY),
+      light.tanAngularRadius,
+      light.radius,
+      maxBlockerDistance,
+      encoding,
+  };
+}
+
+void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm,
+                      KernelPath kernels) {
+  const int width = gbuffer.width();
+  const auto searchRow = kernels == KernelPath::kSimd ? BlockerSearchRowSimd : BlockerSearchRowScalar;
+  ParallelForRowBands("shadow_map.blocker_search", size_t(gbuffer.height()), [&](size_t, size_t yBegin, size_t yEnd) {
+    for (int y = int(yBegin); y < int(yEnd); ++y)
+      searchRow(context, gbuffer.word[1].ConstRow(y), gbuffer.word[2].ConstRow(y), y, width, shadowTerm.MutableRow(y));
+  });
+}
+
 std::vector<size_t> ShadowCastingLights(const Scene& scene) {
   std::vector<size_t> lights;
   for (size_t i = 0; i < scene.directionalLights.size(); ++i)
@@ -272,7 +293,7 @@ std::vector<size_t> ShadowCastingLights(const Scene& scene) {
 }
 
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
-                            Plane<uint32_t>& shadowTerm) {
+                            Plane<uint32_t>& shadowTerm, KernelPath kernels) {
   const Scene& scene = in.scene;
   const GBuffer& gbuffer = in.gbuffer;
   const int width = gbuffer.width(), height = gbuffer.height();
@@ -329,33 +350,11 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   stats.triangles = raster.Get().triangleCount;
   stats.rasterMs = stopwatch.Lap();
 
-  const ViewProjection& lightView = out.lightView;
-  const float resolution = float(params.resolution);
-  const glm::mat4 cameraToLight = lightView.view * glm::inverse(in.camera.view);
-  const ReceiverPositions positions(in.camera, cameraToLight);
+  const ReceiverPositions positions(in.camera, out.lightView.view * glm::inverse(in.camera.view));
   const std::vector<glm::vec2> pattern = BlockerSearchPattern(params.blockerSearchTaps);
-  const BlockerSearchContext context{
-      positions,
-      lightView,
-      out.shadowMap.depthKey,
-      pattern.data(),
-      pattern.size(),
-      glm::mat3(cameraToLight),
-      2.0f * lightView.halfX / resolution,
-      2.0f * lightView.halfY / resolution,
-      resolution / (2.0f * lightView.halfX),
-      resolution / (2.0f * lightView.halfY),
-      light.tanAngularRadius,
-      light.radius,
-      params.maxBlockerDistance,
-      in.gbuffer.normalEncoding,
-  };
-  ParallelForRowBands("shadow_map.blocker_search", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
-    for (int y = int(yBegin); y < int(yEnd); ++y) {
-      BlockerSearchRowScalar(context, gbuffer.word[1].ConstRow(y), gbuffer.word[2].ConstRow(y), y, width,
-                             shadowTerm.MutableRow(y));
-    }
-  });
+  const BlockerSearchContext context =
+      MakeBlockerSearchContext(positions, out, light, pattern, params.maxBlockerDistance, gbuffer.normalEncoding);
+  RunBlockerSearch(context, gbuffer, shadowTerm, kernels);
   stats.searchMs = stopwatch.Lap();
   return stats;
 }

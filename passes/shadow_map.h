@@ -17,6 +17,8 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
+#include "core/lighting.h"
 #include "core/plane.h"
 #include "core/raster.h"
 #include "core/scene.h"
@@ -61,9 +63,10 @@ struct ShadowMapStats {
 
 // shadowTerm: the shadow term of every G-buffer pixel (PackShadowTerm), written for every pixel,
 // kShadowLit for background and for receivers outside the shadow map. Same size as the G-buffer;
-// normally the G-buffer's own word[3] (the pass never reads word 3).
+// normally the G-buffer's own word[3] (the pass never reads word 3). `kernels` picks the blocker
+// search's row kernel; both give the same bytes.
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
-                            Plane<uint32_t>& shadowTerm);
+                            Plane<uint32_t>& shadowTerm, KernelPath kernels = KernelPath::kSimd);
 
 // Indices (PrepareLights order) of the lights that cast shadows, in that order. The first one is the
 // light whose shadow term the G-buffer's word 3 holds.
@@ -88,12 +91,26 @@ class ReceiverPositions {
   glm::vec3 At(const Row& row, int x, float viewDepth) const {
     return origin_ + (row.first + row.step * float(x)) * viewDepth;
   }
+  const glm::vec3& Origin() const { return origin_; }
+  const glm::mat3& Rotation() const { return rotation_; }
 
  private:
   const ViewProjection& camera_;
   glm::vec3 origin_;    // the camera's position in the light view
   glm::mat3 rotation_;  // camera view -> light view
 };
+
+// Bias (docs/pipeline.md §Shadow map and blocker search). The receiver moves along its normal by
+// kNormalOffsetTexels texels times sin(angle between normal and light) (normal offset, Holbert 2011,
+// "Saying goodbye to shadow acne"); every tap compares against the receiver's tangent plane along the
+// tap's own ray (receiver plane depth bias, Isidoro 2006, "Shadow mapping: GPU-based tips and
+// techniques"), minus kConstantBiasTexels + kSlopeBiasTexels * tan(angle) texels of depth.
+inline constexpr float kNormalOffsetTexels = 1.0f;
+inline constexpr float kConstantBiasTexels = 0.25f;
+inline constexpr float kSlopeBiasTexels = 0.25f;
+// The tangent plane's depth slope is clamped (about 87 degrees) so grazing receivers stay finite.
+inline constexpr float kMaxSlope = 20.0f;
+inline constexpr float kMinFacing = 1e-6f;
 
 // What the blocker search of every row shares: the frame's constants.
 struct BlockerSearchContext {
@@ -111,11 +128,29 @@ struct BlockerSearchContext {
   NormalEncoding encoding;
 };
 
+// The tap pattern (docs/pipeline.md §Blocker search): Vogel's spiral in the unit disc, tap 0 the
+// centre, `taps` in [1, kMaxBlockerSearchTaps].
+std::vector<glm::vec2> BlockerSearchPattern(int taps);
+
+// The context RunShadowMap's search runs with: `light` (PrepareLights order, world space) seen
+// through map.lightView, receivers in that view, normals of the given encoding. The context refers
+// to `receivers`, `map` and `pattern`, which must outlive it.
+BlockerSearchContext MakeBlockerSearchContext(const ReceiverPositions& receivers, const ShadowMapOutputs& map,
+                                              const PreparedLight& light, const std::vector<glm::vec2>& pattern,
+                                              float maxBlockerDistance, NormalEncoding encoding);
+
+// RunShadowMap's blocker search on its own: every row of the G-buffer (words 1 and 2) into
+// shadowTerm, in parallel row bands, with the row kernel `kernels` picks.
+void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm,
+                      KernelPath kernels = KernelPath::kSimd);
+
 // The blocker search's scalar row kernel, the definition a SIMD twin (passes/shadow_map_simd.cpp)
 // must equal bit for bit: the PCSS blocker search (Fernando 2005, §3.1) of G-buffer row y, `width`
 // pixels of words 1 (normal) and 2 (view depth), into shadowTerm[x] (PackShadowTerm; kShadowLit for
 // background, for receivers outside the shadow map and where no tap finds a blocker).
 void BlockerSearchRowScalar(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
                             int width, uint32_t* shadowTerm);
+void BlockerSearchRowSimd(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
+                          int width, uint32_t* shadowTerm);
 
 }  // namespace ssgi

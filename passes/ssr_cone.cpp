@@ -11,10 +11,6 @@
 namespace ssgi {
 namespace {
 
-// Below this screen distance (px) from origin to hit the cone has no direction to walk; the hit's
-// own level-0 texel is the whole footprint anyway.
-constexpr float kMinConeHeight = 0.5f;
-
 // Bilinear fetch of one level at level-0 pixel coordinates (pixel centres at +0.5), clamp to edge.
 // A level's floor-halved size maps onto the full image by the per-axis size ratio, the same area
 // a level texel averages (color_pyramid.h).
@@ -70,7 +66,7 @@ ConeSample TraceCone(const ColorPyramid& pyramid, glm::vec2 origin, glm::vec2 hi
                      int maxSamples) {
   const glm::vec2 delta = hit - origin;
   const float h = std::sqrt(delta.x * delta.x + delta.y * delta.y);
-  if (!(h >= kMinConeHeight)) return {SampleLevel(pyramid, 0, hit.x, hit.y), 1};
+  if (!(h >= kConeMinHeight)) return {SampleLevel(pyramid, 0, hit.x, hit.y), 1};
   const glm::vec2 direction = delta / h;
   const float inRadiusPerHeight = tanTheta * (std::sqrt(1.0f + tanTheta * tanTheta) - tanTheta);
   const float footprintRadius = h * tanTheta;
@@ -139,7 +135,8 @@ SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* wo
   return counts;
 }
 
-SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out) {
+SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out,
+                        KernelPath kernels) {
   const Stopwatch stopwatch;
   SSGI_CHECK_GE(params.maxSamples, 1);
   SSGI_CHECK(!in.pyramid.levels.empty());
@@ -153,8 +150,9 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
   }
   const SsrConeContext context{in.pyramid, SharedConeTanTable(), params.maxSamples};
   std::vector<size_t> rowSamples(height, 0), rowPixels(height, 0);
+  const auto coneRow = kernels == KernelPath::kSimd ? SsrConeRowSimd : SsrConeRowScalar;
   ParallelFor("ssr_cone", height, [&](size_t y) {
-    const SsrConeCounts counts = SsrConeRowScalar(
+    const SsrConeCounts counts = coneRow(
         context, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y), in.trace.hitY.ConstRow(y),
         in.trace.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
         out.reflected.c[2].MutableRow(y));

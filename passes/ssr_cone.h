@@ -9,11 +9,16 @@
 #include <cstdint>
 
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/plane.h"
 #include "passes/color_pyramid.h"
 #include "passes/ssr_trace.h"
 
 namespace ssgi {
+
+// Below this screen distance (px) from origin to hit the cone has no direction to walk; the hit's
+// own level-0 texel is the whole footprint anyway.
+inline constexpr float kConeMinHeight = 0.5f;
 
 // Phong exponent used for GGX alpha -> 0 (a mirror), where 2 / alpha^2 - 2 diverges.
 inline constexpr double kConeMaxPhongExponent = 1e6;
@@ -51,8 +56,10 @@ struct SsrConeStats {
   size_t pixels = 0;   // pixels with confidence > 0
 };
 
-// Reuses out's planes when their sizes already match, else allocates them.
-SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out);
+// Reuses out's planes when their sizes already match, else allocates them. `kernels` chooses the row
+// kernel; both give the same bytes.
+SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, SsrConeOutputs& out,
+                        KernelPath kernels = KernelPath::kSimd);
 
 // What the cone trace of every row shares: the frame's constants.
 struct SsrConeContext {
@@ -72,5 +79,9 @@ struct SsrConeCounts {
 SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
                                const float* hitY, const float* confidence, size_t y, size_t width, float* red,
                                float* green, float* blue);
+// Its Highway twin, dispatched to the machine's best target: lanes are the row's pixels.
+SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
+                             const float* hitY, const float* confidence, size_t y, size_t width, float* red,
+                             float* green, float* blue);
 
 }  // namespace ssgi

@@ -14,26 +14,13 @@ namespace ssgi {
 namespace {
 
 constexpr int kTileSize = 32;
-// Stands in for 1/0 and "never": finite, so products with it stay finite and comparable
-// (the largest step distance, 16384 pixels, times it is still far below FLT_MAX).
-constexpr float kHuge = 1e30f;
-// Direction components below this are treated as 0 (their reciprocal would overflow to inf).
-constexpr float kTinyComponent = 1e-20f;
-// How far past a crossed cell boundary the ray is put, in level-0 pixels, along the winning axis
-// only: several ulps at the largest image coordinate (16384, ulp 1/512), a negligible offset.
-constexpr float kBoundaryNudge = 1.0f / 64.0f;
-// Reflected segments are cut at 1000 view depths of their origin: farther hits are sub-pixel next
-// to the vanishing point, and the bound keeps the projected end finite for rays parallel to the
-// image plane.
-constexpr float kMaxRayLengthInDepths = 1000.0f;
 
-float SafeReciprocal(float v) { return std::fabs(v) < kTinyComponent ? kHuge : 1.0f / v; }
+float SafeReciprocal(float v) { return std::fabs(v) < kHiZTinyComponent ? kHiZNever : 1.0f / v; }
 
 // The cell of level-0 coordinate p at a level with `size` cells of 2^level pixels; the last cell
 // also covers the remainder of a floor-halved size (PyramidFootprintEnd).
 int CellIndex(float p, int level, int size) {
-  // Clamped before the conversion so a stray coordinate can never overflow the int.
-  const int pixel = int(std::clamp(p, 0.0f, 16384.0f * 2.0f));
+  const int pixel = int(std::clamp(p, 0.0f, kHiZMaxCoordinate));
   return std::min(pixel >> level, size - 1);
 }
 
@@ -77,7 +64,7 @@ class PixelTracer {
     if (!(towardCamera > 0.0f)) return none;
 
     // Near-plane clip before projecting: the end's view depth d - r.z L stays >= near.
-    float length = kMaxRayLengthInDepths * d;
+    float length = kSsrMaxRayLengthInDepths * d;
     if (r.z > 0.0f) length = std::min(length, (d - in_.view.nearPlane) / r.z);
     if (!(length > 0.0f)) return none;
     const glm::vec3 q = p + r * length;
@@ -153,14 +140,14 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
   glm::vec3 pos = ray.origin;
   const int startX = CellIndex(pos.x, 0, imageWidth);
   const int startY = CellIndex(pos.y, 0, imageHeight);
-  pos.x = std::clamp(pos.x, float(startX) + kBoundaryNudge, float(startX + 1) - kBoundaryNudge);
-  pos.y = std::clamp(pos.y, float(startY) + kBoundaryNudge, float(startY + 1) - kBoundaryNudge);
+  pos.x = std::clamp(pos.x, float(startX) + kHiZBoundaryNudge, float(startX + 1) - kHiZBoundaryNudge);
+  pos.y = std::clamp(pos.y, float(startY) + kHiZBoundaryNudge, float(startY + 1) - kHiZBoundaryNudge);
   result.position = pos;
 
   const glm::vec3 dir = ray.end - pos;
   const glm::vec3 inv{SafeReciprocal(dir.x), SafeReciprocal(dir.y), SafeReciprocal(dir.z)};
-  const bool positiveX = !(dir.x <= -kTinyComponent);
-  const bool positiveY = !(dir.y <= -kTinyComponent);
+  const bool positiveX = !(dir.x <= -kHiZTinyComponent);
+  const bool positiveY = !(dir.y <= -kHiZTinyComponent);
   // The march ends at the segment's end or where it leaves the image, whichever comes first.
   const float exitX = ((positiveX ? width : 0.0f) - pos.x) * inv.x;
   const float exitY = ((positiveY ? height : 0.0f) - pos.y) * inv.y;
@@ -179,7 +166,7 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
     const float closest = plane.ConstRow(size_t(cellY))[cellX];
 
     // Un-offset cell planes: the nudge below is what moves the ray across, on one axis only, so an
-    // axis-aligned ray (the other axis' t is kHuge) can never stall on a boundary.
+    // axis-aligned ray (the other axis' t is kHiZNever) can never stall on a boundary.
     const float boundaryX = CellBoundary(cellX, level, sizeX, imageWidth, positiveX);
     const float boundaryY = CellBoundary(cellY, level, sizeY, imageHeight, positiveY);
     const float tX = (boundaryX - pos.x) * inv.x;
@@ -187,10 +174,10 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
     const float tCell = std::min(tX, tY);
     // The ray meets the cell's closest-depth plane: now if it is already at or behind it, ahead if
     // it recedes (1/d falling), never if it approaches the camera in front of it.
-    float tDepth = kHuge;
+    float tDepth = kHiZNever;
     if (!skipOrigin) {
       if (pos.z <= closest) tDepth = 0.0f;
-      else if (dir.z <= -kTinyComponent) tDepth = (closest - pos.z) * inv.z;
+      else if (dir.z <= -kHiZTinyComponent) tDepth = (closest - pos.z) * inv.z;
     }
     skipOrigin = false;
 
@@ -208,8 +195,8 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
       if (t + tCell >= tEnd) return result;
       pos += dir * tCell;
       t += tCell;
-      if (tX <= tY) pos.x = boundaryX + (positiveX ? kBoundaryNudge : -kBoundaryNudge);
-      else pos.y = boundaryY + (positiveY ? kBoundaryNudge : -kBoundaryNudge);
+      if (tX <= tY) pos.x = boundaryX + (positiveX ? kHiZBoundaryNudge : -kHiZBoundaryNudge);
+      else pos.y = boundaryY + (positiveY ? kHiZBoundaryNudge : -kHiZBoundaryNudge);
       result.position = pos;
       if (!InsideImage(pos, width, height)) return result;
       level = std::min(result.iterations == 1 ? startLevel : level + 1, topLevel);
@@ -229,7 +216,8 @@ void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, i
   }
 }
 
-SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out) {
+SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out,
+                          KernelPath kernels) {
   const Stopwatch stopwatch;
   const int width = in.gbuffer.width();
   const int height = in.gbuffer.height();
@@ -250,14 +238,15 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   const int tilesX = (width + kTileSize - 1) / kTileSize;
   const int tilesY = (height + kTileSize - 1) / kTileSize;
   std::vector<SsrTraceCounts> counts(size_t(tilesX) * size_t(tilesY));
+  const auto traceRow = kernels == KernelPath::kSimd ? SsrTraceRowSimd : SsrTraceRowScalar;
   ParallelFor("ssr_trace", counts.size(), [&](size_t tile) {
     const int x0 = int(tile % size_t(tilesX)) * kTileSize;
     const int y0 = int(tile / size_t(tilesX)) * kTileSize;
     const int x1 = std::min(x0 + kTileSize, width);
     const int y1 = std::min(y0 + kTileSize, height);
     for (int y = y0; y < y1; ++y) {
-      SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-                        out.confidence.MutableRow(size_t(y)), counts[tile]);
+      traceRow(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
+               out.confidence.MutableRow(size_t(y)), counts[tile]);
     }
   });
 

@@ -13,6 +13,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/plane.h"
 #include "passes/hiz.h"
 
@@ -76,13 +77,32 @@ struct HiZMarch {
   int iterations = 0;   // <= maxIterations
 };
 
+// MarchHiZ's constants, shared with the SIMD twin of the trace (passes/ssr_trace_simd.cpp).
+// Stands in for 1/0 and "never": finite, so products with it stay finite and comparable (the
+// largest step distance, 16384 pixels, times it is still far below FLT_MAX).
+inline constexpr float kHiZNever = 1e30f;
+// Direction components below this are treated as 0 (their reciprocal would overflow to inf).
+inline constexpr float kHiZTinyComponent = 1e-20f;
+// How far past a crossed cell boundary the ray is put, in level-0 pixels, along the winning axis
+// only: several ulps at the largest image coordinate (16384, ulp 1/512), a negligible offset.
+inline constexpr float kHiZBoundaryNudge = 1.0f / 64.0f;
+// Level-0 coordinates are clamped to [0, this] before they become cell indices, so a stray
+// coordinate can never overflow the int.
+inline constexpr float kHiZMaxCoordinate = 16384.0f * 2.0f;
+// Reflected segments are cut at this many view depths of their origin: farther hits are sub-pixel
+// next to the vanishing point, and the bound keeps the projected end finite for rays parallel to
+// the image plane.
+inline constexpr float kSsrMaxRayLengthInDepths = 1000.0f;
+
 // Uludag's march: at level k the ray steps to the nearer of the current cell's boundary (then
 // k + 1) and the cell's closest-depth plane 1/d = max (then k - 1, a hit below level 0). The first
 // step leaves the origin's level-0 cell; the march goes on at startLevel.
 HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int startLevel);
 
-// Reuses out's planes when their sizes already match, else allocates them.
-SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out);
+// Reuses out's planes when their sizes already match, else allocates them. `kernels` chooses the row
+// kernel; both give the same bytes.
+SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out,
+                          KernelPath kernels = KernelPath::kSimd);
 
 struct SsrTraceCounts {
   size_t rays = 0;          // pixels traced
@@ -95,5 +115,8 @@ struct SsrTraceCounts {
 // `counts`.
 void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
                        float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
+// Its Highway twin, dispatched to the machine's best target: lanes are the row's rays.
+void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
+                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
 
 }  // namespace ssgi

@@ -5,7 +5,9 @@
 
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include <OpenImageIO/imageio.h>
@@ -63,6 +65,23 @@ size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body
   }
   hwy::SetSupportedTargetsForTest(0);
   return targets;
+}
+
+size_t FirstDifferentBits(const float* a, const float* b, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (std::memcmp(a + i, b + i, sizeof(float)) != 0) return i;
+  return n;
+}
+
+std::vector<float> SpecialFloats() {
+  using Limits = std::numeric_limits<float>;
+  const uint32_t defaultNanBits = 0xFFC00000u;
+  float defaultNan;
+  std::memcpy(&defaultNan, &defaultNanBits, sizeof(defaultNan));
+  return {0.0f,          -0.0f,          Limits::infinity(),   -Limits::infinity(),   defaultNan,
+          -1.0f,         1.0f,           Limits::denorm_min(), -Limits::denorm_min(), Limits::min() / 3.0f,
+          Limits::min(), -Limits::min(), Limits::max(),        -Limits::max(),        1e38f,
+          65504.0f,      65505.0f,       1e-30f,               -1e30f};
 }
 
 CommandResult RunCli(const std::string& arguments) { return RunProgram(CliPath(), arguments); }

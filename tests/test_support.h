@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/kernel_path.h"
 
 namespace ssgi::test {
 
@@ -69,6 +70,42 @@ CommandResult RunProgram(const std::filesystem::path& program, const std::string
 // with dispatch restricted to that target, then restores normal dispatch. Returns the number of
 // targets (DESIGN.md §11: each Highway twin must equal its scalar definition on every one).
 size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body);
+
+// The first index at which a and b hold different bits (NaN payloads and signed zeros count), or n
+// when all n floats are the same: for SIMD twins, which must equal their scalar definitions exactly.
+size_t FirstDifferentBits(const float* a, const float* b, size_t n);
+
+// For a row kernel writing one float row: calls scalar(args..., out) and simd(args..., out), each on
+// an output row of `width` floats and one more, all -1 before (the one past the row must stay so),
+// and returns the first index at which the two hold different bits: width + 1 when the twins agree.
+template <class... Params, class... Args>
+size_t FirstDifferenceOfTwins(size_t width, void (*scalar)(Params...), void (*simd)(Params...), Args... args) {
+  std::vector<float> expected(width + 1, -1.0f), actual(width + 1, -1.0f);
+  scalar(args..., expected.data());
+  simd(args..., actual.data());
+  return FirstDifferentBits(actual.data(), expected.data(), width + 1);
+}
+
+// For a pass with both kernel paths: runs run(KernelPath::kScalar) once and run(KernelPath::kSimd)
+// on every compiled and supported target, and returns the names of the targets on which
+// same(simd output, scalar output) is false, comma-separated: "" when the twins give the scalar
+// bytes everywhere ("no SIMD target" when none ran).
+template <class Run, class Same>
+std::string TargetsWhereKernelPathsDiffer(const Run& run, const Same& same) {
+  const auto scalar = run(KernelPath::kScalar);
+  std::string differing;
+  const size_t targets = ForEachSimdTarget([&](const char* target) {
+    if (!same(run(KernelPath::kSimd), scalar)) differing += (differing.empty() ? "" : ", ") + std::string(target);
+  });
+  return targets == 0 ? "no SIMD target" : differing;
+}
+
+// Floats a SIMD twin must treat exactly as its scalar definition does: both zeros, both infinities,
+// NaN, negatives, denormals, the smallest and largest normals, values past a half float's range.
+// The one NaN is x86's default NaN (0xFFC00000), the one every invalid operation (inf - inf,
+// 0 * inf) makes: where two different NaNs meet in a sum, which one it keeps depends on the operand
+// order the compiler picked, in scalar and SIMD code alike.
+std::vector<float> SpecialFloats();
 
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);

@@ -21,5 +21,16 @@ TEST_CASE("Pyramid level sizes halve with floor down to 1x1", "[pyramid]") {
   CHECK(PyramidLevelSizes(1, 5).size() == 3);  // 1x5 -> 1x2 -> 1x1
 }
 
+TEST_CASE("Pyramid paired texels are the leading ones with the footprint 2x, 2x + 1", "[pyramid]") {
+  for (size_t source = 1; source <= 100; ++source) {
+    const size_t destination = PyramidHalvedSize(source);
+    const size_t paired = PyramidPairedTexels(destination, source);
+    CAPTURE(source);
+    REQUIRE(paired + 1 >= destination);
+    for (size_t x = 0; x < destination; ++x)
+      CHECK((PyramidFootprintEnd(x, destination, source) == 2 * x + 1) == (x < paired));
+  }
+}
+
 }  // namespace
 }  // namespace ssgi

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <vector>
@@ -10,6 +11,8 @@
 
 #include "core/parallel.h"
 #include "core/pyramid.h"
+#include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -193,13 +196,104 @@ TEST_CASE("Colour pyramid is identical at 1, 2 and 3 threads", "[color_pyramid]"
   for (int i = 1; i < 3; ++i) {
     REQUIRE(results[i].levels.size() == results[0].levels.size());
     for (size_t k = 0; k < results[0].levels.size(); ++k) {
-      for (size_t c = 0; c < 3; ++c) {
-        const Plane<float>& a = results[0].levels[k].c[c];
-        const Plane<float>& b = results[i].levels[k].c[c];
-        for (size_t y = 0; y < a.ysize(); ++y)
-          REQUIRE(std::memcmp(a.ConstRow(y), b.ConstRow(y), a.xsize() * sizeof(float)) == 0);
+      for (size_t c = 0; c < 3; ++c) REQUIRE(test::SameBytes(results[i].levels[k].c[c], results[0].levels[k].c[c]));
+    }
+  }
+}
+
+// Floats of every magnitude and sign, denormals and values near the largest among them, and the
+// special values: one in eight.
+std::vector<float> AnyFloats(size_t count, std::mt19937& rng) {
+  const std::vector<float> specials = test::SpecialFloats();
+  std::uniform_int_distribution<size_t> pick(0, 8 * specials.size() - 1);
+  std::uniform_real_distribution<float> mantissa(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> exponent(-140, 128);
+  std::vector<float> values(count);
+  for (float& v : values) {
+    const size_t i = pick(rng);
+    v = i < specials.size() ? specials[i] : std::ldexp(mantissa(rng), exponent(rng));
+  }
+  return values;
+}
+
+TEST_CASE("Colour pyramid: the SIMD row kernels equal the scalar definitions on every compiled target",
+          "[color_pyramid][simd]") {
+  constexpr size_t kWidth = 70;  // a few vectors of every target, and a tail
+  std::mt19937 rng(17);
+  // Level 0 takes any radiance: random bits (every kind of NaN among them) and the special values.
+  std::vector<float> radiance = AnyFloats(kWidth + 1, rng);
+  for (size_t i = 0; i < radiance.size(); i += 2) {
+    const uint32_t bits = uint32_t(rng());
+    std::memcpy(&radiance[i], &bits, sizeof(bits));
+  }
+  // The blurs: rows of any floats, read from an unaligned start (+1), the taps of a 3-row footprint
+  // of the widest source; coverage in level-0 texels.
+  constexpr size_t kSourceWidth = 2 * kWidth + 1;
+  const std::vector<float> rows = AnyFloats((kMaxPyramidFootprint + 2 * kColorPyramidRadius) * (kSourceWidth + 1), rng);
+  const float* taps[kMaxPyramidFootprint + 2 * kColorPyramidRadius];
+  for (size_t i = 0; i < std::size(taps); ++i) taps[i] = rows.data() + 1 + i * (kSourceWidth + 1);
+  std::uniform_int_distribution<int> covered(1, 9);
+  std::vector<float> rowCoverage(kMaxPyramidFootprint), columnCoverage(kSourceWidth);
+  for (float& c : rowCoverage) c = float(covered(rng));
+  for (float& c : columnCoverage) c = float(covered(rng));
+  std::vector<float> scratch(kMaxPyramidFootprint * kSourceWidth);
+  const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+    for (size_t width = 1; width <= kWidth; ++width) {
+      CAPTURE(target, width);
+      REQUIRE(test::FirstDifferenceOfTwins(width, ColorPyramidSanitizeRowScalar, ColorPyramidSanitizeRowSimd,
+                                           radiance.data() + 1, width) == width + 1);
+      REQUIRE(test::FirstDifferenceOfTwins(width, ColorPyramidHorizontalRowScalar, ColorPyramidHorizontalRowSimd,
+                                           taps[0], width) == width + 1);
+      // Even and odd sources (a 3-wide last footprint), and a 1-wide one too where the level is 1 wide.
+      for (size_t sourceWidth = width == 1 ? 1 : 2 * width; sourceWidth <= 2 * width + 1; ++sourceWidth) {
+        for (size_t footprintRows = 1; footprintRows <= kMaxPyramidFootprint; ++footprintRows) {
+          CAPTURE(sourceWidth, footprintRows);
+          REQUIRE(test::FirstDifferenceOfTwins(width, ColorPyramidVerticalRowScalar, ColorPyramidVerticalRowSimd, taps,
+                                               footprintRows, rowCoverage.data(), columnCoverage.data(), sourceWidth,
+                                               width, scratch.data()) == width + 1);
+        }
       }
     }
+  });
+  CHECK(targets >= 1);
+}
+
+bool SameLevels(const ColorPyramid& a, const ColorPyramid& b) {
+  if (a.levels.size() != b.levels.size()) return false;
+  for (size_t k = 0; k < a.levels.size(); ++k) {
+    for (size_t c = 0; c < 3; ++c) {
+      if (!test::SameBytes(a.levels[k].c[c], b.levels[k].c[c])) return false;
+    }
+  }
+  return true;
+}
+
+TEST_CASE("Colour pyramid: the SIMD pass gives the scalar pass's bytes on the default scene and at odd sizes on "
+          "every target",
+          "[color_pyramid][simd]") {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> hdr(0.0f, 4.0f);
+  std::vector<Plane3<float>> images;
+  images.push_back(std::move(test::LoadDefaultScene().Render(1024, 1024).direct.radiance));
+  for (const auto& [width, height] : {std::pair<size_t, size_t>{1, 1}, {67, 45}, {1023, 769}}) {
+    // HDR radiance with any float at one texel in 16 (the pass sanitises them).
+    Plane3<float> radiance = MakePlane3<float>(width, height, 0.0f);
+    for (Plane<float>& channel : radiance.c) {
+      for (size_t y = 0; y < height; ++y) {
+        const std::vector<float> any = AnyFloats(width, rng);
+        for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = x % 16 == y % 16 ? any[x] : hdr(rng);
+      }
+    }
+    images.push_back(std::move(radiance));
+  }
+  for (const Plane3<float>& radiance : images) {
+    const auto run = [&](KernelPath kernels) {
+      ColorPyramid pyramid;
+      RunColorPyramid(radiance, pyramid, kernels);
+      return pyramid;
+    };
+    CAPTURE(radiance.c[0].xsize(), radiance.c[0].ysize());
+    CHECK(test::TargetsWhereKernelPathsDiffer(run, SameLevels) == "");
   }
 }
 

@@ -9,6 +9,9 @@
 
 #include "core/gbuffer.h"
 #include "core/parallel.h"
+#include "core/pyramid.h"
+#include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -115,18 +118,78 @@ TEST_CASE("Hi-Z is identical at 1, 2 and 3 threads and reuses or reshapes its pl
   }
   for (int i = 1; i < 3; ++i) {
     REQUIRE(results[i].levels.size() == results[0].levels.size());
-    for (size_t k = 0; k < results[0].levels.size(); ++k) {
-      const Plane<float>& a = results[0].levels[k];
-      const Plane<float>& b = results[i].levels[k];
-      for (size_t y = 0; y < a.ysize(); ++y)
-        REQUIRE(std::memcmp(a.ConstRow(y), b.ConstRow(y), a.xsize() * sizeof(float)) == 0);
-    }
+    for (size_t k = 0; k < results[0].levels.size(); ++k)
+      REQUIRE(test::SameBytes(results[i].levels[k], results[0].levels[k]));
   }
   // A smaller frame into the same outputs gets the smaller pyramid.
   RunHiZ(RandomDepth(5, 3, rng), results[0]);
   REQUIRE(results[0].levels.size() == 3);  // 5x3 -> 2x1 -> 1x1
   CHECK(results[0].levels[0].xsize() == 5);
   CHECK(results[0].levels[1].xsize() == 2);
+}
+
+TEST_CASE("Hi-Z: the SIMD row kernels equal the scalar definitions on every compiled target", "[hiz][simd]") {
+  constexpr size_t kWidth = 70;  // a few vectors of every target, and a tail
+  std::mt19937 rng(31);
+  const std::vector<float> specials = test::SpecialFloats();
+  // Level 0 takes any word: random bits (every kind of NaN among them) and the special values; read
+  // from an unaligned start.
+  std::vector<uint32_t> words(kWidth + 1);
+  for (uint32_t& word : words) word = uint32_t(rng());
+  for (size_t i = 0; i < specials.size(); ++i) words[1 + 3 * i % kWidth] = PackDepth(specials[i]);
+  // Coarser levels: 1/d, and the special values; footprint rows of the widest source.
+  constexpr size_t kSourceWidth = 2 * kWidth + 1;
+  std::vector<float> source(kMaxPyramidFootprint * kSourceWidth);
+  std::uniform_int_distribution<size_t> pick(0, specials.size() + 3);
+  std::uniform_real_distribution<float> inverseDepth(0.0f, 10.0f);
+  for (float& texel : source) {
+    const size_t i = pick(rng);
+    texel = i < specials.size() ? specials[i] : inverseDepth(rng);
+  }
+  const float* rows[kMaxPyramidFootprint];
+  for (size_t r = 0; r < kMaxPyramidFootprint; ++r) rows[r] = source.data() + r * kSourceWidth;
+  const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+    for (size_t width = 1; width <= kWidth; ++width) {
+      CAPTURE(target, width);
+      REQUIRE(test::FirstDifferenceOfTwins(width, HiZInverseDepthRowScalar, HiZInverseDepthRowSimd,
+                                           words.data() + 1, width) == width + 1);
+      // Even and odd sources (a 3-wide last footprint), and a 1-wide one too where the level is 1 wide.
+      for (size_t sourceWidth = width == 1 ? 1 : 2 * width; sourceWidth <= 2 * width + 1; ++sourceWidth) {
+        for (size_t footprintRows = 1; footprintRows <= kMaxPyramidFootprint; ++footprintRows) {
+          CAPTURE(sourceWidth, footprintRows);
+          REQUIRE(test::FirstDifferenceOfTwins(width, HiZDownsampleRowScalar, HiZDownsampleRowSimd, rows,
+                                               footprintRows, sourceWidth, width) == width + 1);
+        }
+      }
+    }
+  });
+  CHECK(targets >= 1);
+}
+
+bool SameLevels(const HiZ& a, const HiZ& b) {
+  if (a.levels.size() != b.levels.size()) return false;
+  for (size_t k = 0; k < a.levels.size(); ++k) {
+    if (!test::SameBytes(a.levels[k], b.levels[k])) return false;
+  }
+  return true;
+}
+
+TEST_CASE("Hi-Z: the SIMD pass gives the scalar pass's bytes on the default scene and at odd sizes on every target",
+          "[hiz][simd]") {
+  std::mt19937 rng(5);
+  std::vector<Plane<uint32_t>> depths;
+  depths.push_back(std::move(test::LoadDefaultScene().Render(1024, 1024).gbuffer.gbuffer.word[2]));
+  for (const auto& [width, height] : {std::pair<size_t, size_t>{1, 1}, {67, 45}, {1023, 769}})
+    depths.push_back(RandomDepth(width, height, rng));
+  for (const Plane<uint32_t>& depth : depths) {
+    const auto run = [&](KernelPath kernels) {
+      HiZ hiz;
+      RunHiZ(depth, hiz, kernels);
+      return hiz;
+    };
+    CAPTURE(depth.xsize(), depth.ysize());
+    CHECK(test::TargetsWhereKernelPathsDiffer(run, SameLevels) == "");
+  }
 }
 
 }  // namespace

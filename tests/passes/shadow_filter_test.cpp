@@ -325,13 +325,6 @@ TEST_CASE("shadow filter: robust to degenerate inputs", "[shadow_filter]") {
   }
 }
 
-bool SameBits(const Plane<float>& a, const Plane<float>& b) {
-  if (a.xsize() != b.xsize() || a.ysize() != b.ysize()) return false;
-  for (size_t y = 0; y < a.ysize(); ++y)
-    if (std::memcmp(a.ConstRow(y), b.ConstRow(y), a.xsize() * sizeof(float)) != 0) return false;
-  return true;
-}
-
 // The slab and a box seen obliquely under a sun (light 0) and a spot (light 1).
 TestScene SunAndSpotScene(int width, int height) {
   const CameraDesc camera = Camera({0.6f, 1.2f, 1.6f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 45.0f);
@@ -366,7 +359,7 @@ TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile 
           ShadowFilterOutputs out;
           const ShadowFilterStats stats = RunShadowFilter(in, params, out);
           CAPTURE(threads, int(filter), taps, stats.tiles, stats.tilesBlurred);
-          CHECK(SameBits(out.visibility, everyTile.visibility));
+          CHECK(test::SameBytes(out.visibility, everyTile.visibility));
           CHECK(stats.tilesBlurred > 0);
           CHECK(stats.tilesBlurred < stats.tiles);
         }
@@ -377,7 +370,7 @@ TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile 
 // ---- The SIMD twins against their scalar definitions, bit for bit on every target (DESIGN.md §11)
 
 bool SameFloats(const float* a, const float* b, size_t count) {
-  return std::memcmp(a, b, count * sizeof(float)) == 0;
+  return test::FirstDifferentBits(a, b, count) == count;
 }
 
 bool SameSummaries(const std::vector<ShadowFilterTileSummary>& a, const std::vector<ShadowFilterTileSummary>& b) {
@@ -544,43 +537,41 @@ TEST_CASE("shadow filter: the SIMD passes equal their scalar definitions on ever
 }
 
 TEST_CASE("shadow filter: the SIMD kernel path gives the scalar path's bytes on every target", "[shadow_filter][simd]") {
-  // The default scene's real buffers, rendered as a frame, at its own size and at odd sizes.
-  const SceneFile file = LoadSceneFile(test::SourceDir() / "data" / "default.json");
-  for (const auto& [width, height] : {std::pair{1024, 1024}, {1, 1}, {67, 45}, {1023, 769}}) {
-    FrameConfig config = FrameConfigFromSceneFile(file);
-    config.width = width;
-    config.height = height;
-    config.reflections = EffectMode::kOff;
-    const Frame frame = RenderFrame(file.scene, config);
+  // The default scene's real buffers, frames at its own size and at odd sizes; with and without
+  // tile skipping, as the small images have few penumbrae to blur.
+  const test::DefaultScene scene = test::LoadDefaultScene();
+  test::ForEachDefaultSceneFrame([&scene](const Frame& frame) {
     REQUIRE(frame.shadowMap);
-    const PreparedLight light = PrepareLights(file.scene, frame.view.view)[ShadowCastingLights(file.scene).front()];
+    const PreparedLight light =
+        PrepareLights(scene.scene, frame.view.view)[ShadowCastingLights(scene.scene).front()];
     const ShadowFilterInputs in{frame.gbuffer.gbuffer, frame.view, light};
+    const auto same = [](const Plane<float>& a, const Plane<float>& b) { return test::SameBytes(a, b); };
     size_t blurred = 0;
     for (ShadowFilter filter : {ShadowFilter::kSsabss, ShadowFilter::kSspcss})
       for (int taps : {0, 3}) {
-        ShadowFilterParams params = config.shadowFilter;
+        ShadowFilterParams params = scene.config.shadowFilter;
         params.filter = filter;
         params.taps = taps;
-        // With and without tile skipping: the small images have few penumbrae to blur.
-        ShadowFilterOutputs scalar, scalarEveryTile;
-        blurred += RunShadowFilter(in, params, scalar, KernelPath::kScalar).tilesBlurred;
-        RunShadowFilterEveryTile(in, params, scalarEveryTile, KernelPath::kScalar);
-        const size_t targets = test::ForEachSimdTarget([&](const char* target) {
-          ShadowFilterOutputs simd, simdEveryTile;
-          RunShadowFilter(in, params, simd, KernelPath::kSimd);
-          RunShadowFilterEveryTile(in, params, simdEveryTile, KernelPath::kSimd);
-          CAPTURE(width, height, target, int(filter), taps);
-          CHECK(SameBits(scalar.visibility, simd.visibility));
-          CHECK(SameBits(scalarEveryTile.visibility, simdEveryTile.visibility));
-        });
-        CHECK(targets >= 1);
+        CAPTURE(frame.view.width, frame.view.height, int(filter), taps);
+        const auto run = [&](KernelPath kernels) {
+          ShadowFilterOutputs out;
+          blurred += RunShadowFilter(in, params, out, kernels).tilesBlurred;
+          return std::move(out.visibility);
+        };
+        const auto runEveryTile = [&](KernelPath kernels) {
+          ShadowFilterOutputs out;
+          RunShadowFilterEveryTile(in, params, out, kernels);
+          return std::move(out.visibility);
+        };
+        CHECK(test::TargetsWhereKernelPathsDiffer(run, same) == "");
+        CHECK(test::TargetsWhereKernelPathsDiffer(runEveryTile, same) == "");
       }
-    // The frame's own filter (the default path and parameters) is among them.
+    if (frame.view.width > 1000) CHECK(blurred > 0);
+    // The frame's own filter ran the default path.
     ShadowFilterOutputs scalar;
-    RunShadowFilter(in, config.shadowFilter, scalar, KernelPath::kScalar);
-    CHECK(SameBits(scalar.visibility, frame.shadowVisibility.visibility));
-    if (width > 1000) CHECK(blurred > 0);
-  }
+    RunShadowFilter(in, scene.config.shadowFilter, scalar, KernelPath::kScalar);
+    CHECK(test::SameBytes(scalar.visibility, frame.shadowVisibility.visibility));
+  });
 }
 
 }  // namespace

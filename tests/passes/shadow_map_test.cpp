@@ -300,14 +300,16 @@ TEST_CASE("shadow map: spot light blocker distance along the light's rays", "[sh
   CHECK(litOutside == outside);
 }
 
+// The default scene at the given size; light 0 is its sun (orthographic map), light 1 a spot light
+// (perspective map) whose cone leaves part of the scene outside its map.
+TestScene DefaultSceneWithSpot(int width, int height) {
+  TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), width, height);
+  scene.spotLights.push_back(test::Spot({0.5f, 2.5f, 1.0f}, {-0.2f, -1.0f, -0.4f}, 50.0f, 0.1f));
+  return scene;
+}
+
 TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {
-  TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), 161, 119);
-  SpotLight spot;
-  spot.position = {0.5f, 2.5f, 1.0f};
-  spot.direction = glm::normalize(glm::vec3(-0.2f, -1.0f, -0.4f));
-  spot.outerConeDegrees = 50.0f;
-  spot.radius = 0.1f;
-  scene.spotLights.push_back(spot);
+  const TestScene scene = DefaultSceneWithSpot(161, 119);
   ShadowMapParams params;
   params.resolution = 517;
   for (size_t light : {size_t(0), size_t(1)}) {
@@ -408,6 +410,92 @@ TEST_CASE("shadow map: no NaN or Inf at grazing and degenerate set-ups", "[shado
         }
       CAPTURE(axis.x, axis.y);
       CHECK(lit > 100);
+    }
+  }
+}
+
+TEST_CASE("shadow map: the SIMD blocker search equals the scalar definition on every compiled target",
+          "[shadow][simd]") {
+  size_t targets = 0, shadowed = 0;
+  for (NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+    TestScene scene = DefaultSceneWithSpot(161, 119);
+    scene.normalEncoding = encoding;
+    const ViewProjection camera = MakePerspective(scene.camera, scene.width, scene.height);
+    GBufferOutputs g;
+    RunGBuffer({scene, camera}, {encoding}, g);
+    const std::vector<PreparedLight> lights = PrepareLights(scene, glm::mat4(1.0f));
+    for (size_t light : {size_t(0), size_t(1)}) {
+      // A fine map, and a coarse one whose search radius reaches past its edges.
+      for (int resolution : {517, 29}) {
+        ShadowMapParams params;
+        params.resolution = resolution;
+        ShadowMapOutputs out;
+        RunShadowMap({scene, camera, g.gbuffer, light}, params, out, g.gbuffer.word[3]);
+        const ReceiverPositions receivers(camera, out.lightView.view * glm::inverse(camera.view));
+        for (int taps : {16, 3}) {
+          const std::vector<glm::vec2> pattern = BlockerSearchPattern(taps);
+          const BlockerSearchContext context =
+              MakeBlockerSearchContext(receivers, out, lights[light], pattern, params.maxBlockerDistance, encoding);
+          std::vector<uint32_t> expected(size_t(scene.width)), actual(size_t(scene.width) + 1);
+          // Whole rows, and on every third row pieces of every length from 1 to 64 pixels (several
+          // vectors and a tail on every target) starting anywhere in the row.
+          auto check = [&](const char* target, int y, int start, int length) {
+            const uint32_t* word1 = g.gbuffer.word[1].ConstRow(y) + start;
+            const uint32_t* word2 = g.gbuffer.word[2].ConstRow(y) + start;
+            BlockerSearchRowScalar(context, word1, word2, y, length, expected.data());
+            std::fill(actual.begin(), actual.end(), 0xABABABABu);
+            BlockerSearchRowSimd(context, word1, word2, y, length, actual.data());
+            CAPTURE(target, int(encoding), light, resolution, taps, y, start, length);
+            REQUIRE(std::equal(expected.begin(), expected.begin() + length, actual.begin()));
+            REQUIRE(actual[size_t(length)] == 0xABABABABu);
+          };
+          targets += test::ForEachSimdTarget([&](const char* target) {
+            for (int y = 0; y < scene.height; ++y) {
+              check(target, y, 0, scene.width);
+              if (y % 3 != 0) continue;
+              for (int length = 1; length <= 64; ++length)
+                check(target, y, (y * 31 + length * 7) % (scene.width - length), length);
+            }
+          });
+          for (int y = 0; y < scene.height; ++y) {
+            BlockerSearchRowScalar(context, g.gbuffer.word[1].ConstRow(y), g.gbuffer.word[2].ConstRow(y), y,
+                                   scene.width, expected.data());
+            for (uint32_t term : expected) shadowed += UnpackHardShadow(term);
+          }
+        }
+      }
+    }
+  }
+  CHECK(targets >= 2 * 2 * 2 * 2 * 2);  // at least two targets (one SIMD) per case
+  CHECK(shadowed > 5000);               // the comparison is about something
+}
+
+TEST_CASE("shadow map: the SIMD blocker search writes the scalar word 3 on every compiled target", "[shadow][simd]") {
+  for (glm::ivec2 size : {glm::ivec2(kDefaultImageSide), glm::ivec2(1, 1), glm::ivec2(67, 45), glm::ivec2(1023, 769)}) {
+    const TestScene scene = DefaultSceneWithSpot(size.x, size.y);
+    const ViewProjection camera = MakePerspective(scene.camera, size.x, size.y);
+    GBufferOutputs g;
+    RunGBuffer({scene, camera}, {scene.normalEncoding}, g);
+    // The scene's own sun, as frames render it; the spot light (covered row by row above) at 67x45.
+    for (size_t light = 0; light < (size.x == 67 ? 2u : 1u); ++light) {
+      for (int taps : {1, 4, 16, 64}) {
+        ShadowMapParams params;
+        params.blockerSearchTaps = taps;
+        ShadowMapOutputs out;
+        Plane<uint32_t> expected = MakePlane<uint32_t>(size.x, size.y, 0u);
+        RunShadowMap({scene, camera, g.gbuffer, light}, params, out, expected, KernelPath::kScalar);
+        size_t shadowed = 0;
+        for (int y = 0; y < size.y; ++y)
+          for (int x = 0; x < size.x; ++x) shadowed += expected.ConstRow(y)[x] != kShadowLit;
+        CAPTURE(size.x, size.y, light, taps);
+        CHECK((shadowed > 0 || size.x == 1));  // the comparison is about something
+        test::ForEachSimdTarget([&](const char* target) {
+          Plane<uint32_t> actual = MakePlane<uint32_t>(size.x, size.y, 0xABABABABu);
+          RunShadowMap({scene, camera, g.gbuffer, light}, params, out, actual, KernelPath::kSimd);
+          CAPTURE(target);
+          REQUIRE(test::SameBytes(actual, expected));
+        });
+      }
     }
   }
 }

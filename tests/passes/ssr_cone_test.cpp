@@ -9,6 +9,8 @@
 #include <catch2/catch.hpp>
 
 #include "core/parallel.h"
+#include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -132,23 +134,35 @@ TEST_CASE("Cone reflection blur widens with roughness", "[cone]") {
   CHECK(widths.back() > widths.front() + 8.0f);
 }
 
+// The pyramid of a width x height image of random radiance in [0, 100].
+ColorPyramid RandomPyramid(size_t width, size_t height, std::mt19937& rng) {
+  Plane3<float> image = MakePlane3<float>(width, height, 0.0f);
+  std::uniform_real_distribution<float> radiance(0.0f, 100.0f);
+  for (Plane<float>& channel : image.c) {
+    for (size_t y = 0; y < height; ++y) {
+      for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = radiance(rng);
+    }
+  }
+  ColorPyramid pyramid;
+  RunColorPyramid(image, pyramid);
+  return pyramid;
+}
+
+// The positions of the four corner pixels of a width x height image nearest its corners.
+std::vector<std::pair<float, float>> Corners(size_t width, size_t height) {
+  const float w = std::nextafter(float(width), 0.0f), h = std::nextafter(float(height), 0.0f);
+  return {{0.0f, 0.0f}, {w, 0.0f}, {0.0f, h}, {w, h}};
+}
+
+const std::vector<std::pair<size_t, size_t>> kOddSizes{{1, 1}, {67, 45}, {1, 9}, {33, 2}};
+
 TEST_CASE("Cone trace is finite for every code, h = 0, corners and a 1x1 image", "[cone]") {
   std::mt19937 rng(7);
-  for (const auto& [width, height] : std::vector<std::pair<size_t, size_t>>{{1, 1}, {67, 45}, {1, 9}, {33, 2}}) {
-    Plane3<float> image = MakePlane3<float>(width, height, 0.0f);
-    std::uniform_real_distribution<float> radiance(0.0f, 100.0f);
-    for (Plane<float>& channel : image.c) {
-      for (size_t y = 0; y < height; ++y) {
-        for (size_t x = 0; x < width; ++x) channel.MutableRow(y)[x] = radiance(rng);
-      }
-    }
-    ColorPyramid pyramid;
-    RunColorPyramid(image, pyramid);
+  for (const auto& [width, height] : kOddSizes) {
+    const ColorPyramid pyramid = RandomPyramid(width, height, rng);
     // Hits: the pixel itself (h = 0), the four image corners, and random points.
     const float w = float(width), h = float(height);
-    const std::vector<std::pair<float, float>> corners{{0.0f, 0.0f}, {std::nextafter(w, 0.0f), 0.0f},
-                                                       {0.0f, std::nextafter(h, 0.0f)},
-                                                       {std::nextafter(w, 0.0f), std::nextafter(h, 0.0f)}};
+    const std::vector<std::pair<float, float>> corners = Corners(width, height);
     std::uniform_real_distribution<float> hitX(0.0f, std::nextafter(w, 0.0f)), hitY(0.0f, std::nextafter(h, 0.0f));
     for (int pattern = 0; pattern < 6; ++pattern) {
       SsrTraceOutputs trace{MakePlane<float>(width, height, 0.0f), MakePlane<float>(width, height, 0.0f),
@@ -209,6 +223,110 @@ TEST_CASE("Cone output is byte-identical at 1, 2 and 3 threads", "[cone]") {
   }
   CHECK(std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(float)) == 0);
   CHECK(std::memcmp(results[0].data(), results[2].data(), results[0].size() * sizeof(float)) == 0);
+}
+
+// SsrConeRowSimd against SsrConeRowScalar on every compiled and supported target, every row of the
+// image whole and as its first 1 .. 49 pixels (three AVX-512 vectors and one lane): same bits,
+// nothing written past the width, same counts.
+void CheckConeRowTwins(const GBuffer& gbuffer, const ColorPyramid& pyramid, const SsrTraceOutputs& trace,
+                       int maxSamples) {
+  const ConeTanTable coneTan = BuildConeTanTable();
+  const SsrConeContext context{pyramid, coneTan, maxSamples};
+  const size_t width = size_t(gbuffer.width()), height = size_t(gbuffer.height());
+  struct Segment {
+    size_t y, width;
+  };
+  std::vector<Segment> segments;
+  for (size_t y = 0; y < height; ++y) {
+    segments.push_back({y, width});
+    for (size_t length = 1; length < std::min(width, size_t(50)); ++length) segments.push_back({y, length});
+  }
+  constexpr float kUntouched = -7.0f;
+  const auto run = [&](const Segment& s, std::vector<float>& rgb, bool simd) {
+    rgb.assign(3 * width, kUntouched);
+    const auto kernel = simd ? SsrConeRowSimd : SsrConeRowScalar;
+    return kernel(context, gbuffer.word[1].ConstRow(s.y), trace.hitX.ConstRow(s.y), trace.hitY.ConstRow(s.y),
+                  trace.confidence.ConstRow(s.y), s.y, s.width, rgb.data(), rgb.data() + width,
+                  rgb.data() + 2 * width);
+  };
+  std::vector<std::vector<float>> expected(segments.size());
+  std::vector<SsrConeCounts> expectedCounts(segments.size());
+  for (size_t i = 0; i < segments.size(); ++i) expectedCounts[i] = run(segments[i], expected[i], false);
+  std::vector<float> actual;
+  const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+    for (size_t i = 0; i < segments.size(); ++i) {
+      const SsrConeCounts counts = run(segments[i], actual, true);
+      CAPTURE(target, segments[i].y, segments[i].width, maxSamples);
+      REQUIRE(test::FirstDifferentBits(actual.data(), expected[i].data(), actual.size()) == actual.size());
+      REQUIRE(counts.samples == expectedCounts[i].samples);
+      REQUIRE(counts.pixels == expectedCounts[i].pixels);
+    }
+  });
+  CHECK(targets >= 2);
+}
+
+TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target", "[cone][simd]") {
+  SECTION("step image, hits straight up, uniform and mixed roughness") {
+    const ColorPyramid pyramid = StepPyramid();
+    const SsrTraceOutputs trace = VerticalHits(0.37f);
+    for (const uint32_t code : {0u, 1u, 64u, 200u, 255u}) {
+      CheckConeRowTwins(UniformRoughness(kStepWidth, kStepHeight, code), pyramid, trace, SsrConeParams{}.maxSamples);
+    }
+    // Every code, neighbours differing: each vector's circles read several levels.
+    GBuffer mixed = MakeGBuffer(int(kStepWidth), int(kStepHeight), NormalEncoding::kOct24);
+    for (size_t y = 0; y < kStepHeight; ++y) {
+      for (size_t x = 0; x < kStepWidth; ++x) mixed.word[1].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
+    }
+    for (const int maxSamples : {1, 7, 64}) CheckConeRowTwins(mixed, pyramid, trace, maxSamples);
+  }
+  SECTION("random images: hits at the pixel itself, the corners and anywhere; some without a hit") {
+    std::mt19937 rng(11);
+    for (const auto& [width, height] : kOddSizes) {
+      const ColorPyramid pyramid = RandomPyramid(width, height, rng);
+      const std::vector<std::pair<float, float>> corners = Corners(width, height);
+      const float w = float(width), h = float(height);
+      std::uniform_real_distribution<float> hitX(0.0f, std::nextafter(w, 0.0f)), hitY(0.0f, std::nextafter(h, 0.0f));
+      std::uniform_int_distribution<uint32_t> code(0, 255);
+      std::uniform_int_distribution<int> pattern(0, 6);
+      GBuffer gbuffer = MakeGBuffer(int(width), int(height), NormalEncoding::kOct24);
+      SsrTraceOutputs trace{MakePlane<float>(width, height, -1.0f), MakePlane<float>(width, height, -1.0f),
+                            MakePlane<float>(width, height, 0.0f)};
+      for (size_t y = 0; y < height; ++y) {
+        for (size_t x = 0; x < width; ++x) {
+          gbuffer.word[1].MutableRow(y)[x] = code(rng) << 24;
+          const int p = pattern(rng);
+          if (p == 6) continue;  // no hit
+          std::pair<float, float> hit{float(x) + 0.5f, float(y) + 0.5f};
+          if (p >= 1 && p <= 4) hit = corners[size_t(p - 1)];
+          if (p == 5) hit = {hitX(rng), hitY(rng)};
+          trace.hitX.MutableRow(y)[x] = hit.first;
+          trace.hitY.MutableRow(y)[x] = hit.second;
+          trace.confidence.MutableRow(y)[x] = 0.5f;
+        }
+      }
+      for (const int maxSamples : {1, 7, 64}) CheckConeRowTwins(gbuffer, pyramid, trace, maxSamples);
+    }
+  }
+}
+
+TEST_CASE("Cone trace: the SIMD pass gives the scalar pass's bytes on every target, default scene", "[cone][simd]") {
+  test::ForEachDefaultSceneFrame([](const Frame& frame) {
+    CAPTURE(frame.view.width, frame.view.height);
+    REQUIRE(frame.reflections);
+    const SsrConeInputs in{frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace};
+    SsrConeOutputs expected;
+    const SsrConeStats expectedStats = RunSsrCone(in, {}, expected, KernelPath::kScalar);
+    if (frame.view.width > 1) CHECK(expectedStats.pixels > size_t(frame.view.width));
+    const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+      CAPTURE(target);
+      SsrConeOutputs actual;
+      const SsrConeStats stats = RunSsrCone(in, {}, actual, KernelPath::kSimd);
+      for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(actual.reflected.c[c], expected.reflected.c[c]));
+      CHECK(stats.samples == expectedStats.samples);
+      CHECK(stats.pixels == expectedStats.pixels);
+    });
+    CHECK(targets >= 2);
+  });
 }
 
 }  // namespace

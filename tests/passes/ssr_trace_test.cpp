@@ -15,6 +15,7 @@
 #include "core/parallel.h"
 #include "passes/gbuffer.h"
 #include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -188,12 +189,14 @@ TEST_CASE("SSR march: axis-aligned rays find a wall and stop, degenerate rays te
 }
 
 // A hand-built G-buffer: random depths, random unit normals over the whole sphere (so rays go toward
-// the camera, off screen, along the axes, from every edge pixel), some background, roughness 0.
-GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t seed) {
+// the camera, off screen, along the axes, from every edge pixel), some background, roughness 0 or,
+// with randomRoughness, any code (so some pixels are past the cut-off).
+GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t seed, bool randomRoughness = false) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> depth(0.5f, 20.0f);
   std::normal_distribution<float> gauss(0.0f, 1.0f);
   std::uniform_int_distribution<int> background(0, 9);
+  std::uniform_int_distribution<int> roughness(0, 255);
   GBuffer g = MakeGBuffer(width, height, encoding);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
@@ -201,7 +204,8 @@ GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t s
       glm::vec3 n{gauss(rng), gauss(rng), gauss(rng)};
       if (x % 7 == 0) n = {0.0f, 0.0f, 1.0f};  // facing the camera: the ray returns toward it
       if (x % 11 == 0) n = {0.0f, 1.0f, 0.2f};
-      g.word[1].MutableRow(size_t(y))[x] = PackNormalRoughness(glm::normalize(n), 0.0f, encoding);
+      const float r = randomRoughness ? float(roughness(rng)) / 255.0f : 0.0f;
+      g.word[1].MutableRow(size_t(y))[x] = PackNormalRoughness(glm::normalize(n), r, encoding);
       g.word[2].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
     }
   }
@@ -259,6 +263,154 @@ TEST_CASE("SSR trace outputs are byte-identical at 1, 2 and 3 threads", "[ssr]")
     CheckSame(randoms[0].hitY, randoms[i].hitY);
     CheckSame(randoms[0].confidence, randoms[i].confidence);
   }
+}
+
+// Oct24 codes whose decoded normal has an exact 0 in x (v = 4095) or y (u = 0 or 4095): at the
+// centre column (row) of an odd-sized image, where the view ray's x (y) is exactly 0 too, the
+// reflected ray stays in that column (row), an exactly vertical (horizontal) march with a zero
+// direction component. Random depths, so the rays meet walls and pass behind them.
+GBuffer AxisAlignedGBuffer(int width, int height, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> depth(0.5f, 20.0f);
+  std::uniform_int_distribution<uint32_t> code(0, 4095);
+  GBuffer g = MakeGBuffer(width, height, NormalEncoding::kOct24);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const uint32_t u = code(rng), v = code(rng);
+      const uint32_t word = (x + y) % 3 == 0 ? u | 4095u << 12 : (x + y) % 3 == 1 ? 4095u | v << 12 : v << 12;
+      g.word[1].MutableRow(size_t(y))[x] = word;
+      g.word[2].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
+    }
+  }
+  return g;
+}
+
+// SsrTraceRowSimd against SsrTraceRowScalar on every compiled and supported target: every row whole,
+// and on every fifth row segments of every length from 1 to 49 (three AVX-512 vectors and one lane)
+// at varying offsets. Same bits in the segment, nothing written outside it, same counts.
+void CheckRowTwins(const GBuffer& g, const ViewProjection& view, const HiZ& hiz, const SsrTraceParams& params) {
+  const SsrTraceInputs in{g, view, hiz};
+  const int width = g.width(), height = g.height();
+  struct Segment {
+    int y, xBegin, xEnd;
+  };
+  std::vector<Segment> segments;
+  for (int y = 0; y < height; ++y) {
+    segments.push_back({y, 0, width});
+    if (y % 5 != 0) continue;
+    for (int length = 1; length <= std::min(width, 49); ++length) {
+      const int x0 = (length * 7 + y) % (width - length + 1);
+      segments.push_back({y, x0, x0 + length});
+    }
+  }
+  constexpr float kUntouched = -7.0f;
+  const size_t row = size_t(width);
+  std::vector<float> expected(segments.size() * 3 * row, kUntouched);
+  std::vector<SsrTraceCounts> expectedCounts(segments.size());
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const Segment& s = segments[i];
+    float* out = expected.data() + i * 3 * row;
+    SsrTraceRowScalar(in, params, s.y, s.xBegin, s.xEnd, out, out + row, out + 2 * row, expectedCounts[i]);
+  }
+  std::vector<float> actual(3 * row);
+  const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+    for (size_t i = 0; i < segments.size(); ++i) {
+      const Segment& s = segments[i];
+      std::fill(actual.begin(), actual.end(), kUntouched);
+      SsrTraceCounts counts;
+      SsrTraceRowSimd(in, params, s.y, s.xBegin, s.xEnd, actual.data(), actual.data() + row,
+                      actual.data() + 2 * row, counts);
+      CAPTURE(target, s.y, s.xBegin, s.xEnd, params.maxIterations, params.startLevel);
+      REQUIRE(test::FirstDifferentBits(actual.data(), expected.data() + i * 3 * row, 3 * row) == 3 * row);
+      REQUIRE(counts.rays == expectedCounts[i].rays);
+      REQUIRE(counts.iterations == expectedCounts[i].iterations);
+    }
+  });
+  CHECK(targets >= 2);
+}
+
+TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target", "[ssr][simd]") {
+  SECTION("mirror floor, every Hi-Z start level, iteration caps 1, 7 and 64") {
+    const Traced t = TraceMirrorFloor(kMirrorWidth, kMirrorHeight, NormalEncoding::kOct24);
+    const int levels = int(t.hiz.levels.size());
+    for (int startLevel = 0; startLevel <= levels; ++startLevel) {
+      for (const int cap : {1, 7, 64}) {
+        SsrTraceParams params;
+        params.startLevel = startLevel;
+        params.maxIterations = cap;
+        CheckRowTwins(t.gbuffer, t.view, t.hiz, params);
+      }
+    }
+  }
+  SECTION("random G-buffers: rays toward the camera, off screen, from edges; rough pixels; fades") {
+    for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+      for (const auto& [width, height] : {std::pair{67, 45}, std::pair{1, 1}, std::pair{1, 9}, std::pair{33, 2}}) {
+        const GBuffer g = RandomGBuffer(width, height, encoding, uint32_t(width * 100 + height), true);
+        const ViewProjection view = MakePerspective(CameraDesc{}, width, height);
+        HiZ hiz;
+        RunHiZ(g.word[2], hiz);
+        for (int startLevel = 0; startLevel <= int(hiz.levels.size()); ++startLevel) {
+          for (const int cap : {1, 64}) {
+            SsrTraceParams params;
+            params.startLevel = startLevel;
+            params.maxIterations = cap;
+            CheckRowTwins(g, view, hiz, params);
+          }
+        }
+        SsrTraceParams other;
+        other.edgeFade = 0.0f;
+        other.thickness = 0.5f;
+        other.towardCameraFade = 1.0f;
+        other.roughnessCutoff = 1.0f;
+        CheckRowTwins(g, view, hiz, other);
+      }
+    }
+  }
+  SECTION("axis-aligned rays") {
+    const GBuffer g = AxisAlignedGBuffer(65, 49, 3);
+    const ViewProjection view = MakePerspective(CameraDesc{}, 65, 49);
+    HiZ hiz;
+    RunHiZ(g.word[2], hiz);
+    // The centre column and row do march along an axis: some of their rays are traced.
+    SsrTraceCounts column, row;
+    std::vector<float> scratch(3 * 65);
+    const SsrTraceInputs in{g, view, hiz};
+    for (int y = 0; y < 49; ++y) SsrTraceRowScalar(in, {}, y, 32, 33, &scratch[0], &scratch[65], &scratch[130], column);
+    SsrTraceRowScalar(in, {}, 24, 0, 65, &scratch[0], &scratch[65], &scratch[130], row);
+    CHECK(column.rays > 5);
+    CHECK(row.rays > 5);
+    for (int startLevel : {0, 1, 3}) {
+      for (const int cap : {1, 64}) {
+        SsrTraceParams params;
+        params.startLevel = startLevel;
+        params.maxIterations = cap;
+        CheckRowTwins(g, view, hiz, params);
+      }
+    }
+  }
+}
+
+TEST_CASE("SSR trace: the SIMD pass gives the scalar pass's bytes on every target, default scene", "[ssr][simd]") {
+  test::ForEachDefaultSceneFrame([](const Frame& frame) {
+    CAPTURE(frame.view.width, frame.view.height);
+    REQUIRE(frame.reflections);
+    const SsrTraceInputs in{frame.gbuffer.gbuffer, frame.view, frame.hiz};
+    SsrTraceOutputs expected;
+    const SsrTraceStats expectedStats = RunSsrTrace(in, {}, expected, KernelPath::kScalar);
+    if (frame.view.width > 1) CHECK(expectedStats.rays > size_t(frame.view.width));
+    const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+      CAPTURE(target);
+      SsrTraceOutputs actual;
+      const SsrTraceStats stats = RunSsrTrace(in, {}, actual, KernelPath::kSimd);
+      CHECK(test::SameBytes(actual.hitX, expected.hitX));
+      CHECK(test::SameBytes(actual.hitY, expected.hitY));
+      CHECK(test::SameBytes(actual.confidence, expected.confidence));
+      CHECK(stats.rays == expectedStats.rays);
+      CHECK(stats.meanIterations == expectedStats.meanIterations);
+      CHECK(stats.tilesTraced == expectedStats.tilesTraced);
+    });
+    CHECK(targets >= 2);
+  });
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "tests/test_support.h"
+
 namespace ssgi::test {
 
 void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v) {
@@ -38,6 +40,15 @@ DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees) {
   DirectionalLight light;
   light.direction = direction;
   light.angularDiameterDegrees = angularDiameterDegrees;
+  return light;
+}
+
+SpotLight Spot(glm::vec3 position, glm::vec3 direction, float outerConeDegrees, float radius) {
+  SpotLight light;
+  light.position = position;
+  light.direction = glm::normalize(direction);
+  light.outerConeDegrees = outerConeDegrees;
+  light.radius = radius;
   return light;
 }
 
@@ -83,6 +94,43 @@ FrameConfig ConfigOf(const TestScene& scene) {
   config.normalEncoding = scene.normalEncoding;
   config.directLight.background = scene.background;
   return config;
+}
+
+std::vector<ViewProjection> TwinTestViews(int width, int height) {
+  CameraDesc camera;
+  camera.position = {0.3f, 2.0f, 4.0f};
+  camera.target = {0.0f, 0.3f, 0.0f};
+  return {MakePerspective(camera, width, height),
+          MakeOrthographic({0.0f, 4.0f, 3.0f}, glm::normalize(glm::vec3(0.0f, -1.0f, -0.8f)), {0.0f, 1.0f, 0.0f},
+                           3.0f, 2.0f, 0.1f, 20.0f, width, height)};
+}
+
+RandomGBufferRow::RandomGBufferRow(size_t width, std::mt19937& rng) {
+  std::uniform_real_distribution<float> depth(0.05f, 30.0f);
+  for (size_t x = 0; x < width; ++x) {
+    word[0].push_back(uint32_t(rng()));
+    word[1].push_back(uint32_t(rng()));
+    word[2].push_back(PackDepth(rng() % 4 == 0 ? kBackgroundDepth : depth(rng)));
+  }
+}
+
+Frame DefaultScene::Render(int width, int height) const {
+  FrameConfig sized = config;
+  sized.width = width;
+  sized.height = height;
+  return RenderFrame(scene, sized);
+}
+
+void ForEachDefaultSceneFrame(const std::function<void(const Frame&)>& check) {
+  const DefaultScene scene = LoadDefaultScene();
+  for (const auto& [width, height] : {std::pair{1024, 1024}, std::pair{1023, 769}, std::pair{67, 45}, std::pair{1, 1}})
+    check(scene.Render(width, height));
+}
+
+DefaultScene LoadDefaultScene() {
+  SceneFile file = LoadSceneFile(SourceDir() / "data" / "default.json");
+  const FrameConfig config = FrameConfigFromSceneFile(file);
+  return {std::move(file.scene), config};
 }
 
 }  // namespace ssgi::test

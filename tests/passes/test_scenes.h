@@ -1,14 +1,20 @@
 // Small scenes built in code for the pass tests: quads, boxes, a ground plane, sun directions.
 #pragma once
 
+#include <cstring>
+#include <functional>
 #include <optional>
+#include <random>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
 #include "core/mesh.h"
+#include "core/plane.h"
 #include "core/scene.h"
+#include "passes/frame.h"
 #include "passes/frame_config.h"
 
 namespace ssgi::test {
@@ -28,6 +34,9 @@ glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg);
 
 // A directional light travelling along `direction` with the given angular diameter.
 DirectionalLight Sun(glm::vec3 direction, float angularDiameterDegrees);
+
+// A spot light at `position` pointing along `direction` (normalised here), other settings default.
+SpotLight Spot(glm::vec3 position, glm::vec3 direction, float outerConeDegrees, float radius);
 
 // The world-space position of G-buffer pixel (x, y) seen by `camera` (word 2 depth).
 glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, int x, int y);
@@ -52,5 +61,39 @@ TestScene MakeScene(const CameraDesc& camera, int width, int height);
 TestScene Sized(Scene scene, int width, int height);
 // The default frame configuration at the scene's size, encoding and background.
 FrameConfig ConfigOf(const TestScene& scene);
+
+// A perspective and an orthographic view of width x height looking down on the origin: where the SIMD
+// twins' tests place their random G-buffer rows.
+std::vector<ViewProjection> TwinTestViews(int width, int height);
+
+// G-buffer words 0 to 2 of one row of `width` random pixels: any words 0 and 1 (every bit pattern is
+// a valid code), a depth in word 2 or, for about one pixel in four, background.
+struct RandomGBufferRow {
+  std::vector<uint32_t> word[3];
+  RandomGBufferRow(size_t width, std::mt19937& rng);
+};
+
+// data/default.json and its render block: real buffers for tests that compare two ways of running
+// a pass.
+struct DefaultScene {
+  Scene scene;
+  FrameConfig config;
+  // A frame of it at width x height.
+  Frame Render(int width, int height) const;
+};
+DefaultScene LoadDefaultScene();
+
+// Calls check(frame) for data/default.json rendered at its own size, 1024x1024, and at 1023x769,
+// 67x45 and 1x1: frames on which a pass's SIMD kernels must give its scalar kernels' bytes.
+void ForEachDefaultSceneFrame(const std::function<void(const Frame&)>& check);
+
+// Whether two planes of one size hold the same bytes in every pixel (padding aside).
+template <class T>
+bool SameBytes(const Plane<T>& a, const Plane<T>& b) {
+  if (a.xsize() != b.xsize() || a.ysize() != b.ysize()) return false;
+  for (size_t y = 0; y < a.ysize(); ++y)
+    if (std::memcmp(a.ConstRow(y), b.ConstRow(y), a.xsize() * sizeof(T)) != 0) return false;
+  return true;
+}
 
 }  // namespace ssgi::test

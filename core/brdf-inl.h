@@ -1,0 +1,123 @@
+// Highway twins of the BRDF (core/brdf.h) for the passes' SIMD kernels: the same operations in the
+// same order, so every target gives the scalar bits (DESIGN.md §11; tests/core/brdf_simd_test.cpp).
+// Lanes are shaded points.
+//
+// A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after
+// hwy/highway.h, once per target through hwy/foreach_target.h, outside any namespace.
+#if defined(SSGI_CORE_BRDF_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef SSGI_CORE_BRDF_INL_H_
+#undef SSGI_CORE_BRDF_INL_H_
+#else
+#define SSGI_CORE_BRDF_INL_H_
+#endif
+
+#include "core/brdf.h"
+#include "core/math-inl.h"
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+template <class D>
+struct SurfaceMaterialV {
+  Vec3V<D> albedo;
+  hn::Vec<D> metallic;
+  hn::Vec<D> roughness;
+};
+
+template <class D>
+hn::Vec<D> GgxDistributionV(D d, hn::Vec<D> nDotH, hn::Vec<D> alpha) {
+  const auto one = hn::Set(d, 1.0f);
+  const auto a2 = hn::Mul(alpha, alpha);
+  const auto f = hn::Add(hn::Mul(hn::Mul(nDotH, nDotH), hn::Sub(a2, one)), one);
+  return hn::Div(a2, hn::Mul(hn::Mul(hn::Set(d, kPi), f), f));
+}
+
+template <class D>
+hn::Vec<D> SmithGgxCorrelatedVisibilityV(D d, hn::Vec<D> nDotV, hn::Vec<D> nDotL, hn::Vec<D> alpha) {
+  const auto a2 = hn::Mul(alpha, alpha);
+  const auto oneMinusA2 = hn::Sub(hn::Set(d, 1.0f), a2);
+  const auto ggxV = hn::Mul(nDotL, hn::Sqrt(hn::Add(hn::Mul(hn::Mul(nDotV, nDotV), oneMinusA2), a2)));
+  const auto ggxL = hn::Mul(nDotV, hn::Sqrt(hn::Add(hn::Mul(hn::Mul(nDotL, nDotL), oneMinusA2), a2)));
+  return hn::Div(hn::Set(d, 0.5f), hn::Add(ggxV, ggxL));
+}
+
+template <class D>
+Vec3V<D> SchlickFresnelV(D d, hn::Vec<D> vDotH, const Vec3V<D>& f0) {
+  const auto one = hn::Set(d, 1.0f);
+  const auto m = hn::Sub(one, vDotH);
+  const auto m2 = hn::Mul(m, m);
+  return Add3(f0, Scale3(Sub3(Set3(d, glm::vec3(1.0f)), f0), hn::Mul(hn::Mul(m2, m2), m)));
+}
+
+template <class D>
+Vec3V<D> SpecularF0V(D d, const SurfaceMaterialV<D>& m) {
+  return Mix3(d, Set3(d, glm::vec3(0.04f)), m.albedo, m.metallic);
+}
+
+// BrdfCosine(m, alpha, n, v, l).
+template <class D>
+Vec3V<D> BrdfCosineV(D d, const SurfaceMaterialV<D>& m, hn::Vec<D> alpha, const Vec3V<D>& n, const Vec3V<D>& v,
+                     const Vec3V<D>& l) {
+  const auto zero = hn::Zero(d);
+  const auto one = hn::Set(d, 1.0f);
+  const auto nDotL = Dot3(n, l);
+  const auto nDotV = Dot3(n, v);
+  const auto lit = hn::And(hn::Gt(nDotL, zero), hn::Gt(nDotV, zero));
+  Vec3V<D> h = Add3(v, l);
+  const auto hLength = Length3(h);
+  h = IfThenElse3(hn::Gt(hLength, zero), Div3(h, hLength), n);
+  const auto nDotH = ClampStd(Dot3(n, h), zero, one);
+  const auto vDotH = ClampStd(Dot3(v, h), zero, one);
+  alpha = MaxStd(alpha, hn::Set(d, kMinGgxAlpha));
+  const Vec3V<D> specular =
+      Scale3(SchlickFresnelV(d, vDotH, SpecularF0V(d, m)),
+             hn::Mul(GgxDistributionV(d, nDotH, alpha), SmithGgxCorrelatedVisibilityV(d, nDotV, nDotL, alpha)));
+  const Vec3V<D> diffuse = Scale3(m.albedo, hn::Div(hn::Sub(one, m.metallic), hn::Set(d, kPi)));
+  const Vec3V<D> cosine = Scale3(Add3(diffuse, specular), nDotL);
+  return {hn::IfThenElseZero(lit, cosine.x), hn::IfThenElseZero(lit, cosine.y), hn::IfThenElseZero(lit, cosine.z)};
+}
+
+// SpecularWeight(f0, nDotV, roughness), bilinear in `dfgTable` (DfgTableForKernels(), core/brdf.h):
+// the table SpecularWeight reads, its (A, B) pairs as interleaved floats.
+template <class D>
+Vec3V<D> SpecularWeightV(D d, const Vec3V<D>& f0, hn::Vec<D> nDotV, hn::Vec<D> roughness, const float* dfgTable) {
+  const hn::RebindToSigned<D> di;
+  const auto zero = hn::Zero(d);
+  const auto one = hn::Set(d, 1.0f);
+  const auto last = hn::Set(d, float(kDfgSize - 1));
+  const auto u = hn::Mul(ClampStd(nDotV, zero, one), last);
+  const auto v = hn::Mul(ClampStd(roughness, zero, one), last);
+  const auto lastCell = hn::Set(di, kDfgSize - 2);
+  const auto i0 = hn::Min(hn::ConvertTo(di, u), lastCell);
+  const auto j0 = hn::Min(hn::ConvertTo(di, v), lastCell);
+  const auto fu = hn::Sub(u, hn::ConvertTo(d, i0));
+  const auto fv = hn::Sub(v, hn::ConvertTo(d, j0));
+  // Entry (i, j) is the (A, B) pair at floats 2 (j kDfgSize + i) and the one after.
+  struct AbV {
+    hn::Vec<D> a, b;
+  };
+  const auto oneIndex = hn::Set(di, 1);
+  const auto at = [&](hn::Vec<decltype(di)> index) -> AbV {
+    return {hn::GatherIndex(d, dfgTable, index), hn::GatherIndex(d, dfgTable, hn::Add(index, oneIndex))};
+  };
+  const auto lerp = [](const AbV& p, const AbV& q, hn::Vec<D> t) -> AbV {
+    return {hn::Add(p.a, hn::Mul(hn::Sub(q.a, p.a), t)), hn::Add(p.b, hn::Mul(hn::Sub(q.b, p.b), t))};
+  };
+  const auto i00 = hn::ShiftLeft<1>(hn::Add(hn::Mul(j0, hn::Set(di, kDfgSize)), i0));
+  const auto i10 = hn::Add(i00, hn::Set(di, 2));
+  const auto i01 = hn::Add(i00, hn::Set(di, 2 * kDfgSize));
+  const auto i11 = hn::Add(i01, hn::Set(di, 2));
+  const AbV top = lerp(at(i00), at(i10), fu);
+  const AbV bottom = lerp(at(i01), at(i11), fu);
+  const AbV ab = lerp(top, bottom, fv);
+  return Add3(Scale3(f0, ab.a), {ab.b, ab.b, ab.b});
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#endif  // SSGI_CORE_BRDF_INL_H_

@@ -1,0 +1,119 @@
+// Highway twins of the std:: and glm operations the scalar kernels are written with (DESIGN.md §11):
+// the same operations in the same order, so every target gives the scalar bits. glm 0.9.9 without
+// GLM_FORCE_INTRINSICS computes component by component: dot(a, b) = (a.x b.x + a.y b.y) + a.z b.z,
+// length(v) = sqrt(dot(v, v)), normalize(v) = v * (1 / sqrt(dot(v, v))), mix(x, y, a) =
+// x (1 - a) + y a. std::min, std::max and std::clamp are comparisons and selects, whose results for
+// NaN and signed zeros hn::Min and hn::Max do not reproduce. Lanes are pixels.
+//
+// A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after
+// hwy/highway.h, once per target through hwy/foreach_target.h, outside any namespace.
+#if defined(SSGI_CORE_MATH_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef SSGI_CORE_MATH_INL_H_
+#undef SSGI_CORE_MATH_INL_H_
+#else
+#define SSGI_CORE_MATH_INL_H_
+#endif
+
+#include <glm/glm.hpp>
+
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// A glm::vec3 per pixel: a vector per component.
+template <class D>
+struct Vec3V {
+  hn::Vec<D> x, y, z;
+};
+
+// The same vec3 in every lane.
+template <class D>
+Vec3V<D> Set3(D d, const glm::vec3& v) {
+  return {hn::Set(d, v.x), hn::Set(d, v.y), hn::Set(d, v.z)};
+}
+
+// std::min(a, b) = b < a ? b : a.
+template <class V>
+V MinStd(V a, V b) {
+  return hn::IfThenElse(hn::Lt(b, a), b, a);
+}
+
+// std::max(a, b) = a < b ? b : a.
+template <class V>
+V MaxStd(V a, V b) {
+  return hn::IfThenElse(hn::Lt(a, b), b, a);
+}
+
+// std::clamp(v, lo, hi) = v < lo ? lo : (hi < v ? hi : v).
+template <class V>
+V ClampStd(V v, V lo, V hi) {
+  return hn::IfThenElse(hn::Lt(v, lo), lo, hn::IfThenElse(hn::Lt(hi, v), hi, v));
+}
+
+template <class D>
+Vec3V<D> Add3(const Vec3V<D>& a, const Vec3V<D>& b) {
+  return {hn::Add(a.x, b.x), hn::Add(a.y, b.y), hn::Add(a.z, b.z)};
+}
+
+template <class D>
+Vec3V<D> Sub3(const Vec3V<D>& a, const Vec3V<D>& b) {
+  return {hn::Sub(a.x, b.x), hn::Sub(a.y, b.y), hn::Sub(a.z, b.z)};
+}
+
+// Component by component, as glm's vec3 * vec3.
+template <class D>
+Vec3V<D> Mul3(const Vec3V<D>& a, const Vec3V<D>& b) {
+  return {hn::Mul(a.x, b.x), hn::Mul(a.y, b.y), hn::Mul(a.z, b.z)};
+}
+
+// glm's vec3 * float.
+template <class D>
+Vec3V<D> Scale3(const Vec3V<D>& v, hn::Vec<D> s) {
+  return {hn::Mul(v.x, s), hn::Mul(v.y, s), hn::Mul(v.z, s)};
+}
+
+// glm's vec3 / float: three divisions.
+template <class D>
+Vec3V<D> Div3(const Vec3V<D>& v, hn::Vec<D> s) {
+  return {hn::Div(v.x, s), hn::Div(v.y, s), hn::Div(v.z, s)};
+}
+
+template <class D>
+Vec3V<D> Neg3(const Vec3V<D>& v) {
+  return {hn::Neg(v.x), hn::Neg(v.y), hn::Neg(v.z)};
+}
+
+template <class D, class M>
+Vec3V<D> IfThenElse3(M mask, const Vec3V<D>& yes, const Vec3V<D>& no) {
+  return {hn::IfThenElse(mask, yes.x, no.x), hn::IfThenElse(mask, yes.y, no.y), hn::IfThenElse(mask, yes.z, no.z)};
+}
+
+template <class D>
+hn::Vec<D> Dot3(const Vec3V<D>& a, const Vec3V<D>& b) {
+  return hn::Add(hn::Add(hn::Mul(a.x, b.x), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+
+template <class D>
+hn::Vec<D> Length3(const Vec3V<D>& v) {
+  return hn::Sqrt(Dot3(v, v));
+}
+
+template <class D>
+Vec3V<D> Normalize3(D d, const Vec3V<D>& v) {
+  return Scale3(v, hn::Div(hn::Set(d, 1.0f), Length3(v)));
+}
+
+// glm::mix(x, y, a) with a scalar a per pixel.
+template <class D>
+Vec3V<D> Mix3(D d, const Vec3V<D>& x, const Vec3V<D>& y, hn::Vec<D> a) {
+  return Add3(Scale3(x, hn::Sub(hn::Set(d, 1.0f), a)), Scale3(y, a));
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#endif  // SSGI_CORE_MATH_INL_H_

@@ -1,0 +1,98 @@
+// The Highway twin of CompositeRowScalar (composite.cpp): the same operations in the same order
+// through the core twins (core/*-inl.h), so every target gives the scalar bits
+// (tests/passes/composite_test.cpp checks each compiled target). Lanes are pixels of the row; a
+// vector without a confident hit on geometry reads neither its material nor its reflection.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "passes/composite_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+#include "core/brdf-inl.h"
+#include "core/camera-inl.h"
+#include "core/color.h"
+#include "core/gbuffer-inl.h"
+#include "core/row-inl.h"
+#include "passes/composite.h"
+
+#ifndef SSGI_PASSES_COMPOSITE_SIMD_ONCE
+#define SSGI_PASSES_COMPOSITE_SIMD_ONCE
+namespace ssgi {
+
+// What the kernel reads of CompositeContext, and the tables it gathers from: plain data for the
+// dispatch boundary.
+struct CompositeConstants {
+  const ViewProjection* view;
+  NormalEncoding normalEncoding;
+  float roughnessCutoff;
+  const float* srgbDecodeTable;
+  const float* dfgTable;
+};
+
+}  // namespace ssgi
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::ScalableTag<float>;
+using DU = hn::RebindToUnsigned<DF>;
+
+// CompositeRowScalar's body for pixels x, x + 1, ... of row y (a row of `count` pixels).
+void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_t x, size_t count, float py,
+                     hn::Vec<DF> px) {
+  const DF d;
+  const DU du;
+  const auto zero = hn::Zero(d);
+  const auto one = hn::Set(d, 1.0f);
+  const auto confidence = LoadRow(d, row.confidence, x, count, 0.0f);
+  const auto depth = UnpackDepthV(d, LoadRow(du, row.word2, x, count, PackDepth(kBackgroundDepth)));
+  const auto reflecting = hn::And(hn::Gt(confidence, zero), hn::Ne(depth, hn::Set(d, kBackgroundDepth)));
+  Vec3V<DF> indirect{zero, zero, zero};
+  if (!hn::AllFalse(d, reflecting)) {
+    const auto word0 = LoadRow(du, row.word0, x, count, 0u);
+    const auto word1 = LoadRow(du, row.word1, x, count, 0u);
+    const SurfaceMaterialV<DF> material{UnpackAlbedoV(d, word0, c.srgbDecodeTable), UnpackMetallicV(d, word0),
+                                        UnpackRoughnessV(d, word1)};
+    const Vec3V<DF> normal = UnpackNormalV(d, word1, c.normalEncoding);
+    const Vec3V<DF> toViewer = Normalize3(d, Neg3(PixelRayV(d, *c.view, px, py).direction));
+    const auto nDotV = ClampStd(Dot3(normal, toViewer), zero, one);
+    const auto fade = ClampStd(
+        hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)), zero,
+        one);
+    const Vec3V<DF> weight = Scale3(SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable),
+                                    hn::Mul(confidence, fade));
+    const Vec3V<DF> reflected = Mul3(LoadRow3(d, row.reflected, x, count), weight);
+    indirect = IfThenElse3(reflecting, reflected, indirect);
+  }
+  StoreRow3(indirect, d, row.indirect, x, count);
+  StoreRow3(Add3(LoadRow3(d, row.direct, x, count), indirect), d, row.result, x, count);
+}
+
+void CompositeRowKernel(const CompositeConstants& c, const CompositeRow& row, size_t y, int width) {
+  const DF d;
+  const auto lane = hn::Iota(d, 0.0f);
+  for (size_t x = 0; x < size_t(width); x += hn::Lanes(d)) {
+    const auto px = hn::Add(hn::Add(lane, hn::Set(d, float(x))), hn::Set(d, 0.5f));
+    CompositePixels(c, row, x, size_t(width), float(y) + 0.5f, px);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace ssgi {
+
+HWY_EXPORT(CompositeRowKernel);
+
+void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int width) {
+  const CompositeConstants constants{&context.view, context.normalEncoding, context.roughnessCutoff,
+                                     SrgbDecodeTableForKernels(), DfgTableForKernels()};
+  HWY_DYNAMIC_DISPATCH(CompositeRowKernel)(constants, row, y, width);
+}
+
+}  // namespace ssgi
+#endif

@@ -1,0 +1,404 @@
+// The Highway twin of SsrTraceRowScalar (ssr_trace.cpp): lanes are neighbouring pixels of a row,
+// each lane one ray, and the lanes march through the Hi-Z together. A lane stops where MarchHiZ
+// returns and keeps its state while the others go on: neighbouring rays are coherent, so the lanes
+// mostly finish within a few steps of each other. The same operations in the same order as the
+// scalar tracer and MarchHiZ, no fused multiply-add, no approximate division, std::min / std::clamp
+// semantics, so every target gives the scalar bytes (tests/passes/ssr_trace_test.cpp).
+#ifndef SSGI_PASSES_SSR_TRACE_SIMD_FRAME_
+#define SSGI_PASSES_SSR_TRACE_SIMD_FRAME_
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "core/camera.h"
+#include "core/render_modes.h"
+
+namespace ssgi {
+
+// What the row kernel reads of SsrTraceInputs, flattened so that only plain values and pointers
+// cross the dispatch boundary.
+inline constexpr int kMaxHiZLevels = 15;  // a 16384-pixel side: levels 0 .. 14
+struct SsrTraceFrame {
+  int width, height;
+  const uint32_t* word1;  // G-buffer words 1 and 2 at pixel (0, 0), rows gbufferStride apart
+  const uint32_t* word2;
+  int32_t gbufferStride;
+  NormalEncoding encoding;
+  const ViewProjection* view;  // the perspective camera
+  int levels;                  // Hi-Z levels; level k is max(1, width >> k) x max(1, height >> k)
+  const float* hiz[kMaxHiZLevels];
+  int32_t hizStride[kMaxHiZLevels];
+};
+
+}  // namespace ssgi
+#endif  // SSGI_PASSES_SSR_TRACE_SIMD_FRAME_
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "passes/ssr_trace_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/cache_control.h"
+#include "hwy/highway.h"
+
+#include "core/camera-inl.h"
+#include "core/gbuffer-inl.h"
+#include "core/math-inl.h"
+#include "core/row-inl.h"
+#include "passes/ssr_trace.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+
+VF SafeReciprocalV(VF v) {
+  const DF df;
+  return hn::IfThenElse(hn::Lt(hn::Abs(v), hn::Set(df, kHiZTinyComponent)), hn::Set(df, kHiZNever),
+                        hn::Div(hn::Set(df, 1.0f), v));
+}
+
+MF InsideImageV(VF x, VF y, float width, float height) {
+  const DF df;
+  const VF zero = hn::Zero(df);
+  return hn::And(hn::And(hn::Ge(x, zero), hn::Lt(x, hn::Set(df, width))),
+                 hn::And(hn::Ge(y, zero), hn::Lt(y, hn::Set(df, height))));
+}
+
+// MarchHiZ's state for a vector of rays.
+struct MarchLanes {
+  MF live;  // still marching
+  MF hit;
+  VF posX, posY, posZ;  // HiZMarch::position
+  VF t;
+  VI level;
+  VF dirX, dirY, dirZ, invX, invY, invZ;
+  MF positiveX, positiveY;
+  VF nudgeX, nudgeY;  // the boundary nudge, signed along the direction
+  VF tEnd;
+};
+
+// MarchHiZ's set-up for the lanes of `live`, whose origins are pixel centres: already strictly
+// inside their level-0 cells, where MarchHiZ's snap leaves them.
+HWY_INLINE MarchLanes StartMarch(const SsrTraceFrame& frame, MF live, VF originX, VF originY, VF originZ,
+                                  const Vec3V<DF>& end) {
+  const DF df;
+  const DI di;
+  MarchLanes m;
+  m.live = hn::And(live, hn::And(hn::IsFinite(originZ),
+                                 hn::And(hn::IsFinite(end.x), hn::And(hn::IsFinite(end.y), hn::IsFinite(end.z)))));
+  m.hit = hn::FirstN(df, 0);
+  // Lanes that do not march start at 0 and never move, so no NaN or out-of-range value reaches a
+  // float -> int conversion or a gather index.
+  m.posX = hn::IfThenElseZero(m.live, originX);
+  m.posY = hn::IfThenElseZero(m.live, originY);
+  m.posZ = hn::IfThenElseZero(m.live, originZ);
+  m.t = hn::Zero(df);
+  m.level = hn::Zero(di);
+  m.dirX = hn::Sub(hn::IfThenElseZero(m.live, end.x), m.posX);
+  m.dirY = hn::Sub(hn::IfThenElseZero(m.live, end.y), m.posY);
+  m.dirZ = hn::Sub(hn::IfThenElseZero(m.live, end.z), m.posZ);
+  m.invX = SafeReciprocalV(m.dirX);
+  m.invY = SafeReciprocalV(m.dirY);
+  m.invZ = SafeReciprocalV(m.dirZ);
+  const VF minusTiny = hn::Set(df, -kHiZTinyComponent);
+  m.positiveX = hn::Not(hn::Le(m.dirX, minusTiny));
+  m.positiveY = hn::Not(hn::Le(m.dirY, minusTiny));
+  const VF nudge = hn::Set(df, kHiZBoundaryNudge);
+  const VF minusNudge = hn::Set(df, -kHiZBoundaryNudge);
+  m.nudgeX = hn::IfThenElse(m.positiveX, nudge, minusNudge);
+  m.nudgeY = hn::IfThenElse(m.positiveY, nudge, minusNudge);
+  const VF borderX = hn::IfThenElseZero(m.positiveX, hn::Set(df, float(frame.width)));
+  const VF borderY = hn::IfThenElseZero(m.positiveY, hn::Set(df, float(frame.height)));
+  const VF exitX = hn::Mul(hn::Sub(borderX, m.posX), m.invX);
+  const VF exitY = hn::Mul(hn::Sub(borderY, m.posY), m.invY);
+  m.tEnd = MinStd(MinStd(hn::Set(df, 1.0f), exitX), exitY);
+  return m;
+}
+
+// int(v) for v in [0, 2^23): floor(v) + 2^23 holds that integer in its mantissa bits. hn::ConvertTo
+// gives the same integers but pays for fixing up out-of-range inputs on every call.
+HWY_INLINE VI TruncateSmall(VF v) {
+  const DF df;
+  const DI di;
+  constexpr float kTwoTo23 = 8388608.0f;
+  return hn::Sub(hn::BitCast(di, hn::Add(hn::Floor(v), hn::Set(df, kTwoTo23))), hn::BitCast(di, hn::Set(df, kTwoTo23)));
+}
+
+// The Hi-Z texel (cellX, cellY) of each live lane's level, 0 in the other lanes. Each level is a
+// plane of its own and a gather reads from one base: when the live lanes share their level (most
+// steps: neighbouring rays march alike), one GatherIndex; else a load per lane.
+HWY_INLINE VF ClosestInverseDepth(const SsrTraceFrame& frame, const MarchLanes& m, VI cellX, VI cellY) {
+  const DF df;
+  const DI di;
+  const auto live = hn::RebindMask(di, m.live);
+  const VI level = hn::IfThenElseZero(live, m.level);
+  HWY_ALIGN int32_t laneLevel[hn::MaxLanes(DI())];
+  hn::Store(level, di, laneLevel);
+  const int32_t first = laneLevel[hn::FindFirstTrue(di, live)];
+  if (hn::AllTrue(di, hn::Or(hn::Not(live), hn::Eq(level, hn::Set(di, first))))) {
+    const VI index = hn::Add(hn::Mul(cellY, hn::Set(di, frame.hizStride[first])), cellX);
+    return hn::GatherIndex(df, frame.hiz[first], hn::IfThenElseZero(live, index));
+  }
+  // Lanes out of `live` read texel (0, 0) of level 0.
+  HWY_ALIGN int32_t laneIndex[hn::MaxLanes(DI())];
+  hn::Store(hn::IfThenElseZero(live, hn::Add(hn::Mul(cellY, hn::GatherIndex(di, frame.hizStride, level)), cellX)), di,
+            laneIndex);
+  HWY_ALIGN float closest[hn::MaxLanes(DF())];
+  for (size_t i = 0; i < hn::Lanes(df); ++i) closest[i] = frame.hiz[laneLevel[i]][laneIndex[i]];
+  return hn::Load(df, closest);
+}
+
+// Step `step` (1-based) of MarchHiZ's loop for the live lanes of m: a lane stops where MarchHiZ
+// returns. Adds the lanes that stepped to `iterations`.
+HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& params, int step, MarchLanes& m,
+                          uint64_t& iterations) {
+  const DF df;
+  const DI di;
+  const VF zero = hn::Zero(df);
+  const VI one = hn::Set(di, 1);
+  const VI imageWidth = hn::Set(di, frame.width);
+  const VI imageHeight = hn::Set(di, frame.height);
+  const VF never = hn::Set(df, kHiZNever);
+  iterations += hn::CountTrue(df, m.live);
+  // CellIndex. Positions are never NaN (StartMarch), so hn::Min / hn::Max clamp as std::clamp does;
+  // level k has max(1, size >> k) cells (PyramidHalvedSize).
+  const VF maxCoordinate = hn::Set(df, kHiZMaxCoordinate);
+  const VI sizeX = hn::Max(imageWidth >> m.level, one);
+  const VI sizeY = hn::Max(imageHeight >> m.level, one);
+  const VI pixelX = TruncateSmall(hn::Min(hn::Max(m.posX, zero), maxCoordinate));
+  const VI pixelY = TruncateSmall(hn::Min(hn::Max(m.posY, zero), maxCoordinate));
+  const VI cellX = hn::Min(pixelX >> m.level, hn::Sub(sizeX, one));
+  const VI cellY = hn::Min(pixelY >> m.level, hn::Sub(sizeY, one));
+  // The first step only leaves the origin's cell: its depth is not needed.
+  VF tDepth = never;
+  if (step > 1) {
+    const VF closest = ClosestInverseDepth(frame, m, cellX, cellY);
+    tDepth = hn::IfThenElse(hn::Le(m.posZ, closest), zero,
+                            hn::IfThenElse(hn::Le(m.dirZ, hn::Set(df, -kHiZTinyComponent)),
+                                           hn::Mul(hn::Sub(closest, m.posZ), m.invZ), never));
+  }
+  const VI nextX = hn::Add(cellX, one);
+  const VI nextY = hn::Add(cellY, one);
+  const auto positiveXi = hn::RebindMask(di, m.positiveX);
+  const auto positiveYi = hn::RebindMask(di, m.positiveY);
+  // CellBoundary: the last cell's upper boundary is the image border.
+  const VI upperX = hn::IfThenElse(hn::Eq(nextX, sizeX), imageWidth, nextX << m.level);
+  const VI upperY = hn::IfThenElse(hn::Eq(nextY, sizeY), imageHeight, nextY << m.level);
+  const VF boundaryX = hn::ConvertTo(df, hn::IfThenElse(positiveXi, upperX, cellX << m.level));
+  const VF boundaryY = hn::ConvertTo(df, hn::IfThenElse(positiveYi, upperY, cellY << m.level));
+  const VF tX = hn::Mul(hn::Sub(boundaryX, m.posX), m.invX);
+  const VF tY = hn::Mul(hn::Sub(boundaryY, m.posY), m.invY);
+  const VF tCell = MinStd(tX, tY);
+
+  const MF depthStep = hn::Lt(tDepth, tCell);
+  const VF tStep = hn::IfThenElse(depthStep, tDepth, tCell);
+  const VF tNext = hn::Add(m.t, tStep);
+  // A depth step past the segment's end and a cell step reaching it end the march where it is.
+  const MF ends =
+      hn::Or(hn::And(depthStep, hn::Gt(tNext, m.tEnd)), hn::AndNot(depthStep, hn::Ge(tNext, m.tEnd)));
+  const MF moving = hn::AndNot(ends, m.live);
+  const MF depthMove = hn::And(depthStep, moving);
+  const MF cellMove = hn::AndNot(depthStep, moving);
+  const MF xWins = hn::Le(tX, tY);
+  VF x = hn::Add(m.posX, hn::Mul(m.dirX, tStep));
+  VF y = hn::Add(m.posY, hn::Mul(m.dirY, tStep));
+  x = hn::IfThenElse(hn::And(cellMove, xWins), hn::Add(boundaryX, m.nudgeX), x);
+  y = hn::IfThenElse(hn::AndNot(xWins, cellMove), hn::Add(boundaryY, m.nudgeY), y);
+  m.posX = hn::IfThenElse(moving, x, m.posX);
+  m.posY = hn::IfThenElse(moving, y, m.posY);
+  m.posZ = hn::IfThenElse(moving, hn::Add(m.posZ, hn::Mul(m.dirZ, tStep)), m.posZ);
+  m.t = hn::IfThenElse(moving, tNext, m.t);
+
+  const MF hitNow = hn::And(depthMove, hn::RebindMask(df, hn::Eq(m.level, hn::Zero(di))));
+  m.hit = hn::Or(m.hit, hitNow);
+  const MF leaves = hn::AndNot(InsideImageV(m.posX, m.posY, float(frame.width), float(frame.height)), cellMove);
+  m.live = hn::AndNot(hn::Or(hitNow, leaves), moving);
+  const VI topLevel = hn::Set(di, frame.levels - 1);
+  const VI coarser = step == 1 ? hn::Set(di, std::min(params.startLevel, frame.levels - 1))
+                               : hn::Min(hn::Add(m.level, one), topLevel);
+  m.level = hn::IfThenElse(hn::RebindMask(di, depthMove), hn::Sub(m.level, one),
+                           hn::IfThenElse(hn::RebindMask(di, cellMove), coarser, m.level));
+}
+
+// EdgeFade of the scalar tracer.
+VF EdgeFadeV(VF p, float size, float edgeFade) {
+  const DF df;
+  if (!(edgeFade > 0.0f)) return hn::Set(df, 1.0f);
+  const VF fade = hn::Div(MinStd(p, hn::Sub(hn::Set(df, size), p)), hn::Set(df, edgeFade * size));
+  return ClampStd(fade, hn::Zero(df), hn::Set(df, 1.0f));
+}
+
+// PixelTracer::Trace's rays for a vector of pixels, up to the march.
+struct RayLanes {
+  MF traced;
+  VF originX, originZ;  // the origin's y is the row's
+  Vec3V<DF> end;        // (x, y, 1/d)
+  Vec3V<DF> r;          // the view-space reflected direction
+  VF towardCamera;
+};
+
+// The rays of the pixels at image positions px of row y, whose G-buffer words 1 and 2 are word1 and
+// d: `candidates` are the lanes with geometry below the roughness cut-off. Other lanes compute along,
+// unused.
+RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, VF px, float py, hn::Vec<DU> word1,
+                   VF d, MF candidates) {
+  const DF df;
+  const VF zero = hn::Zero(df);
+  const VF one = hn::Set(df, 1.0f);
+  const ViewProjection& view = *frame.view;
+  RayLanes rays;
+  rays.originX = px;
+  const Vec3V<DF> p = Scale3(PixelRayV(df, view, px, py).direction, d);
+  const Vec3V<DF> v = Div3(p, Length3(p));
+  const Vec3V<DF> n = UnpackNormalV(df, word1, frame.encoding);
+  rays.r = Sub3(v, Scale3(n, hn::Mul(hn::Set(df, 2.0f), Dot3(v, n))));
+  const VF fadeToCamera = hn::Sub(one, hn::Div(rays.r.z, hn::Set(df, params.towardCameraFade)));
+  rays.towardCamera = hn::IfThenElse(hn::Le(rays.r.z, zero), one, fadeToCamera);
+  // Near-plane clip before projecting.
+  VF length = hn::Mul(hn::Set(df, kSsrMaxRayLengthInDepths), d);
+  length = hn::IfThenElse(hn::Gt(rays.r.z, zero),
+                          MinStd(length, hn::Div(hn::Sub(d, hn::Set(df, view.nearPlane)), rays.r.z)), length);
+  const Vec3V<DF> q = Add3(p, Scale3(rays.r, length));
+  const VF depth = hn::Neg(q.z);
+  rays.traced = hn::And(candidates, hn::Gt(rays.towardCamera, zero));
+  rays.traced = hn::And(rays.traced, hn::And(hn::Gt(length, zero), hn::Gt(depth, zero)));
+
+  // Project.
+  const VF half = hn::Set(df, 0.5f);
+  const VF ndcX = hn::Div(q.x, hn::Mul(depth, hn::Set(df, view.halfX)));
+  const VF ndcY = hn::Div(q.y, hn::Mul(depth, hn::Set(df, view.halfY)));
+  rays.end.x = hn::Mul(hn::Add(hn::Mul(ndcX, half), half), hn::Set(df, float(frame.width)));
+  rays.end.y = hn::Mul(hn::Sub(half, hn::Mul(ndcY, half)), hn::Set(df, float(frame.height)));
+  rays.end.z = hn::Div(one, depth);
+  rays.originZ = hn::Div(one, d);
+  return rays;
+}
+
+// Stores "no hit" at x0, x0 + 1, ... of a row segment ending at xEnd.
+void StoreNoHits(size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence) {
+  const DF df;
+  StoreRow(hn::Set(df, -1.0f), df, hitX, x0, xEnd);
+  StoreRow(hn::Set(df, -1.0f), df, hitY, x0, xEnd);
+  StoreRow(hn::Zero(df), df, confidence, x0, xEnd);
+}
+
+// The rest of PixelTracer::Trace after the march: the surface at the hit must be in front of the
+// background and face the ray; the confidence fades. Stores at x0, x0 + 1, ... of a row segment
+// ending at xEnd.
+void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const RayLanes& rays, const MarchLanes& m,
+                size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const VF zero = hn::Zero(df);
+  const VF one = hn::Set(df, 1.0f);
+  const VF none = hn::Set(df, -1.0f);
+  MF found = hn::And(m.hit, hn::And(InsideImageV(m.posX, m.posY, float(frame.width), float(frame.height)),
+                                    hn::Gt(m.posZ, zero)));
+  if (hn::AllFalse(df, found)) return StoreNoHits(x0, xEnd, hitX, hitY, confidence);
+  const auto foundI = hn::RebindMask(di, found);
+  const VI hx = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posX)), hn::Set(di, frame.width - 1));
+  const VI hy = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posY)), hn::Set(di, frame.height - 1));
+  const VI index = hn::IfThenElseZero(foundI, hn::Add(hn::Mul(hy, hn::Set(di, frame.gbufferStride)), hx));
+  const VF hitDepth = UnpackDepthV(df, hn::GatherIndex(du, frame.word2, index));
+  found = hn::And(found, hn::Lt(hitDepth, hn::Set(df, kBackgroundDepth)));
+  const Vec3V<DF> hitNormal = UnpackNormalV(df, hn::GatherIndex(du, frame.word1, index), frame.encoding);
+  found = hn::AndNot(hn::Ge(Dot3(hitNormal, rays.r), zero), found);
+
+  const VF excess = hn::Sub(hn::Div(hn::Div(one, m.posZ), hitDepth), one);
+  const VF thickness = ClampStd(hn::Sub(hn::Set(df, 2.0f), hn::Div(excess, hn::Set(df, params.thickness))), zero, one);
+  const VF fadeX = EdgeFadeV(m.posX, float(frame.width), params.edgeFade);
+  const VF fadeY = EdgeFadeV(m.posY, float(frame.height), params.edgeFade);
+  const VF fade = hn::Mul(hn::Mul(hn::Mul(thickness, rays.towardCamera), fadeX), fadeY);
+  found = hn::And(found, hn::Gt(fade, zero));
+  StoreRow(hn::IfThenElse(found, m.posX, none), df, hitX, x0, xEnd);
+  StoreRow(hn::IfThenElse(found, m.posY, none), df, hitY, x0, xEnd);
+  StoreRow(hn::IfThenElseZero(found, MinStd(fade, one)), df, confidence, x0, xEnd);
+}
+
+void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int xBegin, int xEnd, float* hitX,
+              float* hitY, float* confidence, SsrTraceCounts& counts) {
+  const DF df;
+  const DU du;
+  const size_t lanes = hn::Lanes(df);
+  // The rows of a tile are pages apart, a stride the hardware prefetchers do not follow: fetch the
+  // outputs this row writes after the march, and the words the next row reads.
+  constexpr int kLineFloats = 64 / sizeof(float);
+  const size_t next = size_t(y + 1) * size_t(frame.gbufferStride);
+  for (int x = xBegin; x < xEnd; x += kLineFloats) {
+    hwy::Prefetch(hitX + x);
+    hwy::Prefetch(hitY + x);
+    hwy::Prefetch(confidence + x);
+    if (y + 1 < frame.height) {
+      hwy::Prefetch(frame.word1 + next + size_t(x));
+      hwy::Prefetch(frame.word2 + next + size_t(x));
+    }
+  }
+  const float py = float(y) + 0.5f;
+  const uint32_t* word1Row = frame.word1 + size_t(y) * size_t(frame.gbufferStride);
+  const uint32_t* word2Row = frame.word2 + size_t(y) * size_t(frame.gbufferStride);
+  const size_t end = size_t(xEnd);
+  for (size_t x0 = size_t(xBegin); x0 < end; x0 += lanes) {
+    const auto word1 = LoadRow(du, word1Row, x0, end, 0u);
+    const VF d = UnpackDepthV(df, LoadRow(du, word2Row, x0, end, PackDepth(kBackgroundDepth)));
+    // The scalar tracer's first two tests: geometry, and smooth enough.
+    MF candidates = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
+    candidates = hn::And(candidates, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
+    if (hn::AllFalse(df, candidates)) {
+      StoreNoHits(x0, end, hitX, hitY, confidence);
+      continue;
+    }
+    const VF px = hn::Add(hn::Add(hn::Iota(df, 0.0f), hn::Set(df, float(x0))), hn::Set(df, 0.5f));
+    const RayLanes rays = SetUpRays(frame, params, px, py, word1, d, candidates);
+    MarchLanes march = StartMarch(frame, rays.traced, rays.originX, hn::Set(df, py), rays.originZ, rays.end);
+    counts.rays += hn::CountTrue(df, rays.traced);
+    for (int step = 1; step <= params.maxIterations && !hn::AllFalse(df, march.live); ++step) {
+      StepMarch(frame, params, step, march, counts.iterations);
+    }
+    FinishRays(frame, params, rays, march, x0, end, hitX, hitY, confidence);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "core/check.h"
+
+namespace ssgi {
+
+HWY_EXPORT(TraceRow);
+
+void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
+                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts) {
+  const GBuffer& g = in.gbuffer;
+  SsrTraceFrame frame;
+  frame.width = g.width();
+  frame.height = g.height();
+  frame.word1 = g.word[1].ConstRow(0);
+  frame.word2 = g.word[2].ConstRow(0);
+  SSGI_CHECK_EQ(g.word[1].PixelsPerRow(), g.word[2].PixelsPerRow());
+  frame.gbufferStride = int32_t(g.word[1].PixelsPerRow());
+  frame.encoding = g.normalEncoding;
+  frame.view = &in.view;
+  frame.levels = int(in.hiz.levels.size());
+  SSGI_CHECK_LE(frame.levels, kMaxHiZLevels);
+  for (int k = 0; k < frame.levels; ++k) {
+    const Plane<float>& level = in.hiz.levels[size_t(k)];
+    frame.hiz[k] = level.ConstRow(0);
+    SSGI_CHECK_EQ(level.xsize(), size_t(std::max(1, frame.width >> k)));
+    SSGI_CHECK_EQ(level.ysize(), size_t(std::max(1, frame.height >> k)));
+    frame.hizStride[k] = int32_t(level.PixelsPerRow());
+  }
+  HWY_DYNAMIC_DISPATCH(TraceRow)(frame, params, y, xBegin, xEnd, hitX, hitY, confidence, counts);
+}
+
+}  // namespace ssgi
+#endif
