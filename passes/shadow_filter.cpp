@@ -237,7 +237,8 @@ void ClearSlot(const Scratch& s, size_t slot, bool withKernel) {
     std::fill_n(a + slot * kTilePixels, kTilePixels, 0.0f);
   if (!withKernel) return;
   const ShadowFilterKernels& k = s.kernels;
-  for (float* a : {k.majorX, k.majorY, k.majorLength, k.minorLength}) std::fill_n(a + slot * kTilePixels, kTilePixels, 0.0f);
+  for (float* a : {k.majorX, k.majorY, k.majorLength, k.minorLength})
+    std::fill_n(a + slot * kTilePixels, kTilePixels, 0.0f);
 }
 
 ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& params, bool skipTiles,

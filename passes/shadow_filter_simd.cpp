@@ -1,8 +1,9 @@
 // The Highway twins of the shadow filter's row kernels (shadow_filter.cpp). Lanes are pixels; each
 // lane does the scalar definition's operations in the same order: no fused multiply-add, exact
 // division and square root, std::min / std::max as MinStd / MaxStd (core/math-inl.h), the taps'
-// sums in the scalar order, a lane whose kernel has fewer taps masked off where its scalar loop ends. So every target gives the scalar bytes
-// (tests/passes/shadow_filter_test.cpp checks each compiled target).
+// sums in the scalar order, a lane whose kernel has fewer taps masked off where its scalar loop
+// ends. So every target gives the scalar bytes (tests/passes/shadow_filter_test.cpp checks each
+// compiled target).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/shadow_filter_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -143,7 +144,8 @@ void BlurVector(const ShadowFilterImage& image, const float* values, int taps, i
       const VF offset = hn::Mul(hn::Set(d, side), t);
       const VF sx = hn::Floor(hn::Add(centreX, hn::Mul(offset, directionX)));
       const VF sy = hn::Floor(hn::Add(centreY, hn::Mul(offset, directionY)));
-      const MF inside = hn::And(hn::And(hn::Ge(sx, zero), hn::Ge(sy, zero)), hn::And(hn::Lt(sx, width), hn::Lt(sy, height)));
+      const MF inside =
+          hn::And(hn::And(hn::Ge(sx, zero), hn::Ge(sy, zero)), hn::And(hn::Lt(sx, width), hn::Lt(sy, height)));
       const MF taken = hn::And(active, inside);
       if (hn::AllFalse(d, taken)) continue;
       // Lanes not taken read their own centre, which is set up.
@@ -183,8 +185,8 @@ void BlurRow(const ShadowFilterImage& image, const float* values, int taps, int 
 
 }  // namespace
 
-void ShadowPenumbraRow(const ShadowFilterSetupContext& context, const uint32_t* word2, const uint32_t* word3, int x, int y,
-                 int count, float* hard, ShadowFilterTileSummary* tiles) {
+void ShadowPenumbraRow(const ShadowFilterSetupContext& context, const uint32_t* word2, const uint32_t* word3, int x,
+                       int y, int count, float* hard, ShadowFilterTileSummary* tiles) {
   const DF d;
   const DU du;
   const int lanes = int(hn::Lanes(d));

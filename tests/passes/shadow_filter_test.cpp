@@ -423,7 +423,8 @@ struct SetUpImage {
 // from 1 to a few vectors from a few starts.
 std::vector<std::pair<int, int>> Runs(int width) {
   std::vector<std::pair<int, int>> runs{{0, width}};
-  for (int x = 0; x < width; x += kShadowFilterTileSize) runs.push_back({x, std::min(width, x + kShadowFilterTileSize)});
+  for (int x = 0; x < width; x += kShadowFilterTileSize)
+    runs.push_back({x, std::min(width, x + kShadowFilterTileSize)});
   for (int x : {0, 3, 17})
     for (int count = 1; count <= 53 && x + count <= width; ++count) runs.push_back({x, x + count});
   return runs;
@@ -536,7 +537,8 @@ TEST_CASE("shadow filter: the SIMD passes equal their scalar definitions on ever
   }
 }
 
-TEST_CASE("shadow filter: the SIMD kernel path gives the scalar path's bytes on every target", "[shadow_filter][simd]") {
+TEST_CASE("shadow filter: the SIMD kernel path gives the scalar path's bytes on every target",
+          "[shadow_filter][simd]") {
   // The default scene's real buffers, frames at its own size and at odd sizes; with and without
   // tile skipping, as the small images have few penumbrae to blur.
   const test::DefaultScene scene = test::LoadDefaultScene();
