@@ -209,7 +209,8 @@ TilePlan PlanTiles(const std::vector<ShadowFilterTileSummary>& summaries, const 
 // The set-up of the planned tiles, stored by slot, and pass 1's output: a blurred pixel's taps stay
 // near it, so this is a fraction of full-screen planes. Every element is written before it is read:
 // the set-up writes each pixel of its tiles (and zeros where an edge tile leaves the image), pass 1
-// each pixel of the tiles set up.
+// each pixel of the tiles set up, and the margins before and after the arrays (ShadowFilterImage)
+// are zeros.
 struct Scratch {
   std::unique_ptr<float[]> storage;
   ShadowFilterTexels texels;
@@ -219,9 +220,12 @@ struct Scratch {
 
 Scratch MakeScratch(size_t slots, size_t blurredSlots) {
   const size_t texelFloats = slots * kTilePixels, kernelFloats = blurredSlots * kTilePixels;
+  const size_t margin = kShadowFilterTileSize, arrays = 8 * texelFloats + 4 * kernelFloats;
   Scratch s;
-  s.storage = std::make_unique_for_overwrite<float[]>(8 * texelFloats + 4 * kernelFloats);
-  float* next = s.storage.get();
+  s.storage = std::make_unique_for_overwrite<float[]>(margin + arrays + margin);
+  std::fill_n(s.storage.get(), margin, 0.0f);
+  std::fill_n(s.storage.get() + margin + arrays, margin, 0.0f);
+  float* next = s.storage.get() + margin;
   const auto take = [&next](size_t floats) { return std::exchange(next, next + floats); };
   s.texels = {take(texelFloats), take(texelFloats), take(texelFloats), take(texelFloats),
               take(texelFloats), take(texelFloats), take(texelFloats)};

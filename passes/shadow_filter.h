@@ -162,7 +162,9 @@ void ShadowFilterSetupRowScalar(const ShadowFilterSetupContext& context, const u
 
 // What the 1-D passes read: the set-up of the tiles the driver set up, stored tile by tile, each
 // tile's kShadowFilterTileSize^2 pixels row-major in one slot (Index). Kernels are stored for the
-// first slots only: the tiles the passes blur.
+// first slots only: the tiles the passes blur. The texel arrays and the passes' `values` must be
+// readable kShadowFilterTileSize floats before their first element and after their last: the
+// twins load a run of a tile's row that may reach past it (and do not use what they read there).
 struct ShadowFilterImage {
   ShadowFilterTexels texels;
   ShadowFilterKernels kernels;

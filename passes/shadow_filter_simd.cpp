@@ -98,8 +98,52 @@ VI IndexV(DI di, const ShadowFilterImage& image, VI x, VI y) {
   return hn::Add(hn::ShiftLeft<8>(slot), hn::Add(hn::ShiftLeft<4>(hn::And(y, fifteen)), hn::And(x, fifteen)));
 }
 
-Vec3V<DF> GatherVec3(DF d, const float* x, const float* y, const float* z, VI index) {
-  return {hn::GatherIndex(d, x, index), hn::GatherIndex(d, y, index), hn::GatherIndex(d, z, index)};
+// What a vector of taps reads: each tap pixel's texel and value.
+struct TapsV {
+  Vec3V<DF> position, normal;
+  VF value;
+};
+
+// The taps at pixels (tapX, tapY): where every taken lane's tap lies at one offset from its centre
+// (nearly always: neighbouring pixels' kernels share a direction), the taps are one run of a row
+// within at most two tiles' rows, read with a load per tile; otherwise gathered lane by lane. Lanes
+// not taken read pixels near their centres (set up, or the arrays' margins, ShadowFilterImage): values
+// never used.
+TapsV LoadTaps(const ShadowFilterImage& image, const float* values, VI tapX, VI tapY, hn::Mask<DI> taken) {
+  const DF d;
+  const DI di;
+  const ShadowFilterTexels& p = image.texels;
+  const intptr_t first = hn::FindFirstTrue(di, taken);
+  const int runX = hn::ExtractLane(tapX, size_t(first)) - int(first), runY = hn::ExtractLane(tapY, size_t(first));
+  const int lanes = int(hn::Lanes(d));
+  const bool run = hn::AllTrue(
+      di, hn::Or(hn::Not(taken), hn::And(hn::Eq(tapX, hn::Iota(di, runX)), hn::Eq(tapY, hn::Set(di, runY)))));
+  if (run && runX >= 0 && runX + lanes <= image.width) {
+    const int tileRow = runY / kShadowFilterTileSize * image.tilesX;
+    const int tileA = tileRow + runX / kShadowFilterTileSize;
+    const int tileB = tileRow + (runX + lanes - 1) / kShadowFilterTileSize;
+    const int32_t slotA = image.tileSlots[tileA], slotB = image.tileSlots[tileB];
+    if (slotA >= 0 && slotB >= 0) {
+      const ptrdiff_t column = runX % kShadowFilterTileSize;
+      const ptrdiff_t row = ptrdiff_t(runY % kShadowFilterTileSize * kShadowFilterTileSize);
+      const ptrdiff_t a = ptrdiff_t(slotA) * kShadowFilterTileSize * kShadowFilterTileSize + row + column;
+      const ptrdiff_t b = ptrdiff_t(slotB) * kShadowFilterTileSize * kShadowFilterTileSize + row + column -
+                          kShadowFilterTileSize;
+      const MF inA = hn::FirstN(d, size_t(kShadowFilterTileSize - column));
+      const auto load = [&](const float* array) {
+        const VF fromA = hn::LoadU(d, array + a);
+        return tileA == tileB ? fromA : hn::IfThenElse(inA, fromA, hn::LoadU(d, array + b));
+      };
+      return {{load(p.positionX), load(p.positionY), load(p.positionZ)},
+              {load(p.normalX), load(p.normalY), load(p.normalZ)},
+              load(values)};
+    }
+  }
+  const VI index = IndexV(di, image, tapX, tapY);
+  const auto gather = [&](const float* array) { return hn::GatherIndex(d, array, index); };
+  return {{gather(p.positionX), gather(p.positionY), gather(p.positionZ)},
+          {gather(p.normalX), gather(p.normalY), gather(p.normalZ)},
+          gather(values)};
 }
 
 // Blur1D for the Lanes pixels from (x, y), all in one tile, along the major axis or the minor.
@@ -148,17 +192,14 @@ void BlurVector(const ShadowFilterImage& image, const float* values, int taps, i
           hn::And(hn::And(hn::Ge(sx, zero), hn::Ge(sy, zero)), hn::And(hn::Lt(sx, width), hn::Lt(sy, height)));
       const MF taken = hn::And(active, inside);
       if (hn::AllFalse(d, taken)) continue;
-      // Lanes not taken read their own centre, which is set up.
+      // Lanes not taken tap their own centre, which is set up.
       const auto takenI = hn::RebindMask(di, taken);
-      const VI index = IndexV(di, image, hn::IfThenElse(takenI, hn::ConvertTo(di, sx), pixelX),
-                              hn::IfThenElse(takenI, hn::ConvertTo(di, sy), pixelY));
-      const Vec3V<DF> tp = GatherVec3(d, p.positionX, p.positionY, p.positionZ, index);
-      const Vec3V<DF> tn = GatherVec3(d, p.normalX, p.normalY, p.normalZ, index);
-      const MF accepted = hn::And(hn::And(taken, hn::Lt(tp.z, zero)),
-                                  hn::And(hn::Gt(Dot3(tn, cn), hn::Set(d, kShadowFilterMinNormalDot)),
-                                          hn::Lt(hn::Abs(Dot3(cn, Sub3(tp, cp))), maxPlaneDistance)));
-      const VF tapValue = hn::GatherIndex(d, values, index);
-      sum = hn::IfThenElse(accepted, hn::Add(sum, hn::Mul(weight, tapValue)), sum);
+      const TapsV tap = LoadTaps(image, values, hn::IfThenElse(takenI, hn::ConvertTo(di, sx), pixelX),
+                                 hn::IfThenElse(takenI, hn::ConvertTo(di, sy), pixelY), takenI);
+      const MF accepted = hn::And(hn::And(taken, hn::Lt(tap.position.z, zero)),
+                                  hn::And(hn::Gt(Dot3(tap.normal, cn), hn::Set(d, kShadowFilterMinNormalDot)),
+                                          hn::Lt(hn::Abs(Dot3(cn, Sub3(tap.position, cp))), maxPlaneDistance)));
+      sum = hn::IfThenElse(accepted, hn::Add(sum, hn::Mul(weight, tap.value)), sum);
       weightSum = hn::IfThenElse(accepted, hn::Add(weightSum, weight), weightSum);
     }
   }

@@ -383,14 +383,17 @@ bool SameSummaries(const std::vector<ShadowFilterTileSummary>& a, const std::vec
 
 constexpr int kTilePixels = kShadowFilterTileSize * kShadowFilterTileSize;
 
-// The set-up's arrays for a run of `count` pixels, filled with a marker the kernels must overwrite.
+// The set-up's arrays for a run of `count` pixels, with the margins ShadowFilterImage asks for,
+// filled with a marker the kernels must overwrite (and leave in the margins).
+constexpr size_t kMargin = kShadowFilterTileSize;
 struct SetupArrays {
+  size_t count;
   std::vector<float> storage;
   ShadowFilterTexels texels;
   ShadowFilterKernels kernels;
 
-  explicit SetupArrays(size_t count) : storage(11 * count, -7.0f) {
-    float* a = storage.data();
+  explicit SetupArrays(size_t pixels) : count(pixels), storage(kMargin + 11 * pixels + kMargin, -7.0f) {
+    float* a = storage.data() + kMargin;
     texels = {a, a + count, a + 2 * count, a + 3 * count, a + 4 * count, a + 5 * count, a + 6 * count};
     kernels = {a + 7 * count, a + 8 * count, a + 9 * count, a + 10 * count};
   }
@@ -406,7 +409,7 @@ struct SetUpImage {
       : arrays(size_t((g.width() + kShadowFilterTileSize - 1) / kShadowFilterTileSize) *
                size_t((g.height() + kShadowFilterTileSize - 1) / kShadowFilterTileSize) * kTilePixels) {
     const int tilesX = (g.width() + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
-    slots.resize(arrays.storage.size() / 11 / kTilePixels);
+    slots.resize(arrays.count / kTilePixels);
     for (size_t tile = 0; tile < slots.size(); ++tile) slots[tile] = int32_t(tile);
     image = {arrays.texels, arrays.kernels, slots.data(), g.width(), g.height(), tilesX};
     for (int y = 0; y < g.height(); ++y)
@@ -511,10 +514,11 @@ TEST_CASE("shadow filter: the SIMD passes equal their scalar definitions on ever
           const SetUpImage setUp(context, g);
           const ShadowFilterImage& image = setUp.image;
           // Pass 2 blurs pass 1's values; any values in [0, 1] would do.
-          std::vector<float> major(setUp.arrays.storage.size() / 11);
+          std::vector<float> majorStorage(kMargin + setUp.arrays.count + kMargin);
+          float* major = majorStorage.data() + kMargin;
           for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x)
-              ShadowFilterMajorRowScalar(image, image.texels.hard, taps, y, x, x + 1, &major[image.Index(x, y)]);
+              ShadowFilterMajorRowScalar(image, image.texels.hard, taps, y, x, x + 1, major + image.Index(x, y));
           const size_t targets = test::ForEachSimdTarget([&](const char* target) {
             for (int y = 0; y < height; ++y) {
               const std::vector<std::pair<int, int>> runs =
@@ -526,8 +530,8 @@ TEST_CASE("shadow filter: the SIMD passes equal their scalar definitions on ever
                 ShadowFilterMajorRowScalar(image, image.texels.hard, taps, y, x0, x1, scalar.data());
                 ShadowFilterMajorRowSimd(image, image.texels.hard, taps, y, x0, x1, simd.data());
                 REQUIRE(SameFloats(scalar.data(), simd.data(), count + 1));
-                ShadowFilterMinorRowScalar(image, major.data(), taps, y, x0, x1, scalar.data());
-                ShadowFilterMinorRowSimd(image, major.data(), taps, y, x0, x1, simd.data());
+                ShadowFilterMinorRowScalar(image, major, taps, y, x0, x1, scalar.data());
+                ShadowFilterMinorRowSimd(image, major, taps, y, x0, x1, simd.data());
                 REQUIRE(SameFloats(scalar.data(), simd.data(), count + 1));
               }
             }
