@@ -109,7 +109,8 @@ struct TapsV {
 // within at most two tiles' rows, read with a load per tile; otherwise gathered lane by lane. Lanes
 // not taken read pixels near their centres (set up, or the arrays' margins, ShadowFilterImage): values
 // never used.
-TapsV LoadTaps(const ShadowFilterImage& image, const float* values, VI tapX, VI tapY, hn::Mask<DI> taken) {
+HWY_INLINE TapsV LoadTaps(const ShadowFilterImage& image, const float* values, VI tapX, VI tapY,
+                          hn::Mask<DI> taken) {
   const DF d;
   const DI di;
   const ShadowFilterTexels& p = image.texels;
