@@ -23,6 +23,15 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// The full-width float vectors the passes' twins work in (lanes are pixels), their integer
+// reinterpretations and masks.
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+
 // A glm::vec3 per pixel: a vector per component.
 template <class D>
 struct Vec3V {

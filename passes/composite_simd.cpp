@@ -36,9 +36,6 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DF = hn::ScalableTag<float>;
-using DU = hn::RebindToUnsigned<DF>;
-
 // CompositeRowScalar's body for pixels x, x + 1, ... of row y (a row of `count` pixels).
 void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_t x, size_t count, float py,
                      hn::Vec<DF> px) {

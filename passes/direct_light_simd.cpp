@@ -39,9 +39,6 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DF = hn::ScalableTag<float>;
-using DU = hn::RebindToUnsigned<DF>;
-
 // DirectLightRowScalar's body for the pixels at image positions px on row py; `visibility` is read
 // only when `shadowed`. Adds the pixels with geometry to `shaded`.
 Vec3V<DF> ShadePixels(const DirectLightConstants& c, hn::Vec<DU> word0, hn::Vec<DU> word1, hn::Vec<DU> word2,

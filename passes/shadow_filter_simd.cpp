@@ -21,13 +21,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace {
 
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using DU = hn::RebindToUnsigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
-
 // Background: !(depth > 0 && depth < inf).
 MF Geometry(DF d, VF depth) {
   return hn::And(hn::Gt(depth, hn::Zero(d)), hn::Lt(depth, hn::Set(d, kBackgroundDepth)));

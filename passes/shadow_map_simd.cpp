@@ -59,11 +59,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace {
 
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using DU = hn::RebindToUnsigned<DF>;
-using VF = hn::Vec<DF>;
-
 // glm's mat3 * vec3: row r is (m[0][r] v.x + m[1][r] v.y) + m[2][r] v.z.
 Vec3V<DF> MulMat3(const glm::mat3& m, const Vec3V<DF>& v) {
   const DF df;

@@ -50,13 +50,6 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DF = hn::ScalableTag<float>;
-using DI = hn::RebindToSigned<DF>;
-using DU = hn::RebindToUnsigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
-
 VF SafeReciprocalV(VF v) {
   const DF df;
   return hn::IfThenElse(hn::Lt(hn::Abs(v), hn::Set(df, kHiZTinyComponent)), hn::Set(df, kHiZNever),
