@@ -171,9 +171,9 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", output, "CSV file to write (default sweep.csv).");
   CLI11_PARSE(app, argc, argv);
   try {
-    int width = 0, height = 0;
-    ssgi::ParseImageSize(size, width, height);
-    return Run(scene, reference, width, height, repeats, threads, knobs, output);
+    ssgi::FrameConfig sized;
+    ssgi::ApplySetting(sized, "size", size);  // the table's check and its "--size: ..." message
+    return Run(scene, reference, sized.width, sized.height, repeats, threads, knobs, output);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi_sweep: error: %s\n", e.what());
     return 1;

@@ -232,15 +232,6 @@ class ObjectReader {
     return OptionalNumber(key, range).value_or(fallback);
   }
 
-  int Integer(std::string_view key, int fallback, const Range& range) const {
-    const Json* value = Find(key);
-    if (!value) return fallback;
-    if (!value->is_number_integer()) Fail(key, "must be an integer, got " + value->dump());
-    const double number = value->get<double>();
-    if (!range.Contains(number)) Fail(key, "must be " + range.Text() + ", got " + value->dump());
-    return int(number);
-  }
-
   std::optional<glm::vec3> OptionalVec3(std::string_view key, const Range& range = kAnyNumber) const {
     const Json* value = Find(key);
     if (!value) return std::nullopt;
@@ -265,19 +256,6 @@ class ObjectReader {
     if (!value) return std::nullopt;
     if (!value->is_boolean()) Fail(key, std::string("must be true or false, got ") + value->dump());
     return value->get<bool>();
-  }
-
-  // One of `choices`, by name.
-  template <class T>
-  T Choice(std::string_view key, T fallback, std::initializer_list<std::pair<std::string_view, T>> choices) const {
-    const Json* value = Find(key);
-    if (!value) return fallback;
-    std::string list;
-    for (const auto& [name, choice] : choices) {
-      if (value->is_string() && value->get_ref<const std::string&>() == name) return choice;
-      list.append(list.empty() ? "\"" : ", \"").append(name).append("\"");
-    }
-    Fail(key, "must be one of " + list + ", got " + value->dump());
   }
 
  private:
