@@ -238,15 +238,15 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   const int tilesX = (width + kTileSize - 1) / kTileSize;
   const int tilesY = (height + kTileSize - 1) / kTileSize;
   std::vector<SsrTraceCounts> counts(size_t(tilesX) * size_t(tilesY));
-  const auto traceRow = kernels == KernelPath::kSimd ? SsrTraceRowSimd : SsrTraceRowScalar;
   ParallelFor("ssr_trace", counts.size(), [&](size_t tile) {
     const int x0 = int(tile % size_t(tilesX)) * kTileSize;
     const int y0 = int(tile / size_t(tilesX)) * kTileSize;
     const int x1 = std::min(x0 + kTileSize, width);
     const int y1 = std::min(y0 + kTileSize, height);
+    if (kernels == KernelPath::kSimd) return SsrTraceRowsSimd(in, params, y0, y1, x0, x1, out, counts[tile]);
     for (int y = y0; y < y1; ++y) {
-      traceRow(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-               out.confidence.MutableRow(size_t(y)), counts[tile]);
+      SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
+                        out.confidence.MutableRow(size_t(y)), counts[tile]);
     }
   });
 

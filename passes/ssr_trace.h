@@ -118,5 +118,9 @@ void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, i
 // Its Highway twin, dispatched to the machine's best target: lanes are the row's rays.
 void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
                      float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
+// The twin over rows [yBegin, yEnd) of out's planes (already of the G-buffer's size), reading the
+// inputs' layout once for all of them.
+void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,
+                      int xEnd, SsrTraceOutputs& out, SsrTraceCounts& counts);
 
 }  // namespace ssgi

@@ -358,6 +358,15 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
   }
 }
 
+// TraceRow over rows [yBegin, yEnd): a tile, for one flattening of the inputs per tile.
+void TraceRows(const SsrTraceFrame& frame, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin, int xEnd,
+               SsrTraceOutputs& out, SsrTraceCounts& counts) {
+  for (int y = yBegin; y < yEnd; ++y) {
+    TraceRow(frame, params, y, xBegin, xEnd, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
+             out.confidence.MutableRow(size_t(y)), counts);
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();
@@ -368,9 +377,11 @@ HWY_AFTER_NAMESPACE();
 namespace ssgi {
 
 HWY_EXPORT(TraceRow);
+HWY_EXPORT(TraceRows);
 
-void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts) {
+namespace {
+
+SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
   const GBuffer& g = in.gbuffer;
   SsrTraceFrame frame;
   frame.width = g.width();
@@ -390,7 +401,19 @@ void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int
     SSGI_CHECK_EQ(level.ysize(), size_t(std::max(1, frame.height >> k)));
     frame.hizStride[k] = int32_t(level.PixelsPerRow());
   }
-  HWY_DYNAMIC_DISPATCH(TraceRow)(frame, params, y, xBegin, xEnd, hitX, hitY, confidence, counts);
+  return frame;
+}
+
+}  // namespace
+
+void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
+                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts) {
+  HWY_DYNAMIC_DISPATCH(TraceRow)(FlattenInputs(in), params, y, xBegin, xEnd, hitX, hitY, confidence, counts);
+}
+
+void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,
+                      int xEnd, SsrTraceOutputs& out, SsrTraceCounts& counts) {
+  HWY_DYNAMIC_DISPATCH(TraceRows)(FlattenInputs(in), params, yBegin, yEnd, xBegin, xEnd, out, counts);
 }
 
 }  // namespace ssgi
