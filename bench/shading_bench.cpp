@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/bench_scene.h"
+#include "bench/memory_floor.h"
 #include "core/parallel.h"
 #include "passes/direct_light.h"
 #include "passes/gbuffer.h"
@@ -11,29 +12,6 @@
 
 namespace ssgi {
 namespace {
-
-constexpr int kSize = 1024;
-
-struct ShadingInputs {
-  ViewProjection view;
-  GBufferOutputs g;
-  DirectLightOutputs direct;
-};
-
-const ShadingInputs& Inputs(const BenchScene& bench) {
-  static const ShadingInputs inputs = [&] {
-    ShadingInputs in;
-    in.view = MakePerspective(bench.scene.camera, kSize, kSize);
-    RunGBuffer({bench.scene, in.view}, {bench.config.normalEncoding}, in.g);
-    RunDirectLight({in.g.gbuffer, in.view, bench.scene}, bench.config.directLight, in.direct);
-    return in;
-  }();
-  return inputs;
-}
-
-void ReportPixels(benchmark::State& state) {
-  state.counters["pixels"] = benchmark::Counter(double(kSize) * kSize, benchmark::Counter::kIsIterationInvariantRate);
-}
 
 // As a frame runs it: every light, the shadowed one scaled by its filtered visibility. Arguments:
 // KernelBenchArgs.
@@ -54,18 +32,24 @@ void BM_DirectLight(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
+// The frame's final image (direct + indirect) to 8-bit sRGB. Arguments: KernelBenchArgs.
 void BM_Tonemap(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
-  const ThreadLimit threads(int(state.range(0)));
-  const ShadingInputs& in = Inputs(bench);
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
   TonemapOutputs out;
-  for (auto _ : state) RunTonemap(in.direct.radiance, {}, out);
-  ReportPixels(state);
+  // Output allocated before timing, as a renderer keeps it.
+  RunTonemap(frame.Result(), bench.config.tonemap, out, args.kernels);
+  for (auto _ : state) RunTonemap(frame.Result(), bench.config.tonemap, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
+// The tonemap's memory floor per pixel: radiance R, G, B read (12 bytes), 8-bit R, G, B written (3).
+[[maybe_unused]] const bool kTonemapFloor = (RegisterMemoryFloor(12, 3), true);
+
 BENCHMARK(BM_DirectLight)->Apply(KernelBenchArgs::Register);
-BENCHMARK(BM_Tonemap)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Tonemap)->Apply(KernelBenchArgs::Register);
 
 }  // namespace
 }  // namespace ssgi

@@ -18,18 +18,23 @@ void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap 
   }
 }
 
-TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out) {
+TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out,
+                        KernelPath kernels) {
   Stopwatch stopwatch;
   const size_t width = radiance.c[0].xsize(), height = radiance.c[0].ysize();
   const float scale = std::exp2(params.exposureEv);
-  out.rgb.assign(width * height * 3, 0);
-  ParallelFor("tonemap", height, [&](size_t y) {
+  // Every byte is written below, so a kept buffer needs no clearing.
+  out.rgb.resize(width * height * 3);
+  const auto tonemapRow = kernels == KernelPath::kSimd ? TonemapRowSimd : TonemapRowScalar;
+  ParallelForRowBands("tonemap", height, [&](size_t, size_t yBegin, size_t yEnd) {
     std::vector<uint8_t> codes(width * 3);
-    for (int c = 0; c < 3; ++c)
-      TonemapRowSimd(radiance.c[c].ConstRow(y), width, scale, params.curve, codes.data() + c * width);
-    uint8_t* row = out.rgb.data() + y * width * 3;
-    for (size_t x = 0; x < width; ++x)
-      for (int c = 0; c < 3; ++c) row[3 * x + c] = codes[c * width + x];
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      for (int c = 0; c < 3; ++c)
+        tonemapRow(radiance.c[c].ConstRow(y), width, scale, params.curve, codes.data() + c * width);
+      uint8_t* row = out.rgb.data() + y * width * 3;
+      for (size_t x = 0; x < width; ++x)
+        for (int c = 0; c < 3; ++c) row[3 * x + c] = codes[c * width + x];
+    }
   });
   return {stopwatch.Lap(), width * height};
 }

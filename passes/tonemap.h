@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/kernel_path.h"
 #include "core/plane.h"
 #include "core/render_modes.h"
 
@@ -32,7 +33,10 @@ struct TonemapStats {
   size_t pixels = 0;
 };
 
-TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out);
+// Reuses out.rgb's memory when it already has the size. kernels: which definition of the row kernel
+// runs (the same bytes either way).
+TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out,
+                        KernelPath kernels = KernelPath::kSimd);
 
 // One channel of one row: codes[i] = sRGB code of the tonemapped radiance[i] * scale.
 void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes);

@@ -9,6 +9,8 @@
 #include <catch2/catch.hpp>
 
 #include "core/color.h"
+#include "passes/frame.h"
+#include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 
 namespace ssgi {
@@ -65,6 +67,23 @@ TEST_CASE("tonemap: special values encode as documented", "[tonemap]") {
   const float grey = SrgbCodeToLinear(128);
   TonemapRowScalar(&grey, 1, 1.0f, Tonemap::kClamp, codes);
   CHECK(int(codes[0]) == 128);
+}
+
+TEST_CASE("tonemap: the SIMD pass gives the scalar pass's bytes on the default scene on every target, "
+          "into a kept buffer", "[tonemap][simd]") {
+  test::ForEachDefaultSceneFrame([](const Frame& frame) {
+    TonemapOutputs scalar;
+    RunTonemap(frame.Result(), {}, scalar, KernelPath::kScalar);
+    const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+      // A buffer of the right size holding other bytes: the pass must overwrite every one.
+      TonemapOutputs simd;
+      simd.rgb.assign(scalar.rgb.size(), 0xA5);
+      RunTonemap(frame.Result(), {}, simd, KernelPath::kSimd);
+      CAPTURE(target, frame.view.width, frame.view.height);
+      CHECK(simd.rgb == scalar.rgb);
+    });
+    CHECK(targets >= 1);
+  });
 }
 
 }  // namespace
