@@ -176,7 +176,7 @@ std::vector<FrameSetting> BuildFrameSettings() {
                                  "stride faster through open space; clamped to the top level).",
                                  0, 30, {"0", "2", "4"}, [](auto& c) -> auto& { return c.ssrTrace.startLevel; }));
   table.push_back(IntegerSetting("cone_samples", "--cone-samples", "Colour-pyramid samples per cone.", 1, 64,
-                                 {"1", "3", "12"}, [](auto& c) -> auto& { return c.ssrCone.maxSamples; }));
+                                 {"3", "7", "12"}, [](auto& c) -> auto& { return c.ssrCone.maxSamples; }));
   {
     FrameSetting exposure{"exposure_ev", "--exposure", true, "Exposure in EV (image x 2^EV before the tonemap).",
                           SettingKind::kNumber, -kUnbounded, kUnbounded, {}, {}, {}, {}};
@@ -208,9 +208,8 @@ const std::vector<QualityPreset>& QualityPresets() {
         {"blocker_taps", "4"},
         {"blur_radius", "16"},
         {"blur_taps", "2"},
-        {"ssr_iterations", "16"},
-        {"cone_samples", "1"}}},
-      {"medium", {{"blocker_taps", "8"}, {"blur_taps", "4"}, {"ssr_iterations", "32"}, {"cone_samples", "1"}}},
+        {"ssr_iterations", "16"}}},
+      {"medium", {{"blocker_taps", "8"}, {"blur_taps", "4"}, {"ssr_iterations", "32"}}},
       {"high", {}},
       {"ultra", {{"shadow_map_size", "4096"}, {"ssr_iterations", "128"}}},
   };
