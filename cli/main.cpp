@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -21,25 +23,30 @@
 #include "core/reference/reference.h"
 #include "core/stopwatch.h"
 #include "passes/frame.h"
+#include "passes/frame_diff.h"
+#include "passes/frame_dump.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-// The built-in default scene: $SSGI_DATA_DIR, then data/ beside the executable's folder (a build
-// tree inside the source tree, or an install prefix's share/ssgi), then the source tree it was built from.
-fs::path DefaultScenePath() {
-  if (const char* dir = std::getenv("SSGI_DATA_DIR")) return fs::path(dir) / "default.json";
+// A file of the project's data folder: $SSGI_DATA_DIR, then data/ beside the executable's folder (a
+// build tree inside the source tree, or an install prefix's share/ssgi), then the source tree it
+// was built from.
+fs::path DataFilePath(const std::string& name) {
+  if (const char* dir = std::getenv("SSGI_DATA_DIR")) return fs::path(dir) / name;
   std::error_code error;
   const fs::path exe = fs::read_symlink("/proc/self/exe", error);
   if (!error) {
     for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path()) {
-      for (const fs::path& candidate : {dir / "data" / "default.json", dir / "share" / "ssgi" / "default.json"})
+      for (const fs::path& candidate : {dir / "data" / name, dir / "share" / "ssgi" / name})
         if (fs::exists(candidate, error)) return candidate;
     }
   }
-  return fs::path(SSGI_SOURCE_DATA_DIR) / "default.json";
+  return fs::path(SSGI_SOURCE_DATA_DIR) / name;
 }
+
+fs::path DefaultScenePath() { return DataFilePath("default.json"); }
 
 // How --help shows a setting's value: "INT in [16, 16384]", "R,G,B".
 std::string ValueTypeName(const ssgi::FrameSetting& setting) {
@@ -142,7 +149,7 @@ int Render(const RenderOptions& options) {
   // Every check that can fail on the command line happens before the (possibly long) render.
   const ssgi::ImageFileKind kind = ssgi::CheckOutputPath(output);
   if (!options.dumpBuffers.empty() && ssgi::CheckOutputPath(options.dumpBuffers) != ssgi::ImageFileKind::kExr)
-    throw ssgi::InputError(options.dumpBuffers, "--dump-gbuffer writes a multi-channel EXR: use a .exr name");
+    throw ssgi::InputError(options.dumpBuffers, "--dump writes a multi-part EXR: use a .exr name");
 
   ssgi::Stopwatch load;
   const auto [scene, config] = LoadSceneAndConfig(scenePath, options.settings);
@@ -160,7 +167,8 @@ int Render(const RenderOptions& options) {
                     {"G", false, result.c[1].ConstRow(0), size_t(result.c[1].PixelsPerRow())},
                     {"B", false, result.c[2].ConstRow(0), size_t(result.c[2].PixelsPerRow())}});
   }
-  if (!options.dumpBuffers.empty()) ssgi::WriteFrameBuffers(options.dumpBuffers, frame);
+  if (!options.dumpBuffers.empty())
+    ssgi::WriteFrameDump(options.dumpBuffers, frame, ssgi::DumpMetadata(fs::absolute(scenePath).string(), config));
   const double writeMs = write.Lap();
 
   if (options.stats) {
@@ -382,6 +390,146 @@ int Compare(const CompareOptions& options) {
   return 0;
 }
 
+struct PassesOptions {
+  std::string input;
+  std::string scene;
+  std::string from = "gbuffer";
+  std::string to = "tonemap";
+  std::string output;
+  int threads = 0;
+  bool stats = false;
+};
+
+// The scene a dump was rendered from (--scene, else the dump's "ssgi:scene"), with its configuration
+// as the dump records it and the dump's image size.
+SceneAndConfig SceneOfDump(const ssgi::ExrFile& dump, const fs::path& dumpPath, const std::string& sceneOption) {
+  std::string scene = sceneOption;
+  if (scene.empty()) {
+    const auto named = dump.metadata.find("ssgi:scene");
+    if (named == dump.metadata.end())
+      throw ssgi::InputError(dumpPath, "names no scene (no ssgi:scene metadata): give --scene");
+    scene = named->second;
+  }
+  ssgi::SceneFile file = ssgi::LoadSceneFile(scene);
+  ssgi::FrameConfig config = ssgi::FrameConfigFromSceneFile(file);
+  ssgi::ApplyDumpSettings(dump, dumpPath, config);
+  const ssgi::ExrLayer* words = dump.Find(ssgi::DumpPartName(ssgi::DumpPart::kImage, 0), "gbuffer.word2");
+  if (words == nullptr) words = dump.Find("", "gbuffer.word2");
+  if (words != nullptr) {
+    config.width = words->width;
+    config.height = words->height;
+  }
+  return {std::move(file.scene), config};
+}
+
+// Runs passes --from .. --to of the frame on the buffers of a dump (the oracle's, or a port's in
+// the dump's layer names) and writes the frame's buffers as a dump.
+int Passes(const PassesOptions& options) {
+  const ssgi::ThreadLimit threadLimit(options.threads);
+  if (ssgi::CheckOutputPath(options.output) != ssgi::ImageFileKind::kExr)
+    throw ssgi::InputError(options.output, "the passes' buffers are written as a multi-part EXR: use a .exr name");
+  const ssgi::FramePass from = ssgi::ParseFramePass(options.from);
+  const ssgi::FramePass to = ssgi::ParseFramePass(options.to);
+  if (to < from)
+    throw ssgi::InputError("--to " + options.to + " comes before --from " + options.from + " in the pipeline");
+  const ssgi::ExrFile dump = ssgi::ReadExrFile(options.input);
+  const auto [scene, config] = SceneOfDump(dump, options.input, options.scene);
+  ssgi::Frame frame;
+  ssgi::LoadFrameDump(dump, options.input, scene, config, from, to, frame);
+  ssgi::RunFramePasses(scene, config, from, to, frame);
+  const std::string sceneName =
+      options.scene.empty() ? dump.metadata.at("ssgi:scene") : fs::absolute(options.scene).string();
+  ssgi::WriteFrameDump(options.output, frame, ssgi::DumpMetadata(sceneName, config));
+  if (options.stats) {
+    const int threads = options.threads > 0 ? options.threads : ssgi::HardwareThreads();
+    PrintStats(ssgi::StageRows(frame.stats), config.width, config.height, threads);
+  }
+  std::printf("ran %s .. %s on %s\nwrote %s\n", options.from.c_str(), options.to.c_str(), options.input.c_str(),
+              options.output.c_str());
+  return 0;
+}
+
+struct DiffOptions {
+  std::string oracle;
+  std::string port;
+  std::string thresholds;
+  std::string json;
+  std::string heatmaps;
+  std::string scene;
+};
+
+std::string FormatDifference(double value) {
+  if (!std::isfinite(value)) return "inf";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
+}
+
+// One verdict over all passes: each layer both dumps hold, against its tolerance (docs/pipeline.md
+// 'Matching rules'). Exit 0 when every layer is within tolerance, 1 when one is not; 2 for a command
+// line or a file that cannot be used.
+int Diff(const DiffOptions& options) {
+  const ssgi::ExrFile oracle = ssgi::ReadExrFile(options.oracle);
+  const ssgi::ExrFile port = ssgi::ReadExrFile(options.port);
+  const fs::path thresholdsPath = options.thresholds.empty() ? DataFilePath("diff_thresholds.json") : fs::path(options.thresholds);
+  const ssgi::DiffThresholds thresholds = ssgi::LoadDiffThresholds(thresholdsPath);
+  // The scene's geometry judges coverage differences; without a scene they are compared as values.
+  std::optional<SceneAndConfig> scene;
+  std::optional<ssgi::ViewProjection> view;
+  if (!options.scene.empty() || oracle.metadata.count("ssgi:scene")) {
+    scene = SceneOfDump(oracle, options.oracle, options.scene);
+    view = ssgi::MakePerspective(scene->scene.camera, scene->config.width, scene->config.height);
+  }
+  std::optional<ssgi::CoverageGeometry> geometry;
+  if (scene) geometry.emplace(ssgi::CoverageGeometry{scene->scene.mesh, *view});
+  const ssgi::DiffReport report = ssgi::DiffDumps(oracle, port, thresholds, geometry);
+
+  std::printf("%s (port) against %s (oracle), thresholds %s\n", options.port.c_str(), options.oracle.c_str(),
+              thresholdsPath.string().c_str());
+  std::printf("  %-20s %-14s %10s %12s %10s %9s %7s  %-12s %s\n", "layer", "pass", "max abs", "max ulp", "rmse", "over",
+              "edge", "worst", "");
+  for (const ssgi::LayerDiff& layer : report.layers) {
+    std::printf("  %-20s %-14s", layer.id.c_str(), std::string(ssgi::FramePassName(layer.pass)).c_str());
+    if (!layer.compared) {
+      std::printf(" %s%s\n", layer.ok ? "not compared: " : "FAIL: ", layer.problem.c_str());
+      continue;
+    }
+    const std::string worst =
+        layer.worstX >= 0 ? "(" + std::to_string(layer.worstX) + ", " + std::to_string(layer.worstY) + ")" : "-";
+    std::printf(" %10s %12llu %10s %9zu %7zu  %-12s %s%s\n", FormatDifference(layer.maxAbsolute).c_str(),
+                static_cast<unsigned long long>(layer.maxUlp), FormatDifference(layer.rmse).c_str(), layer.overTolerance,
+                layer.edgePixels, worst.c_str(), layer.ok ? "ok" : "FAIL", layer.problem.empty() ? "" : (": " + layer.problem).c_str());
+  }
+  if (report.ok)
+    std::printf("verdict: PASS, every compared layer within tolerance\n");
+  else
+    std::printf("verdict: FAIL, first failing pass: %s\n", std::string(ssgi::FramePassName(*report.firstFailingPass)).c_str());
+
+  if (!options.json.empty()) {
+    const std::string text = ssgi::DiffReportJson(report) + "\n";
+    std::FILE* file = std::fopen(options.json.c_str(), "w");
+    if (!file || std::fputs(text.c_str(), file) < 0 || std::fclose(file) != 0)
+      throw ssgi::InputError(options.json, "cannot write the JSON report");
+    std::printf("wrote %s\n", options.json.c_str());
+  }
+  if (!options.heatmaps.empty()) {
+    std::error_code error;
+    fs::create_directories(options.heatmaps, error);
+    if (error) throw ssgi::InputError(options.heatmaps, "cannot create the folder: " + error.message());
+    for (const ssgi::LayerDiff& layer : report.layers) {
+      if (layer.ok || !layer.compared) continue;
+      int width = 0, height = 0;
+      const std::vector<uint8_t> heat = ssgi::LayerDiffHeatmap(oracle, port, layer.id, width, height);
+      std::string name = layer.id;
+      std::replace(name.begin(), name.end(), ':', '_');
+      const fs::path path = fs::path(options.heatmaps) / (name + ".png");
+      ssgi::WritePng(path, width, height, heat);
+      std::printf("wrote %s\n", path.string().c_str());
+    }
+  }
+  return report.ok ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -401,9 +549,10 @@ int main(int argc, char** argv) {
                                                          "byte-identical for any count.")
       ->check(CLI::Range(0, 1024));
   renderCommand->add_flag("--stats", render.stats, "Print each stage's time in ms and its throughput.");
-  renderCommand->add_option("--dump-gbuffer", render.dumpBuffers,
-                            "Also write every intermediate buffer (raw and decoded G-buffer, visibility buffer, "
-                            "shadow visibility, direct light) to this multi-channel .exr.");
+  renderCommand->add_option("--dump,--dump-gbuffer", render.dumpBuffers,
+                            "Also write every buffer of the frame to this multi-part .exr, as named layers in "
+                            "pipeline order (docs/pipeline.md 'Dumps'): the oracle's buffers for `ssgi passes` "
+                            "and `ssgi diff`.");
   render.settings.Register(*renderCommand);
 
   FiguresOptions figures;
@@ -443,6 +592,36 @@ int main(int argc, char** argv) {
   compareCommand->add_option("--heatmap-scale", compare.heatmapScale,
                              "Error shown as white in the heat map (default: the largest error).");
 
+  PassesOptions passes;
+  CLI::App* passesCommand = app.add_subcommand(
+      "passes", "Run passes of the pipeline on buffers from outside (a --dump of the oracle, or a GPU port's "
+                "buffers in the dump's layer names) and write the frame's buffers as a dump.");
+  passesCommand->add_option("input", passes.input, "Dump (.exr) holding the buffers the passes read.")->required();
+  passesCommand->add_option("-o,--output", passes.output, "Dump (.exr) to write.")->required();
+  passesCommand->add_option("--scene", passes.scene,
+                            "Scene file (camera, lights, materials, settings). Default: the scene the dump names.");
+  passesCommand->add_option("--from", passes.from, "First pass to run (default gbuffer): gbuffer, shadow_map, "
+                                                   "shadow_filter, direct_light, hiz, color_pyramid, ssr_trace, "
+                                                   "ssr_cone, composite, tonemap.");
+  passesCommand->add_option("--to", passes.to, "Last pass to run (default tonemap).");
+  passesCommand->add_option("--threads", passes.threads, "Worker threads (0 = all).")->check(CLI::Range(0, 1024));
+  passesCommand->add_flag("--stats", passes.stats, "Print each pass's time.");
+
+  DiffOptions diff;
+  CLI::App* diffCommand = app.add_subcommand(
+      "diff", "Compare a port's dump with the oracle's, layer by layer in pipeline order, against named "
+              "tolerances: one line per layer and a verdict naming the first failing pass. Exit 0 pass, 1 fail, "
+              "2 usage or unreadable input.");
+  diffCommand->add_option("oracle", diff.oracle, "The oracle's dump (ssgi render --dump).")->required();
+  diffCommand->add_option("port", diff.port, "The port's dump, in the same layer names.")->required();
+  diffCommand->add_option("--thresholds", diff.thresholds,
+                          "Tolerances per layer (JSON). Default: data/diff_thresholds.json.");
+  diffCommand->add_option("--json", diff.json, "Also write the report as JSON, for CI.");
+  diffCommand->add_option("--heatmaps", diff.heatmaps, "Write a heat map PNG of each failing layer into this folder.");
+  diffCommand->add_option("--scene", diff.scene,
+                          "Scene whose geometry judges coverage differences at triangle edges. Default: the scene "
+                          "the oracle's dump names.");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help
@@ -456,6 +635,16 @@ int main(int argc, char** argv) {
     if (*figuresCommand) return Figures(figures);
     if (*compareCommand) return Compare(compare);
     if (*referenceCommand) return Reference(reference);
+    if (*passesCommand) return Passes(passes);
+    if (*diffCommand) {
+      try {
+        return Diff(diff);
+      } catch (const ssgi::InputError& e) {
+        // Exit 1 is the verdict "fail": input the diff cannot use is a usage error.
+        std::fprintf(stderr, "ssgi: error: %s\n", ssgi::cli::Printable(e.what()).c_str());
+        return 2;
+      }
+    }
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi: error: %s\n", ssgi::cli::Printable(e.what()).c_str());
     return 1;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,5 +31,41 @@ struct ExrChannel {
 };
 
 void WriteExr(const std::filesystem::path& path, int width, int height, const std::vector<ExrChannel>& channels);
+
+// One part of a multi-part EXR (an OpenImageIO subimage): its name, its size and its channels.
+struct ExrPart {
+  std::string name;
+  int width = 0, height = 0;
+  std::vector<ExrChannel> channels;
+};
+
+// Writes the parts in order, with `metadata` as string attributes of the first part.
+void WriteExrParts(const std::filesystem::path& path, const std::vector<ExrPart>& parts,
+                   const std::map<std::string, std::string>& metadata = {});
+
+// One channel of an EXR as it is stored: its 4-byte samples' bits, unconverted (a uint32 channel's
+// integers, a float channel's float bits; half channels are widened to float), top row first.
+struct ExrLayer {
+  std::string part;  // the part's name ("" for an unnamed single part)
+  std::string name;
+  int width = 0, height = 0;
+  bool isUint = false;
+  std::vector<uint32_t> samples;  // width * height
+  float Float(size_t i) const;    // sample i of a float channel
+};
+
+struct ExrFile {
+  std::vector<ExrLayer> layers;  // every channel of every part, in file order
+  std::map<std::string, std::string> metadata;  // the first part's string attributes but OIIO's own
+  // The channel `name` of part `part`, or nullptr.
+  const ExrLayer* Find(const std::string& part, const std::string& name) const;
+};
+
+// Reads every channel of every part. Throws InputError naming the file when it cannot be read, is
+// not an EXR, or holds a channel type other than uint32, half and float.
+ExrFile ReadExrFile(const std::filesystem::path& path);
+// Writes what ReadExrFile read (half channels as float): a part per distinct part name, in order of
+// first appearance, each part's channels in file order.
+void WriteExrFile(const std::filesystem::path& path, const ExrFile& file);
 
 }  // namespace ssgi

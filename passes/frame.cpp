@@ -1,59 +1,106 @@
 #include "passes/frame.h"
 
 #include "core/error.h"
-#include "core/image_io.h"
 #include "core/lighting.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {
 
+std::string_view FramePassName(FramePass pass) {
+  switch (pass) {
+    case FramePass::kGBuffer: return "gbuffer";
+    case FramePass::kShadowMap: return "shadow_map";
+    case FramePass::kShadowFilter: return "shadow_filter";
+    case FramePass::kDirectLight: return "direct_light";
+    case FramePass::kHiZ: return "hiz";
+    case FramePass::kColorPyramid: return "color_pyramid";
+    case FramePass::kSsrTrace: return "ssr_trace";
+    case FramePass::kSsrCone: return "ssr_cone";
+    case FramePass::kComposite: return "composite";
+    case FramePass::kTonemap: return "tonemap";
+  }
+  return "";
+}
+
+FramePass ParseFramePass(std::string_view name) {
+  std::string names;
+  for (FramePass pass : kFramePasses) {
+    if (FramePassName(pass) == name) return pass;
+    names += (names.empty() ? "" : ", ") + std::string(FramePassName(pass));
+  }
+  throw InputError("'" + std::string(name) + "' is not a pass; the passes: " + names);
+}
+
+std::optional<size_t> FrameShadowLight(const Scene& scene, const FrameConfig& config) {
+  const std::vector<size_t> lights = ShadowCastingLights(scene);
+  if (config.shadows == EffectMode::kOff || lights.empty()) return std::nullopt;
+  return lights.front();
+}
+
+bool FrameReflects(const Scene& scene, const FrameConfig& config) {
+  return config.reflections == EffectMode::kOn ||
+         (config.reflections == EffectMode::kAuto && SceneReflects(scene, config.ssrTrace.roughnessCutoff));
+}
+
 Frame RenderFrame(const Scene& scene, const FrameConfig& config) {
   Frame frame;
+  RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+  return frame;
+}
+
+void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame) {
   FrameStats& stats = frame.stats;
+  stats = FrameStats{};
   Stopwatch total;
   frame.view = MakePerspective(scene.camera, config.width, config.height);
   stats.triangles = scene.mesh.TriangleCount();
   stats.pixels = size_t(config.width) * size_t(config.height);
+  const auto runs = [&](FramePass pass) { return from <= pass && pass <= to; };
 
-  stats.gbuffer = RunGBuffer({scene, frame.view}, {config.normalEncoding}, frame.gbuffer);
+  if (runs(FramePass::kGBuffer))
+    stats.gbuffer = RunGBuffer({scene, frame.view}, {config.normalEncoding}, frame.gbuffer);
   GBuffer& gbuffer = frame.gbuffer.gbuffer;
 
   // Shadows only where the scene calls for them (DESIGN.md §9): a light that casts them, and not
   // switched off. G-buffer word 3 has room for one light's term: the first shadow-casting light.
-  const std::vector<size_t> shadowLights = ShadowCastingLights(scene);
-  const bool shadows = config.shadows != EffectMode::kOff && !shadowLights.empty();
-  if (shadows) {
-    const size_t light = shadowLights.front();
+  const std::optional<size_t> shadowLight = FrameShadowLight(scene, config);
+  frame.shadows = shadowLight.has_value() && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
+  if (frame.shadows && runs(FramePass::kShadowMap)) {
     frame.shadowMap.emplace();
     stats.shadowMap =
-        RunShadowMap({scene, frame.view, gbuffer, light}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
+        RunShadowMap({scene, frame.view, gbuffer, *shadowLight}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
+  }
+  if (frame.shadows && runs(FramePass::kShadowFilter)) {
     const std::vector<PreparedLight> viewLights = PrepareLights(scene, frame.view.view);
-    stats.shadowFilter = RunShadowFilter({gbuffer, frame.view, viewLights[light]}, config.shadowFilter,
+    stats.shadowFilter = RunShadowFilter({gbuffer, frame.view, viewLights[*shadowLight]}, config.shadowFilter,
                                          frame.shadowVisibility);
   }
 
-  DirectLightInputs directInputs{gbuffer, frame.view, scene};
-  if (shadows) {
-    directInputs.lightVisibility = &frame.shadowVisibility.visibility;
-    directInputs.shadowedLight = shadowLights.front();
+  if (runs(FramePass::kDirectLight)) {
+    DirectLightInputs directInputs{gbuffer, frame.view, scene};
+    if (frame.shadows) {
+      directInputs.lightVisibility = &frame.shadowVisibility.visibility;
+      directInputs.shadowedLight = *shadowLight;
+    }
+    stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
   }
-  stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
 
-  frame.reflections = config.reflections == EffectMode::kOn ||
-                      (config.reflections == EffectMode::kAuto && SceneReflects(scene, config.ssrTrace.roughnessCutoff));
+  frame.reflections = FrameReflects(scene, config);
   if (frame.reflections) {
-    stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
-    stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
-    stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
-    stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
-    stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
-                                    frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
-                                   frame.composite);
+    if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
+    if (runs(FramePass::kColorPyramid)) stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+    if (runs(FramePass::kSsrTrace))
+      stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
+    if (runs(FramePass::kSsrCone))
+      stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
+    if (runs(FramePass::kComposite))
+      stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
+                                      frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
+                                     frame.composite);
   }
 
-  stats.tonemap = RunTonemap(frame.Result(), config.tonemap, frame.display);
+  if (runs(FramePass::kTonemap)) stats.tonemap = RunTonemap(frame.Result(), config.tonemap, frame.display);
   stats.totalMs = total.Lap();
-  return frame;
 }
 
 std::vector<StageStats> StageRows(const FrameStats& s) {
@@ -93,53 +140,6 @@ bool SceneReflects(const Scene& scene, float roughnessCutoff) {
   for (const Material& m : scene.materials)
     if (m.roughness < roughnessCutoff || m.roughnessTexture != kNoTexture) return true;
   return false;
-}
-
-void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame) {
-  const GBuffer& g = frame.gbuffer.gbuffer;
-  const int width = g.width(), height = g.height();
-  // Decoded G-buffer planes, so a port can compare values as well as bits.
-  const char* names[] = {"albedo.R", "albedo.G", "albedo.B", "metallic", "normal.X", "normal.Y", "normal.Z",
-                         "roughness", "depth", "shadow.hard", "shadow.blocker"};
-  constexpr int kDecoded = 11;
-  std::vector<Plane<float>> decoded;
-  for (int i = 0; i < kDecoded; ++i) decoded.push_back(MakePlane<float>(width, height, 0.0f));
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const uint32_t w0 = g.word[0].ConstRow(y)[x], w1 = g.word[1].ConstRow(y)[x];
-      const uint32_t w2 = g.word[2].ConstRow(y)[x], w3 = g.word[3].ConstRow(y)[x];
-      const float depth = UnpackDepth(w2);
-      const bool background = depth == kBackgroundDepth;
-      const glm::vec3 albedo = UnpackAlbedo(w0);
-      const glm::vec3 normal = background ? glm::vec3(0.0f) : UnpackNormal(w1, g.normalEncoding);
-      const float values[kDecoded] = {albedo.x, albedo.y, albedo.z, UnpackMetallic(w0), normal.x, normal.y, normal.z,
-                                      UnpackRoughness(w1), depth, UnpackHardShadow(w3) ? 1.0f : 0.0f,
-                                      UnpackBlockerDistance(w3)};
-      for (int i = 0; i < kDecoded; ++i) decoded[i].MutableRow(y)[x] = values[i];
-    }
-  }
-  std::vector<ExrChannel> channels;
-  auto add = [&](const std::string& name, bool isUint, const auto& plane) {
-    channels.push_back({name, isUint, plane.ConstRow(0), size_t(plane.PixelsPerRow())});
-  };
-  for (int w = 0; w < 4; ++w) add("gbuffer.word" + std::to_string(w), true, g.word[w]);
-  for (int i = 0; i < kDecoded; ++i) add(names[i], false, decoded[i]);
-  add("raster.depthKey", false, frame.gbuffer.visibility.depthKey);
-  add("raster.triangle", true, frame.gbuffer.visibility.triangle);
-  if (frame.shadowMap) add("shadow.visibility", false, frame.shadowVisibility.visibility);
-  const char* rgb[] = {"R", "G", "B"};
-  for (int c = 0; c < 3; ++c) add(std::string("direct.") + rgb[c], false, frame.direct.radiance.c[c]);
-  if (frame.reflections) {
-    add("ssr.hitX", false, frame.ssrTrace.hitX);
-    add("ssr.hitY", false, frame.ssrTrace.hitY);
-    add("ssr.confidence", false, frame.ssrTrace.confidence);
-    for (int c = 0; c < 3; ++c) {
-      add(std::string("ssr.reflected.") + rgb[c], false, frame.ssrCone.reflected.c[c]);
-      add(std::string("indirect.") + rgb[c], false, frame.composite.indirect.c[c]);
-      add(std::string("result.") + rgb[c], false, frame.composite.result.c[c]);
-    }
-  }
-  WriteExr(path, width, height, channels);
 }
 
 }  // namespace ssgi

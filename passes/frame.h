@@ -3,9 +3,9 @@
 // run (DESIGN.md §9).
 #pragma once
 
-#include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/camera.h"
@@ -53,12 +53,39 @@ struct StageStats {
 // The stages that ran, in pipeline order, ending with "frame total".
 std::vector<StageStats> StageRows(const FrameStats& stats);
 
+// The frame's passes in pipeline order, as `ssgi passes --from / --to` and the dump's layers name
+// them (FramePassName).
+enum class FramePass {
+  kGBuffer,
+  kShadowMap,  // the shadow map and the blocker search: G-buffer word 3
+  kShadowFilter,
+  kDirectLight,
+  kHiZ,
+  kColorPyramid,
+  kSsrTrace,
+  kSsrCone,
+  kComposite,
+  kTonemap,
+};
+inline constexpr FramePass kFramePasses[] = {
+    FramePass::kGBuffer, FramePass::kShadowMap,    FramePass::kShadowFilter, FramePass::kDirectLight,
+    FramePass::kHiZ,     FramePass::kColorPyramid, FramePass::kSsrTrace,     FramePass::kSsrCone,
+    FramePass::kComposite, FramePass::kTonemap};
+// "gbuffer", "shadow_map", "shadow_filter", "direct_light", "hiz", "color_pyramid", "ssr_trace",
+// "ssr_cone", "composite", "tonemap".
+std::string_view FramePassName(FramePass pass);
+// The pass of that name; throws InputError listing the names for any other.
+FramePass ParseFramePass(std::string_view name);
+
 struct Frame {
   ViewProjection view;
   GBufferOutputs gbuffer;
   // Present when the scene has a shadow-casting light and shadows are not switched off: the first
   // such light's shadow map (its term is G-buffer word 3) and its filtered visibility.
   std::optional<ShadowMapOutputs> shadowMap;
+  // Whether the shadow passes belong to this frame and G-buffer word 3 holds their term: the shadow
+  // map ran, or the frame started after it from a dump.
+  bool shadows = false;
   ShadowFilterOutputs shadowVisibility;
   DirectLightOutputs direct;
   // Present when the scene has a surface smooth enough to reflect and reflections are not off.
@@ -82,17 +109,21 @@ bool SceneReflects(const Scene& scene, float roughnessCutoff);
 // Renders the scene as the configuration says.
 Frame RenderFrame(const Scene& scene, const FrameConfig& config);
 
+// Runs the passes from `from` to `to` (inclusive, pipeline order) of the frame RenderFrame would
+// render, on a frame whose buffers that those passes read from earlier passes are filled already
+// (LoadFrameDump in passes/frame_dump.h). Which passes belong to the frame (shadows, reflections) is
+// decided as RenderFrame decides it; a pass that does not belong is skipped. frame.stats holds the
+// passes that ran.
+void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame);
+
+// The shadow-casting light whose term G-buffer word 3 holds (the first), when the frame has shadows:
+// a light that casts them and shadows not switched off.
+std::optional<size_t> FrameShadowLight(const Scene& scene, const FrameConfig& config);
+// Whether the frame traces reflections: switched on, or automatic and the scene reflects.
+bool FrameReflects(const Scene& scene, const FrameConfig& config);
+
 // The G-buffer's albedo as 8-bit sRGB RGB rows (background black): the paper's "albedo" image.
 std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);
 
-// Writes every intermediate buffer of the frame into one multi-channel EXR for oracle comparisons:
-// the raw G-buffer words as uint32 ("gbuffer.word0".."gbuffer.word3"), their decoded values
-// ("albedo.R/G/B", "metallic", "normal.X/Y/Z" view space, "roughness", "depth" in metres with the
-// background +inf, "shadow.hard", "shadow.blocker"), the visibility buffer ("raster.depthKey",
-// "raster.triangle" uint32, 0xFFFFFFFF = none), the filtered light visibility ("shadow.visibility",
-// when shadows ran), the direct light ("direct.R/G/B") and, when reflections ran, the trace
-// ("ssr.hitX", "ssr.hitY", "ssr.confidence"), the cone-traced radiance ("ssr.reflected.R/G/B"), the
-// indirect light ("indirect.R/G/B") and the result ("result.R/G/B").
-void WriteFrameBuffers(const std::filesystem::path& path, const Frame& frame);
 
 }  // namespace ssgi

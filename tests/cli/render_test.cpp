@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "core/image_io.h"
 #include "tests/test_support.h"
 
 namespace ssgi::test {
@@ -83,22 +84,27 @@ TEST_CASE("render: an unwritable output path fails before rendering", "[cli]") {
 
 TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 threads", "[cli][determinism]") {
   ScratchDir dir("cli-threads");
-  std::vector<StoredImage> images, buffers;
+  std::vector<StoredImage> images;
+  std::vector<ExrFile> buffers;
   for (int threads : {1, 2, 3}) {
     const std::string tag = std::to_string(threads);
     const CommandResult result = RunCli("render " + DefaultScene() + " --size 150x101 --threads " + tag + " -o " +
-                                        Quote(dir / (tag + ".png")) + " --dump-gbuffer " + Quote(dir / (tag + ".exr")));
+                                        Quote(dir / (tag + ".png")) + " --dump " + Quote(dir / (tag + ".exr")));
     CAPTURE(result.output);
     REQUIRE(result.exitCode == 0);
     images.push_back(ReadStoredImage(dir / (tag + ".png")));
-    buffers.push_back(ReadStoredImage(dir / (tag + ".exr")));
+    buffers.push_back(ReadExrFile(dir / (tag + ".exr")));
   }
   REQUIRE(images[0].width == 150);
-  REQUIRE(buffers[0].channels > 10);
+  REQUIRE(buffers[0].layers.size() > 60);  // every part: the image's layers, the shadow map, the pyramids
   for (int i = 1; i < 3; ++i) {
     CHECK(images[i].bytes == images[0].bytes);
-    CHECK(buffers[i].channelNames == buffers[0].channelNames);
-    CHECK(buffers[i].bytes == buffers[0].bytes);
+    REQUIRE(buffers[i].layers.size() == buffers[0].layers.size());
+    for (size_t k = 0; k < buffers[0].layers.size(); ++k) {
+      CAPTURE(buffers[0].layers[k].part, buffers[0].layers[k].name);
+      CHECK(buffers[i].layers[k].name == buffers[0].layers[k].name);
+      CHECK(buffers[i].layers[k].samples == buffers[0].layers[k].samples);
+    }
   }
 }
 

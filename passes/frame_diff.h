@@ -1,0 +1,94 @@
+// Pass-by-pass comparison of two frame dumps (passes/frame_dump.h): the oracle's and a port's.
+// Every layer both hold is compared in pipeline order against a named tolerance (docs/pipeline.md
+// §Matching rules; the defaults in data/diff_thresholds.json), in the style of OpenImageIO's
+// testsuite (failthresh, failpercent, hardfail); rasterization coverage differences are judged the
+// way the VK-GL-CTS rasterization verifier judges them: a pixel whose centre lies within rounding
+// distance of a triangle edge may differ, any other may not.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/image_io.h"
+#include "core/mesh.h"
+#include "passes/frame.h"
+
+namespace ssgi {
+
+// How far one layer of a port may stray from the oracle's.
+struct LayerTolerance {
+  bool exact = false;  // every sample's bits equal
+  // A float sample within any one of these of the oracle's is within tolerance (0 = not used; all
+  // 0 with exact false: equal values, +0 and -0 alike).
+  double absolute = 0.0;
+  double relative = 0.0;  // of the oracle's magnitude
+  uint64_t ulp = 0;       // units in the last place, counted over the ordered float line
+  double percent = 0.0;   // share of samples allowed beyond the tolerance, in percent
+  double hardFail = std::numeric_limits<double>::infinity();  // a sample off by more fails the layer
+  // A rasterizer output: samples that differ at pixels whose centre lies within kCoverageRounding
+  // of an edge of a triangle either side covers there are allowed (needs the scene's geometry).
+  bool coverage = false;
+};
+
+// Tolerances by layer: the first rule whose pattern matches the layer's id ("direct.R",
+// "hiz.3:Y"; a pattern may end in '*' to match any suffix) applies; no match is `exact`.
+struct DiffThresholds {
+  std::vector<std::pair<std::string, LayerTolerance>> rules;
+  LayerTolerance For(const std::string& layerId) const;
+};
+// Reads a thresholds file (JSON, the format of data/diff_thresholds.json). Throws InputError
+// naming the file and the key for anything malformed.
+DiffThresholds LoadDiffThresholds(const std::filesystem::path& file);
+
+// How far from an edge a pixel centre may be and still be covered differently by two
+// rasterizers: a GPU's 8 sub-pixel bits snap each vertex by up to 1/512 pixel on each axis, as the
+// oracle's do, so an edge may move by up to about 1/256 pixel between the two; twice that.
+inline constexpr double kCoverageRounding = 1.0 / 128.0;
+
+// The geometry behind the oracle's visibility buffer, for the coverage classification.
+struct CoverageGeometry {
+  const Mesh& mesh;
+  const ViewProjection& view;
+};
+
+struct LayerDiff {
+  std::string id;  // the layer's name, "part:name" outside the part "frame"
+  FramePass pass;
+  bool compared = false;  // in both files with the same size and type
+  std::string problem;    // why not compared, or why it failed outright ("size differs: ...")
+  double maxAbsolute = 0.0;
+  uint64_t maxUlp = 0;
+  double rmse = 0.0;
+  size_t samples = 0;
+  size_t overTolerance = 0;  // samples beyond the tolerance, edge pixels excluded
+  size_t edgePixels = 0;     // samples that differ at an edge pixel (coverage layers), allowed
+  int worstX = -1, worstY = -1;  // where the largest difference beyond tolerance is
+  bool ok = true;
+};
+
+struct DiffReport {
+  std::vector<LayerDiff> layers;  // pipeline order; the oracle's layers, then the port's extra ones
+  bool ok = true;
+  std::optional<FramePass> firstFailingPass;
+};
+
+// Compares `port` with `oracle`. Layers the port lacks are listed as not compared (a port may
+// implement some passes only) and do not fail; a layer of another size or type fails. Without
+// geometry, coverage layers are compared like the others.
+DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThresholds& thresholds,
+                     const std::optional<CoverageGeometry>& geometry);
+
+// The per-pixel difference of one layer of both files as an 8-bit RGB heat map (black = equal,
+// white = the largest difference), or an empty vector when the layer is not in both at one size.
+std::vector<uint8_t> LayerDiffHeatmap(const ExrFile& oracle, const ExrFile& port, const std::string& layerId,
+                                      int& width, int& height);
+
+// The report as JSON text: {"ok", "firstFailingPass", "layers": [{"id", "pass", "ok", ...}]}.
+std::string DiffReportJson(const DiffReport& report);
+
+}  // namespace ssgi

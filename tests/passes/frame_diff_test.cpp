@@ -1,0 +1,233 @@
+// `ssgi diff`'s comparison (passes/frame_diff.h): tolerances, the first failing pass in pipeline
+// order, percent and hard limits, coverage differences judged by their distance to an edge, and
+// the thresholds file.
+#include "passes/frame_diff.h"
+
+#include <cstring>
+#include <fstream>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "passes/frame_dump.h"
+#include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
+
+namespace ssgi {
+namespace {
+
+namespace fs = std::filesystem;
+
+DiffThresholds ShippedThresholds() { return LoadDiffThresholds(test::SourceDir() / "data" / "diff_thresholds.json"); }
+
+const ExrFile& OracleDump() {
+  static const ExrFile dump = [] {
+    test::ScratchDir dir("diff-oracle");
+    const test::DefaultScene scene = test::LoadDefaultScene();
+    WriteFrameDump(dir / "oracle.exr", scene.Render(67, 45), DumpMetadata("", scene.config));
+    return ReadExrFile(dir / "oracle.exr");
+  }();
+  return dump;
+}
+
+ExrLayer& LayerOf(ExrFile& dump, const std::string& part, const std::string& name) {
+  for (ExrLayer& layer : dump.layers)
+    if (layer.part == part && layer.name == name) return layer;
+  FAIL("no layer " << part << ":" << name);
+  return dump.layers.front();
+}
+
+void AddToFloat(ExrLayer& layer, size_t i, float delta) {
+  float value;
+  std::memcpy(&value, &layer.samples[i], 4);
+  value += delta;
+  std::memcpy(&layer.samples[i], &value, 4);
+}
+
+const LayerDiff& Find(const DiffReport& report, const std::string& id) {
+  for (const LayerDiff& layer : report.layers)
+    if (layer.id == id) return layer;
+  FAIL("no layer " << id << " in the report");
+  return report.layers.front();
+}
+
+TEST_CASE("diff: a dump against itself passes on every layer", "[diff]") {
+  const DiffReport report = DiffDumps(OracleDump(), OracleDump(), ShippedThresholds(), std::nullopt);
+  CHECK(report.ok);
+  CHECK_FALSE(report.firstFailingPass);
+  CHECK(report.layers.size() == OracleDump().layers.size());
+  for (const LayerDiff& layer : report.layers) {
+    CAPTURE(layer.id);
+    CHECK(layer.compared);
+    CHECK(layer.maxAbsolute == 0.0);
+  }
+  // Pipeline order, levels grouped: hiz.0 before pyramid.0, pyramid.0's R, G, B together.
+  CHECK(report.layers.front().id == "gbuffer.word0");
+  CHECK(report.layers.back().id == "display.B");
+  size_t pyramidR = 0;
+  while (report.layers[pyramidR].id != "pyramid.0:R") ++pyramidR;
+  CHECK(report.layers[pyramidR + 1].id == "pyramid.0:G");
+  CHECK(report.layers[pyramidR - 1].id.rfind("hiz.", 0) == 0);
+}
+
+TEST_CASE("diff: tolerances, the first failing pass, percent and hard limits", "[diff]") {
+  const DiffThresholds thresholds = ShippedThresholds();
+  SECTION("a last-bit difference in the direct light is within its tolerance") {
+    ExrFile port = OracleDump();
+    LayerOf(port, "frame", "direct.R").samples[100] += 1;
+    const DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK(report.ok);
+    CHECK(Find(report, "direct.R").maxUlp == 1);
+  }
+  SECTION("a large difference fails, and the earliest pass in the pipeline is named") {
+    ExrFile port = OracleDump();
+    AddToFloat(LayerOf(port, "frame", "result.G"), 3, 5.0f);
+    AddToFloat(LayerOf(port, "hiz.1", "Y"), 7, 0.5f);
+    const DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK_FALSE(report.ok);
+    REQUIRE(report.firstFailingPass);
+    CHECK(*report.firstFailingPass == FramePass::kHiZ);
+    const LayerDiff& hiz = Find(report, "hiz.1:Y");
+    CHECK_FALSE(hiz.ok);
+    CHECK(hiz.overTolerance == 1);
+    CHECK(hiz.worstX == 7 % 33);
+    CHECK(hiz.worstY == 7 / 33);
+  }
+  SECTION("an integer word differs: exact layers fail on one bit") {
+    ExrFile port = OracleDump();
+    LayerOf(port, "frame", "gbuffer.word1").samples[67 * 20 + 30] ^= 1u;
+    const DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK(*report.firstFailingPass == FramePass::kGBuffer);
+  }
+  SECTION("percent: a few hits elsewhere pass, more than the share fail; a hard limit fails at once") {
+    DiffThresholds rules;
+    LayerTolerance hits;
+    hits.absolute = 0.001;
+    hits.percent = 1.0;  // 30 of 3015 samples
+    rules.rules.emplace_back("ssr.hit*", hits);
+    rules.rules.emplace_back("*", LayerTolerance{});
+    ExrFile port = OracleDump();
+    for (size_t i = 0; i < 30; ++i) AddToFloat(LayerOf(port, "frame", "ssr.hitX"), i * 97, 3.0f);
+    CHECK(DiffDumps(OracleDump(), port, rules, std::nullopt).ok);
+    AddToFloat(LayerOf(port, "frame", "ssr.hitX"), 2999, 3.0f);
+    CHECK_FALSE(DiffDumps(OracleDump(), port, rules, std::nullopt).ok);
+    rules.rules.front().second.percent = 100.0;
+    rules.rules.front().second.hardFail = 2.0;
+    const DiffReport hard = DiffDumps(OracleDump(), port, rules, std::nullopt);
+    CHECK_FALSE(hard.ok);
+    CHECK(Find(hard, "ssr.hitX").problem.find("hard limit") != std::string::npos);
+  }
+  SECTION("layers the port lacks are not compared and do not fail; one of another size fails") {
+    ExrFile port;
+    port.layers.push_back(*OracleDump().Find("frame", "direct.R"));
+    port.layers.back().part = "";  // a single-part port file
+    CHECK(DiffDumps(OracleDump(), port, thresholds, std::nullopt).ok);
+    port.layers.back().width = 45;
+    port.layers.back().height = 67;
+    const DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK_FALSE(report.ok);
+    CHECK(Find(report, "direct.R").problem.find("size differs") == 0);
+  }
+}
+
+// A 40x30 image whose one triangle has a vertical edge exactly through the pixel centres of column
+// 10 (x = 10.5) and another edge far from them; with identity view and projection, mesh positions
+// are NDC.
+TEST_CASE("diff: coverage differences within rounding distance of an edge are allowed, others fail",
+          "[diff][coverage]") {
+  constexpr int kWidth = 40, kHeight = 30;
+  Mesh mesh;
+  const auto ndcX = [](double px) { return float(px / kWidth * 2.0 - 1.0); };
+  mesh.positions = {{ndcX(10.5), 1.0f, 0.5f}, {ndcX(10.5), -1.0f, 0.5f}, {ndcX(39.0), -1.0f, 0.5f}};
+  mesh.indices = {0, 1, 2};
+  mesh.materials = {0};
+  ViewProjection view;
+  view.width = kWidth;
+  view.height = kHeight;
+  const auto layer = [&](const std::string& name, uint32_t fill) {
+    return ExrLayer{"frame", name, kWidth, kHeight, true, std::vector<uint32_t>(kWidth * kHeight, fill)};
+  };
+  ExrFile oracle, port;
+  oracle.layers = {layer("raster.triangle", 0), layer("gbuffer.word0", 7)};
+  port.layers = oracle.layers;
+  const CoverageGeometry geometry{mesh, view};
+  const DiffThresholds thresholds = ShippedThresholds();
+  // Pixel (10, 15): its centre is on the edge. Pixel (20, 5): well inside, far from every edge.
+  const size_t onEdge = 15 * kWidth + 10, inside = 5 * kWidth + 20;
+  port.layers[0].samples[onEdge] = 0xFFFFFFFFu;
+  port.layers[1].samples[onEdge] = 0;
+  DiffReport report = DiffDumps(oracle, port, thresholds, geometry);
+  CHECK(report.ok);
+  CHECK(Find(report, "raster.triangle").edgePixels == 1);
+  CHECK(Find(report, "gbuffer.word0").edgePixels == 1);
+  // Without the geometry the same difference is an error.
+  CHECK_FALSE(DiffDumps(oracle, port, thresholds, std::nullopt).ok);
+  port.layers[0].samples[inside] = 0xFFFFFFFFu;
+  report = DiffDumps(oracle, port, thresholds, geometry);
+  CHECK_FALSE(report.ok);
+  CHECK(Find(report, "raster.triangle").overTolerance == 1);
+  CHECK(Find(report, "raster.triangle").worstX == 20);
+  // A pixel half a pixel from the edge is no rounding case either.
+  port.layers[0].samples[inside] = 0;
+  port.layers[0].samples[15 * kWidth + 11] = 0xFFFFFFFFu;
+  CHECK_FALSE(DiffDumps(oracle, port, thresholds, geometry).ok);
+}
+
+TEST_CASE("diff: the thresholds file", "[diff][errors]") {
+  const DiffThresholds shipped = ShippedThresholds();
+  CHECK(shipped.For("gbuffer.word2").exact);
+  CHECK(shipped.For("gbuffer.word2").coverage);
+  CHECK(shipped.For("direct.G").relative > 0.0);
+  CHECK(shipped.For("hiz.4:Y").ulp > 0);
+  CHECK(shipped.For("no.such.layer").exact);
+  // Every float layer the oracle writes has a rule of its own.
+  for (const ExrLayer& layer : OracleDump().layers) {
+    const std::string id = layer.part == "frame" ? layer.name : layer.part + ":" + layer.name;
+    bool ruled = false;
+    for (const auto& rule : shipped.rules)
+      ruled = ruled || rule.first == id || (rule.first.back() == '*' && id.rfind(rule.first.substr(0, rule.first.size() - 1), 0) == 0);
+    CAPTURE(id);
+    CHECK(ruled);
+  }
+  test::ScratchDir dir("diff-thresholds");
+  const auto write = [&](const std::string& text) {
+    std::ofstream(dir / "t.json") << text;
+    return dir / "t.json";
+  };
+  const auto error = [&](const std::string& text) {
+    try {
+      LoadDiffThresholds(write(text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(error("{\"layers\": [{\"match\": \"x\", \"ulps\": 3}]}").find("unknown key 'ulps'") != std::string::npos);
+  CHECK(error("{\"layers\": [{\"match\": \"x\", \"ulp\": -1}]}").find("layers[0].ulp: must be a number >= 0") !=
+        std::string::npos);
+  CHECK(error("{\"layers\": [{\"ulp\": 1}]}").find("string \"match\"") != std::string::npos);
+  CHECK(error("{\"layers\": [").find("not valid JSON") != std::string::npos);
+  CHECK(error("[]").find("t.json: must be an object with an array \"layers\"") != std::string::npos);
+}
+
+TEST_CASE("diff: the JSON report", "[diff]") {
+  ExrFile port = OracleDump();
+  AddToFloat(LayerOf(port, "frame", "shadow.visibility"), 0, 0.5f);
+  const nlohmann::json json =
+      nlohmann::json::parse(DiffReportJson(DiffDumps(OracleDump(), port, ShippedThresholds(), std::nullopt)));
+  CHECK(json["ok"] == false);
+  CHECK(json["firstFailingPass"] == "shadow_filter");
+  bool found = false;
+  for (const auto& layer : json["layers"]) {
+    if (layer["id"] != "shadow.visibility") continue;
+    found = true;
+    CHECK(layer["ok"] == false);
+    CHECK(layer["overTolerance"] == 1);
+    CHECK(layer["worst"] == nlohmann::json::array({0, 0}));
+  }
+  CHECK(found);
+}
+
+}  // namespace
+}  // namespace ssgi
