@@ -162,6 +162,8 @@ const std::vector<DumpLayer>& DumpLayers() {
        "trace hit, level-0 pixel coordinates (centres at +0.5), [0, height); -1 = no hit"},
       {"ssr.confidence", P::kSsrTrace, false, DumpPart::kImage, false,
        "trace confidence, [0, 1]; 0 exactly where there is no hit"},
+      {"ssr.iterations", P::kSsrTrace, false, DumpPart::kImage, false,
+       "Hi-Z steps the pixel's ray took, a whole number in [0, ssr_iterations]; 0 where no ray was traced"},
       {"ssr.reflected.R", P::kSsrCone, false, DumpPart::kImage, false,
        "cone-traced radiance before the specular weight, linear, [0, kColorPyramidMaxRadiance]; 0 without hit"},
       {"ssr.reflected.G", P::kSsrCone, false, DumpPart::kImage, false,
@@ -247,6 +249,8 @@ void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
       image.channels.push_back(Channel("ssr.hitX", frame.ssrTrace.hitX));
       image.channels.push_back(Channel("ssr.hitY", frame.ssrTrace.hitY));
       image.channels.push_back(Channel("ssr.confidence", frame.ssrTrace.confidence));
+      if (frame.ssrTrace.iterations.xsize() == size_t(width))
+        image.channels.push_back(Channel("ssr.iterations", frame.ssrTrace.iterations));
     }
     if (frame.ssrCone.reflected.c[0].xsize() == size_t(width))
       for (int c = 0; c < 3; ++c)
@@ -330,6 +334,8 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
     LoadPlane(dump, file, image, "ssr.hitX", width, height, frame.ssrTrace.hitX);
     LoadPlane(dump, file, image, "ssr.hitY", width, height, frame.ssrTrace.hitY);
     LoadPlane(dump, file, image, "ssr.confidence", width, height, frame.ssrTrace.confidence);
+    if (HasLayer(dump, image, "ssr.iterations"))
+      LoadPlane(dump, file, image, "ssr.iterations", width, height, frame.ssrTrace.iterations);
   }
   if (before(FramePass::kSsrCone) && runs(FramePass::kComposite))
     LoadPlane3(dump, file, image, "ssr.reflected.", width, height, frame.ssrCone.reflected);

@@ -40,6 +40,7 @@ struct PixelHit {
   float x = -1.0f;
   float y = -1.0f;
   float confidence = 0.0f;
+  float iterations = 0.0f;
 };
 
 class PixelTracer {
@@ -74,25 +75,27 @@ class PixelTracer {
     const HiZRay ray{{float(x) + 0.5f, float(y) + 0.5f, 1.0f / d}, Project(q)};
     const HiZMarch march = MarchHiZ(in_.hiz, ray, params_.maxIterations, params_.startLevel);
     counts.iterations += uint64_t(march.iterations);
+    PixelHit miss;
+    miss.iterations = float(march.iterations);
     if (!march.hit || !InsideImage(march.position, width_, height_) || !(march.position.z > 0.0f))
-      return none;
+      return miss;
 
     const int hx = std::min(int(march.position.x), in_.gbuffer.width() - 1);
     const int hy = std::min(int(march.position.y), in_.gbuffer.height() - 1);
     const float hitDepth = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(hy))[hx]);
-    if (!(hitDepth < kBackgroundDepth)) return none;
+    if (!(hitDepth < kBackgroundDepth)) return miss;
     const glm::vec3 hitNormal =
         UnpackNormal(in_.gbuffer.word[1].ConstRow(size_t(hy))[hx], in_.gbuffer.normalEncoding);
     // Back faces and surfaces the ray only grazes cannot reflect light back along r.
-    if (glm::dot(hitNormal, r) >= 0.0f) return none;
+    if (glm::dot(hitNormal, r) >= 0.0f) return miss;
 
     // Relative depth excess of the ray over the surface: (ray d - surface d) / surface d.
     const float excess = (1.0f / march.position.z) / hitDepth - 1.0f;
     const float thickness = std::clamp(2.0f - excess / params_.thickness, 0.0f, 1.0f);
     const float confidence = thickness * towardCamera * EdgeFade(march.position.x, width_) *
                              EdgeFade(march.position.y, height_);
-    if (!(confidence > 0.0f)) return none;
-    return {march.position.x, march.position.y, std::min(confidence, 1.0f)};
+    if (!(confidence > 0.0f)) return miss;
+    return {march.position.x, march.position.y, std::min(confidence, 1.0f), miss.iterations};
   }
 
  private:
@@ -206,13 +209,14 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
 }
 
 void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                       float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts) {
+                       float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts) {
   const PixelTracer tracer(in, params);
   for (int x = xBegin; x < xEnd; ++x) {
     const PixelHit hit = tracer.Trace(x, y, counts);
     hitX[x] = hit.x;
     hitY[x] = hit.y;
     confidence[x] = hit.confidence;
+    iterations[x] = hit.iterations;
   }
 }
 
@@ -234,6 +238,7 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   ShapeOutput(out.hitX, size_t(width), size_t(height));
   ShapeOutput(out.hitY, size_t(width), size_t(height));
   ShapeOutput(out.confidence, size_t(width), size_t(height));
+  ShapeOutput(out.iterations, size_t(width), size_t(height));
 
   const int tilesX = (width + kTileSize - 1) / kTileSize;
   const int tilesY = (height + kTileSize - 1) / kTileSize;
@@ -246,7 +251,7 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
     if (kernels == KernelPath::kSimd) return SsrTraceRowsSimd(in, params, y0, y1, x0, x1, out, counts[tile]);
     for (int y = y0; y < y1; ++y) {
       SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-                        out.confidence.MutableRow(size_t(y)), counts[tile]);
+                        out.confidence.MutableRow(size_t(y)), out.iterations.MutableRow(size_t(y)), counts[tile]);
     }
   });
 

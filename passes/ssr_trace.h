@@ -54,6 +54,9 @@ struct SsrTraceOutputs {
   Plane<float> hitY;
   // In [0, 1]: thickness x screen-edge x toward-camera fades; 0 exactly where hitX is -1.
   Plane<float> confidence;
+  // The Hi-Z steps the pixel's ray took (a whole number in [0, maxIterations]; 0 where no ray was
+  // traced): where a port's march and the oracle's part ways, and what the trace costs where.
+  Plane<float> iterations;
 };
 
 struct SsrTraceStats {
@@ -110,14 +113,14 @@ struct SsrTraceCounts {
 };
 
 // The trace's scalar row kernel, the definition a SIMD twin (passes/ssr_trace_simd.cpp) must equal
-// bit for bit: traces pixels [xBegin, xEnd) of row y into hitX[x], hitY[x], confidence[x] (each
-// pointer at the row's pixel 0; SsrTraceOutputs gives the values) and adds its rays and steps to
-// `counts`.
+// bit for bit: traces pixels [xBegin, xEnd) of row y into hitX[x], hitY[x], confidence[x],
+// iterations[x] (each pointer at the row's pixel 0; SsrTraceOutputs gives the values) and adds its
+// rays and steps to `counts`.
 void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                       float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
+                       float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts);
 // Its Highway twin, dispatched to the machine's best target: lanes are the row's rays.
 void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts);
+                     float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts);
 // The twin over rows [yBegin, yEnd) of out's planes (already of the G-buffer's size), reading the
 // inputs' layout once for all of them.
 void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,

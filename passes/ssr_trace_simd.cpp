@@ -67,6 +67,7 @@ MF InsideImageV(VF x, VF y, float width, float height) {
 struct MarchLanes {
   MF live;  // still marching
   MF hit;
+  VI steps;  // HiZMarch::iterations
   VF posX, posY, posZ;  // HiZMarch::position
   VF t;
   VI level;
@@ -93,6 +94,7 @@ HWY_INLINE MarchLanes StartMarch(const SsrTraceFrame& frame, MF live, VF originX
   m.posZ = hn::IfThenElseZero(m.live, originZ);
   m.t = hn::Zero(df);
   m.level = hn::Zero(di);
+  m.steps = hn::Zero(di);
   m.dirX = hn::Sub(hn::IfThenElseZero(m.live, end.x), m.posX);
   m.dirY = hn::Sub(hn::IfThenElseZero(m.live, end.y), m.posY);
   m.dirZ = hn::Sub(hn::IfThenElseZero(m.live, end.z), m.posZ);
@@ -159,6 +161,7 @@ HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& para
   const VI imageHeight = hn::Set(di, frame.height);
   const VF never = hn::Set(df, kHiZNever);
   iterations += hn::CountTrue(df, m.live);
+  m.steps = hn::Add(m.steps, hn::IfThenElseZero(hn::RebindMask(di, m.live), hn::Set(di, 1)));
   // CellIndex. Positions are never NaN (StartMarch), so hn::Min / hn::Max clamp as std::clamp does;
   // level k has max(1, size >> k) cells (PyramidHalvedSize).
   const VF maxCoordinate = hn::Set(df, kHiZMaxCoordinate);
@@ -273,19 +276,20 @@ RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, VF 
   return rays;
 }
 
-// Stores "no hit" at x0, x0 + 1, ... of a row segment ending at xEnd.
-void StoreNoHits(size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence) {
+// Stores "no hit" after `steps` Hi-Z steps at x0, x0 + 1, ... of a row segment ending at xEnd.
+void StoreNoHits(VI steps, size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence, float* iterations) {
   const DF df;
   StoreRow(hn::Set(df, -1.0f), df, hitX, x0, xEnd);
   StoreRow(hn::Set(df, -1.0f), df, hitY, x0, xEnd);
   StoreRow(hn::Zero(df), df, confidence, x0, xEnd);
+  StoreRow(hn::ConvertTo(df, steps), df, iterations, x0, xEnd);
 }
 
 // The rest of PixelTracer::Trace after the march: the surface at the hit must be in front of the
 // background and face the ray; the confidence fades. Stores at x0, x0 + 1, ... of a row segment
 // ending at xEnd.
 void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const RayLanes& rays, const MarchLanes& m,
-                size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence) {
+                size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence, float* iterations) {
   const DF df;
   const DI di;
   const DU du;
@@ -294,7 +298,7 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   const VF none = hn::Set(df, -1.0f);
   MF found = hn::And(m.hit, hn::And(InsideImageV(m.posX, m.posY, float(frame.width), float(frame.height)),
                                     hn::Gt(m.posZ, zero)));
-  if (hn::AllFalse(df, found)) return StoreNoHits(x0, xEnd, hitX, hitY, confidence);
+  if (hn::AllFalse(df, found)) return StoreNoHits(m.steps, x0, xEnd, hitX, hitY, confidence, iterations);
   const auto foundI = hn::RebindMask(di, found);
   const VI hx = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posX)), hn::Set(di, frame.width - 1));
   const VI hy = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posY)), hn::Set(di, frame.height - 1));
@@ -313,10 +317,11 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   StoreRow(hn::IfThenElse(found, m.posX, none), df, hitX, x0, xEnd);
   StoreRow(hn::IfThenElse(found, m.posY, none), df, hitY, x0, xEnd);
   StoreRow(hn::IfThenElseZero(found, MinStd(fade, one)), df, confidence, x0, xEnd);
+  StoreRow(hn::ConvertTo(df, m.steps), df, iterations, x0, xEnd);
 }
 
 void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int xBegin, int xEnd, float* hitX,
-              float* hitY, float* confidence, SsrTraceCounts& counts) {
+              float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts) {
   const DF df;
   const DU du;
   const size_t lanes = hn::Lanes(df);
@@ -328,6 +333,7 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
     hwy::Prefetch(hitX + x);
     hwy::Prefetch(hitY + x);
     hwy::Prefetch(confidence + x);
+    hwy::Prefetch(iterations + x);
     if (y + 1 < frame.height) {
       hwy::Prefetch(frame.word1 + next + size_t(x));
       hwy::Prefetch(frame.word2 + next + size_t(x));
@@ -344,7 +350,7 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
     MF candidates = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
     candidates = hn::And(candidates, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
     if (hn::AllFalse(df, candidates)) {
-      StoreNoHits(x0, end, hitX, hitY, confidence);
+      StoreNoHits(hn::Zero(DI()), x0, end, hitX, hitY, confidence, iterations);
       continue;
     }
     const VF px = hn::Add(hn::Add(hn::Iota(df, 0.0f), hn::Set(df, float(x0))), hn::Set(df, 0.5f));
@@ -354,7 +360,7 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
     for (int step = 1; step <= params.maxIterations && !hn::AllFalse(df, march.live); ++step) {
       StepMarch(frame, params, step, march, counts.iterations);
     }
-    FinishRays(frame, params, rays, march, x0, end, hitX, hitY, confidence);
+    FinishRays(frame, params, rays, march, x0, end, hitX, hitY, confidence, iterations);
   }
 }
 
@@ -363,7 +369,7 @@ void TraceRows(const SsrTraceFrame& frame, const SsrTraceParams& params, int yBe
                SsrTraceOutputs& out, SsrTraceCounts& counts) {
   for (int y = yBegin; y < yEnd; ++y) {
     TraceRow(frame, params, y, xBegin, xEnd, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-             out.confidence.MutableRow(size_t(y)), counts);
+             out.confidence.MutableRow(size_t(y)), out.iterations.MutableRow(size_t(y)), counts);
   }
 }
 
@@ -407,8 +413,9 @@ SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
 }  // namespace
 
 void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                     float* hitX, float* hitY, float* confidence, SsrTraceCounts& counts) {
-  HWY_DYNAMIC_DISPATCH(TraceRow)(FlattenInputs(in), params, y, xBegin, xEnd, hitX, hitY, confidence, counts);
+                     float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts) {
+  HWY_DYNAMIC_DISPATCH(TraceRow)(FlattenInputs(in), params, y, xBegin, xEnd, hitX, hitY, confidence, iterations,
+                                 counts);
 }
 
 void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,

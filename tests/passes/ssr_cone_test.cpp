@@ -44,7 +44,7 @@ GBuffer UniformRoughness(size_t width, size_t height, uint32_t code) {
 SsrTraceOutputs VerticalHits(float hitOffsetX) {
   SsrTraceOutputs trace{MakePlane<float>(kStepWidth, kStepHeight, 0.0f),
                         MakePlane<float>(kStepWidth, kStepHeight, 0.0f),
-                        MakePlane<float>(kStepWidth, kStepHeight, 1.0f)};
+                        MakePlane<float>(kStepWidth, kStepHeight, 1.0f), {}};
   for (size_t y = 0; y < kStepHeight; ++y) {
     for (size_t x = 0; x < kStepWidth; ++x) {
       trace.hitX.MutableRow(y)[x] = float(x) + 0.5f + hitOffsetX;
@@ -166,7 +166,7 @@ TEST_CASE("Cone trace is finite for every code, h = 0, corners and a 1x1 image",
     std::uniform_real_distribution<float> hitX(0.0f, std::nextafter(w, 0.0f)), hitY(0.0f, std::nextafter(h, 0.0f));
     for (int pattern = 0; pattern < 6; ++pattern) {
       SsrTraceOutputs trace{MakePlane<float>(width, height, 0.0f), MakePlane<float>(width, height, 0.0f),
-                            MakePlane<float>(width, height, 1.0f)};
+                            MakePlane<float>(width, height, 1.0f), {}};
       for (size_t y = 0; y < height; ++y) {
         for (size_t x = 0; x < width; ++x) {
           std::pair<float, float> hit{float(x) + 0.5f, float(y) + 0.5f};
@@ -290,7 +290,7 @@ TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target
       std::uniform_int_distribution<int> pattern(0, 6);
       GBuffer gbuffer = MakeGBuffer(int(width), int(height), NormalEncoding::kOct24);
       SsrTraceOutputs trace{MakePlane<float>(width, height, -1.0f), MakePlane<float>(width, height, -1.0f),
-                            MakePlane<float>(width, height, 0.0f)};
+                            MakePlane<float>(width, height, 0.0f), {}};
       for (size_t y = 0; y < height; ++y) {
         for (size_t x = 0; x < width; ++x) {
           gbuffer.word[1].MutableRow(y)[x] = code(rng) << 24;

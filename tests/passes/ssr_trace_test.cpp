@@ -305,23 +305,24 @@ void CheckRowTwins(const GBuffer& g, const ViewProjection& view, const HiZ& hiz,
   }
   constexpr float kUntouched = -7.0f;
   const size_t row = size_t(width);
-  std::vector<float> expected(segments.size() * 3 * row, kUntouched);
+  std::vector<float> expected(segments.size() * 4 * row, kUntouched);
   std::vector<SsrTraceCounts> expectedCounts(segments.size());
   for (size_t i = 0; i < segments.size(); ++i) {
     const Segment& s = segments[i];
-    float* out = expected.data() + i * 3 * row;
-    SsrTraceRowScalar(in, params, s.y, s.xBegin, s.xEnd, out, out + row, out + 2 * row, expectedCounts[i]);
+    float* out = expected.data() + i * 4 * row;
+    SsrTraceRowScalar(in, params, s.y, s.xBegin, s.xEnd, out, out + row, out + 2 * row, out + 3 * row,
+                      expectedCounts[i]);
   }
-  std::vector<float> actual(3 * row);
+  std::vector<float> actual(4 * row);
   const size_t targets = test::ForEachSimdTarget([&](const char* target) {
     for (size_t i = 0; i < segments.size(); ++i) {
       const Segment& s = segments[i];
       std::fill(actual.begin(), actual.end(), kUntouched);
       SsrTraceCounts counts;
       SsrTraceRowSimd(in, params, s.y, s.xBegin, s.xEnd, actual.data(), actual.data() + row,
-                      actual.data() + 2 * row, counts);
+                      actual.data() + 2 * row, actual.data() + 3 * row, counts);
       CAPTURE(target, s.y, s.xBegin, s.xEnd, params.maxIterations, params.startLevel);
-      REQUIRE(test::FirstDifferentBits(actual.data(), expected.data() + i * 3 * row, 3 * row) == 3 * row);
+      REQUIRE(test::FirstDifferentBits(actual.data(), expected.data() + i * 4 * row, 4 * row) == 4 * row);
       REQUIRE(counts.rays == expectedCounts[i].rays);
       REQUIRE(counts.iterations == expectedCounts[i].iterations);
     }
@@ -373,10 +374,11 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
     RunHiZ(g.word[2], hiz);
     // The centre column and row do march along an axis: some of their rays are traced.
     SsrTraceCounts column, row;
-    std::vector<float> scratch(3 * 65);
+    std::vector<float> scratch(4 * 65);
     const SsrTraceInputs in{g, view, hiz};
-    for (int y = 0; y < 49; ++y) SsrTraceRowScalar(in, {}, y, 32, 33, &scratch[0], &scratch[65], &scratch[130], column);
-    SsrTraceRowScalar(in, {}, 24, 0, 65, &scratch[0], &scratch[65], &scratch[130], row);
+    for (int y = 0; y < 49; ++y)
+      SsrTraceRowScalar(in, {}, y, 32, 33, &scratch[0], &scratch[65], &scratch[130], &scratch[195], column);
+    SsrTraceRowScalar(in, {}, 24, 0, 65, &scratch[0], &scratch[65], &scratch[130], &scratch[195], row);
     CHECK(column.rays > 5);
     CHECK(row.rays > 5);
     for (int startLevel : {0, 1, 3}) {
@@ -405,6 +407,7 @@ TEST_CASE("SSR trace: the SIMD pass gives the scalar pass's bytes on every targe
       CHECK(test::SameBytes(actual.hitX, expected.hitX));
       CHECK(test::SameBytes(actual.hitY, expected.hitY));
       CHECK(test::SameBytes(actual.confidence, expected.confidence));
+      CHECK(test::SameBytes(actual.iterations, expected.iterations));
       CHECK(stats.rays == expectedStats.rays);
       CHECK(stats.meanIterations == expectedStats.meanIterations);
       CHECK(stats.tilesTraced == expectedStats.tilesTraced);
