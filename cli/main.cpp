@@ -312,7 +312,7 @@ struct ReferenceOptions {
 };
 
 // The Embree ground truth (DESIGN.md §10): one EXR holding the final image as R, G, B and the
-// matching buffers under the names --dump-gbuffer uses, so `ssgi compare --layer` pairs them.
+// matching buffers under the names --dump uses, so `ssgi compare --layer` pairs them.
 int Reference(const ReferenceOptions& options) {
   const ssgi::ThreadLimit threadLimit(options.threads);
   if (ssgi::CheckOutputPath(options.output) != ssgi::ImageFileKind::kExr)
@@ -586,7 +586,7 @@ int main(int argc, char** argv) {
   compareCommand->add_option("reference", compare.reference, "Reference image, same size.")->required();
   compareCommand->add_option("--layer", compare.layer,
                              "Channels to compare in both files: LAYER.R/G/B, or the single channel LAYER "
-                             "(e.g. result, direct, indirect, shadow.visibility of a --dump-gbuffer EXR). "
+                             "(e.g. result, direct, indirect, shadow.visibility of a --dump EXR). "
                              "Default: R, G, B.");
   compareCommand->add_option("--heatmap", compare.heatmap, "Write the per-pixel error as a heat map PNG.");
   compareCommand->add_option("--heatmap-scale", compare.heatmapScale,

@@ -181,5 +181,26 @@ TEST_CASE("EXR files: truncated and non-EXR files are refused with the file name
   CHECK(ExactlyEqualLayers(original, ReadExrFile(dir / "copy.exr")) == original.layers.size());
 }
 
+TEST_CASE("frame dump: docs/pipeline.md's table names every layer of the catalogue", "[dump][docs]") {
+  std::ifstream in(test::SourceDir() / "docs" / "pipeline.md");
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t begin = doc.find("## Dumps"), end = doc.find("## Matching rules");
+  REQUIRE(begin != std::string::npos);
+  REQUIRE(end != std::string::npos);
+  const std::string section = doc.substr(begin, end - begin);
+  for (const DumpLayer& layer : DumpLayers()) {
+    std::string name(layer.name);
+    // "albedo.R" is documented as `albedo.R/G/B`, "normal.X" as `normal.X/Y/Z`.
+    const size_t dot = name.rfind('.');
+    if (dot != std::string::npos && name.size() - dot == 2) name = name.substr(0, dot + 1);
+    if (layer.part == DumpPart::kShadowMap) name = "shadowmap:" + name;
+    if (layer.part == DumpPart::kHiZLevels) name = "hiz.L:";
+    if (layer.part == DumpPart::kPyramidLevels) name = "pyramid.L:";
+    CAPTURE(layer.name, name);
+    CHECK(section.find("`" + name) != std::string::npos);
+    CHECK(section.find(std::string(FramePassName(layer.pass))) != std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace ssgi
