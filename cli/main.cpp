@@ -112,6 +112,7 @@ struct RenderOptions {
   std::string output;
   int threads = 0;
   bool stats = false;
+  bool explain = false;
   std::string dumpBuffers;
   SettingOptions settings;
 };
@@ -171,6 +172,8 @@ int Render(const RenderOptions& options) {
     ssgi::WriteFrameDump(options.dumpBuffers, frame, ssgi::DumpMetadata(fs::absolute(scenePath).string(), config));
   const double writeMs = write.Lap();
 
+  if (options.explain)
+    std::printf("%s", ssgi::ExplainPlan(ssgi::PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.view, true)).c_str());
   if (options.stats) {
     std::printf("scene %s: %zu triangles, %zu materials, %zu textures, load %.1f ms\n", scenePath.string().c_str(),
                 scene.mesh.TriangleCount(), scene.materials.size(), scene.textures.size(), loadMs);
@@ -549,6 +552,9 @@ int main(int argc, char** argv) {
                                                          "byte-identical for any count.")
       ->check(CLI::Range(0, 1024));
   renderCommand->add_flag("--stats", render.stats, "Print each stage's time in ms and its throughput.");
+  renderCommand->add_flag("--explain", render.explain,
+                          "Print the frame plan: each effect run or skipped and why, and the share of tiles and "
+                          "pixels that need it.");
   renderCommand->add_option("--dump,--dump-gbuffer", render.dumpBuffers,
                             "Also write every buffer of the frame to this multi-part .exr, as named layers in "
                             "pipeline order (docs/pipeline.md 'Dumps'): the oracle's buffers for `ssgi passes` "

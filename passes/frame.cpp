@@ -31,17 +31,6 @@ FramePass ParseFramePass(std::string_view name) {
   throw InputError("'" + std::string(name) + "' is not a pass; the passes: " + names);
 }
 
-std::optional<size_t> FrameShadowLight(const Scene& scene, const FrameConfig& config) {
-  const std::vector<size_t> lights = ShadowCastingLights(scene);
-  if (config.shadows == EffectMode::kOff || lights.empty()) return std::nullopt;
-  return lights.front();
-}
-
-bool FrameReflects(const Scene& scene, const FrameConfig& config) {
-  return config.reflections == EffectMode::kOn ||
-         (config.reflections == EffectMode::kAuto && SceneReflects(scene, config.ssrTrace.roughnessCutoff));
-}
-
 Frame RenderFrame(const Scene& scene, const FrameConfig& config) {
   Frame frame;
   RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
@@ -61,9 +50,13 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     stats.gbuffer = RunGBuffer({scene, frame.view}, {config.normalEncoding}, frame.gbuffer);
   GBuffer& gbuffer = frame.gbuffer.gbuffer;
 
-  // Shadows only where the scene calls for them (DESIGN.md §9): a light that casts them, and not
-  // switched off. G-buffer word 3 has room for one light's term: the first shadow-casting light.
-  const std::optional<size_t> shadowLight = FrameShadowLight(scene, config);
+  // Only the effects the visible pixels need (DESIGN.md §9). G-buffer word 3 has room for one
+  // light's term: the first shadow-casting light's.
+  Stopwatch planning;
+  frame.plan = PlanFrame(scene, config, gbuffer, frame.view);
+  stats.planMs = planning.Lap();
+  const std::optional<size_t> shadowLight =
+      frame.plan.shadows.run ? frame.plan.shadowLight : std::optional<size_t>();
   frame.shadows = shadowLight.has_value() && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
   if (frame.shadows && runs(FramePass::kShadowMap)) {
     frame.shadowMap.emplace();
@@ -85,7 +78,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
   }
 
-  frame.reflections = FrameReflects(scene, config);
+  frame.reflections = frame.plan.reflections.run;
   if (frame.reflections) {
     if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
     if (runs(FramePass::kColorPyramid)) stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
@@ -108,6 +101,7 @@ std::vector<StageStats> StageRows(const FrameStats& s) {
   std::vector<StageStats> rows;
   rows.push_back({"g-buffer raster", s.gbuffer.rasterMs, double(s.triangles), "triangles"});
   rows.push_back({"g-buffer resolve", s.gbuffer.resolveMs, double(s.gbuffer.coveredPixels), "pixels"});
+  rows.push_back({"frame plan", s.planMs, pixels, "pixels"});
   if (s.shadowMap) {
     rows.push_back({"shadow map", s.shadowMap->fitMs + s.shadowMap->rasterMs, double(s.shadowMap->triangles),
                     "triangles"});
@@ -136,10 +130,5 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
   return rgb;
 }
 
-bool SceneReflects(const Scene& scene, float roughnessCutoff) {
-  for (const Material& m : scene.materials)
-    if (m.roughness < roughnessCutoff || m.roughnessTexture != kNoTexture) return true;
-  return false;
-}
 
 }  // namespace ssgi

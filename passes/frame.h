@@ -12,6 +12,7 @@
 #include "core/plane.h"
 #include "core/scene.h"
 #include "passes/frame_config.h"
+#include "passes/frame_plan.h"
 #include "passes/color_pyramid.h"
 #include "passes/composite.h"
 #include "passes/direct_light.h"
@@ -37,6 +38,7 @@ struct FrameStats {
   std::optional<SsrConeStats> ssrCone;
   std::optional<CompositeStats> composite;
   TonemapStats tonemap;
+  double planMs = 0.0;  // PlanFrame
   double totalMs = 0.0;
   size_t triangles = 0;  // submitted to the G-buffer raster
   size_t pixels = 0;     // of the image
@@ -80,6 +82,7 @@ FramePass ParseFramePass(std::string_view name);
 struct Frame {
   ViewProjection view;
   GBufferOutputs gbuffer;
+  FramePlan plan;  // which effects the G-buffer's pixels need
   // Present when the scene has a shadow-casting light and shadows are not switched off: the first
   // such light's shadow map (its term is G-buffer word 3) and its filtered visibility.
   std::optional<ShadowMapOutputs> shadowMap;
@@ -102,25 +105,15 @@ struct Frame {
   const Plane3<float>& Result() const { return reflections ? composite.result : direct.radiance; }
 };
 
-// Whether the scene calls for screen-space reflections: some material smooth enough to be traced
-// (roughness below the trace's cut-off, or a roughness texture that may make it so).
-bool SceneReflects(const Scene& scene, float roughnessCutoff);
-
 // Renders the scene as the configuration says.
 Frame RenderFrame(const Scene& scene, const FrameConfig& config);
 
 // Runs the passes from `from` to `to` (inclusive, pipeline order) of the frame RenderFrame would
 // render, on a frame whose buffers that those passes read from earlier passes are filled already
 // (LoadFrameDump in passes/frame_dump.h). Which passes belong to the frame (shadows, reflections) is
-// decided as RenderFrame decides it; a pass that does not belong is skipped. frame.stats holds the
-// passes that ran.
+// the frame plan's decision on the G-buffer (passes/frame_plan.h); a pass that does not belong is
+// skipped. frame.stats holds the passes that ran.
 void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame);
-
-// The shadow-casting light whose term G-buffer word 3 holds (the first), when the frame has shadows:
-// a light that casts them and shadows not switched off.
-std::optional<size_t> FrameShadowLight(const Scene& scene, const FrameConfig& config);
-// Whether the frame traces reflections: switched on, or automatic and the scene reflects.
-bool FrameReflects(const Scene& scene, const FrameConfig& config);
 
 // The G-buffer's albedo as 8-bit sRGB RGB rows (background black): the paper's "albedo" image.
 std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);

@@ -293,8 +293,6 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
   const std::string image = DumpPartName(DumpPart::kImage, 0);
   const auto before = [&](FramePass pass) { return pass < from; };
   const auto runs = [&](FramePass pass) { return from <= pass && pass <= to; };
-  const bool shadows = FrameShadowLight(scene, config).has_value();
-  const bool reflections = FrameReflects(scene, config);
   // A layer is loaded when an earlier pass writes it and a pass that runs reads it, or, for the
   // G-buffer words, whenever the G-buffer pass does not run: every later pass reads them.
   GBuffer& g = frame.gbuffer.gbuffer;
@@ -308,6 +306,10 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
       LoadPlane(dump, file, image, "raster.triangle", width, height, frame.gbuffer.visibility.triangle);
     }
   }
+  if (from == FramePass::kGBuffer) return;
+  // Which effects belong to the frame: the plan on the G-buffer, as RunFramePasses will make it.
+  const FramePlan plan = PlanFrame(scene, config, g, MakePerspective(scene.camera, config.width, config.height));
+  const bool shadows = plan.shadows.run, reflections = plan.reflections.run;
   if (shadows && before(FramePass::kShadowMap) && (runs(FramePass::kShadowFilter) || HasLayer(dump, image, "gbuffer.word3")))
     LoadPlane(dump, file, image, "gbuffer.word3", width, height, g.word[3]);
   if (shadows && before(FramePass::kShadowFilter) && runs(FramePass::kDirectLight))

@@ -25,7 +25,7 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
 
   FrameConfig config = test::ConfigOf(scene);
   const Frame all = RenderFrame(scene, config);
-  CHECK(StageNames(all) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "shadow map",
+  CHECK(StageNames(all) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "shadow map",
                                                     "blocker search", "shadow filter", "direct light", "hi-z",
                                                     "colour pyramid", "ssr trace", "cone trace", "composite",
                                                     "tonemap", "frame total"});
@@ -38,7 +38,8 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
   config.reflections = EffectMode::kOff;
   const Frame direct = RenderFrame(scene, config);
   CHECK(StageNames(direct) ==
-        std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "direct light", "tonemap", "frame total"});
+        std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "direct light", "tonemap",
+                                 "frame total"});
   CHECK(!direct.stats.shadowMap);
   CHECK(!direct.stats.composite);
 }

@@ -1,0 +1,48 @@
+// The frame plan (DESIGN.md §9: simulate only the effects a scene calls for): after the G-buffer,
+// which effects the pixels on screen need. Shadows run only if some visible pixel faces the
+// shadow-casting light (elsewhere its term is 0 whatever the visibility); reflections only if some
+// visible pixel is smoother than the trace's cut-off (elsewhere the composite adds nothing). A
+// skipped effect therefore leaves the image's bytes as they would be with it. `ssgi render
+// --explain` prints the plan.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "core/camera.h"
+#include "core/gbuffer.h"
+#include "core/scene.h"
+#include "passes/frame_config.h"
+
+namespace ssgi {
+
+inline constexpr int kPlanTileSize = 32;
+
+struct EffectPlan {
+  bool run = false;
+  std::string why;      // one line: what decided it
+  bool counted = false;  // whether tiles and pixels were counted (shadows: only when asked)
+  size_t tiles = 0;     // 32x32 tiles with a pixel that needs the effect
+  size_t pixels = 0;    // pixels that need it
+};
+
+struct FramePlan {
+  size_t tiles = 0;            // 32x32 tiles of the image
+  size_t pixels = 0;           // of the image
+  size_t geometryPixels = 0;   // pixels with geometry
+  std::optional<size_t> shadowLight;  // the light whose term word 3 holds (PrepareLights order)
+  EffectPlan shadows;
+  EffectPlan reflections;
+};
+
+// The plan for the frame of this G-buffer, rendered with `view`. countShadowPixels: count the
+// pixels and tiles facing the shadowed light (for --explain) instead of stopping at the first.
+FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer, const ViewProjection& view,
+                    bool countShadowPixels = false);
+
+// The plan as `--explain` prints it: a line per effect, run or skipped and why, with its share of
+// tiles and pixels.
+std::string ExplainPlan(const FramePlan& plan);
+
+}  // namespace ssgi

@@ -1,0 +1,120 @@
+// The frame plan (passes/frame_plan.h): effects planned from the visible pixels, skipped where no
+// pixel needs them, with the image's bytes as if they had run; forced modes still force.
+#include "passes/frame_plan.h"
+
+#include <catch2/catch.hpp>
+
+#include "passes/frame.h"
+#include "tests/passes/test_scenes.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kWidth = 96, kHeight = 64;
+
+// A rough floor seen from above and in front, lit by a shadow-casting sun from above.
+test::TestScene RoughFloor() {
+  CameraDesc camera;
+  camera.position = {0.0f, 2.0f, 5.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  test::TestScene scene = test::MakeScene(camera, kWidth, kHeight);
+  scene.materials[0].roughness = 0.9f;
+  test::AddGround(scene.mesh, 50.0f);
+  scene.directionalLights.push_back(test::Sun(test::LightDirection(30.0f, 40.0f), 2.0f));
+  return scene;
+}
+
+// Adds a box of a new material of that roughness.
+void AddBoxOfRoughness(test::TestScene& scene, glm::vec3 lo, glm::vec3 hi, float roughness) {
+  Material smooth = scene.materials[0];
+  smooth.roughness = roughness;
+  scene.materials.push_back(smooth);
+  const size_t before = scene.mesh.TriangleCount();
+  test::AddBox(scene.mesh, lo, hi);
+  for (size_t t = before; t < scene.mesh.TriangleCount(); ++t) scene.mesh.materials[t] = uint32_t(scene.materials.size() - 1);
+}
+
+Frame Render(const test::TestScene& scene, EffectMode shadows, EffectMode reflections) {
+  FrameConfig config = test::ConfigOf(scene);
+  config.shadows = shadows;
+  config.reflections = reflections;
+  return RenderFrame(scene, config);
+}
+
+TEST_CASE("frame plan: a smooth surface off screen or covered does not run the reflections", "[plan]") {
+  SECTION("behind the camera") {
+    test::TestScene scene = RoughFloor();
+    AddBoxOfRoughness(scene, {-1.0f, 0.0f, 8.0f}, {1.0f, 1.0f, 9.0f}, 0.1f);
+    const Frame autoFrame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+    CHECK_FALSE(autoFrame.plan.reflections.run);
+    CHECK(autoFrame.plan.reflections.why.find("no visible surface is smoother") == 0);
+    CHECK(autoFrame.plan.reflections.pixels == 0);
+    CHECK_FALSE(autoFrame.stats.ssrTrace);
+    const Frame forced = Render(scene, EffectMode::kAuto, EffectMode::kOn);
+    CHECK(forced.plan.reflections.run);
+    CHECK(forced.plan.reflections.why == "switched on");
+    REQUIRE(forced.stats.ssrTrace);
+    // Nothing on screen reflects, so the skipped passes would have added nothing.
+    CHECK(autoFrame.display.rgb == forced.display.rgb);
+  }
+  SECTION("covered by a rough wall") {
+    test::TestScene scene = RoughFloor();
+    AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
+    CHECK(Render(scene, EffectMode::kAuto, EffectMode::kAuto).plan.reflections.run);
+    test::AddQuad(scene.mesh, {-20.0f, -20.0f, 3.0f}, {40.0f, 0.0f, 0.0f}, {0.0f, 40.0f, 0.0f});
+    const Frame covered = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+    CHECK(covered.plan.geometryPixels == size_t(kWidth) * kHeight);
+    CHECK_FALSE(covered.plan.reflections.run);
+    CHECK(covered.display.rgb == Render(scene, EffectMode::kAuto, EffectMode::kOn).display.rgb);
+  }
+  SECTION("in view: the share of tiles and pixels") {
+    test::TestScene scene = RoughFloor();
+    AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
+    const Frame frame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+    CHECK(frame.plan.reflections.run);
+    CHECK(frame.plan.reflections.pixels > 0);
+    CHECK(frame.plan.reflections.pixels < frame.plan.geometryPixels);
+    CHECK(frame.plan.reflections.tiles >= 1);
+    CHECK(frame.plan.reflections.tiles < frame.plan.tiles);
+    CHECK(frame.stats.ssrTrace);
+  }
+}
+
+TEST_CASE("frame plan: a shadow-casting light that reaches no visible pixel runs no shadow pass", "[plan]") {
+  test::TestScene scene = RoughFloor();
+  // The sun shines up from below the floor: no visible pixel faces it.
+  scene.directionalLights[0].direction = glm::vec3(0.2f, 1.0f, 0.1f) / glm::length(glm::vec3(0.2f, 1.0f, 0.1f));
+  const Frame autoFrame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+  CHECK_FALSE(autoFrame.plan.shadows.run);
+  CHECK(autoFrame.plan.shadows.why == "no visible pixel faces the shadow-casting light");
+  CHECK_FALSE(autoFrame.stats.shadowMap);
+  CHECK_FALSE(autoFrame.stats.shadowFilter);
+  const Frame forced = Render(scene, EffectMode::kOn, EffectMode::kAuto);
+  CHECK(forced.plan.shadows.run);
+  CHECK(forced.stats.shadowMap);
+  CHECK(autoFrame.display.rgb == forced.display.rgb);
+  // Lit from above, the same floor runs them; switched off, it does not.
+  scene.directionalLights[0].direction = test::LightDirection(30.0f, 40.0f);
+  CHECK(Render(scene, EffectMode::kAuto, EffectMode::kAuto).plan.shadows.run);
+  const Frame off = Render(scene, EffectMode::kOff, EffectMode::kAuto);
+  CHECK_FALSE(off.plan.shadows.run);
+  CHECK(off.plan.shadows.why == "switched off");
+}
+
+TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]") {
+  test::TestScene scene = RoughFloor();
+  AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
+  const Frame frame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+  const FramePlan counted = PlanFrame(scene, test::ConfigOf(scene), frame.gbuffer.gbuffer, frame.view, true);
+  CHECK(counted.shadows.counted);
+  CHECK(counted.shadows.pixels > 0);
+  CHECK(counted.shadows.pixels <= counted.geometryPixels);
+  CHECK(counted.reflections.pixels == frame.plan.reflections.pixels);
+  const std::string text = ExplainPlan(counted);
+  CHECK(text.find("shadows: run, visible pixels face the shadow-casting light; needed in") != std::string::npos);
+  CHECK(text.find("reflections: run") != std::string::npos);
+  CHECK(text.find("hi-z, colour pyramid, ssr trace, cone trace, composite run") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace ssgi
