@@ -25,6 +25,7 @@
 #include "passes/frame.h"
 #include "passes/frame_diff.h"
 #include "passes/frame_dump.h"
+#include "passes/frame_memory.h"
 
 namespace fs = std::filesystem;
 
@@ -113,6 +114,7 @@ struct RenderOptions {
   int threads = 0;
   bool stats = false;
   bool explain = false;
+  std::string maxMemory;
   std::string dumpBuffers;
   SettingOptions settings;
 };
@@ -156,6 +158,21 @@ int Render(const RenderOptions& options) {
   const auto [scene, config] = LoadSceneAndConfig(scenePath, options.settings);
   const double loadMs = load.Lap();
 
+  // Refused before anything is allocated, rather than ending in bad_alloc or the OOM killer.
+  const size_t before = ssgi::ResidentBytes();
+  const ssgi::FrameMemoryEstimate memory = ssgi::EstimateFrameMemory(scene, config);
+  const std::string size = std::to_string(config.width) + "x" + std::to_string(config.height);
+  if (!options.maxMemory.empty()) {
+    const size_t limit = ssgi::ParseByteCount(options.maxMemory);
+    if (before + memory.bytes > limit)
+      throw ssgi::InputError("a " + size + " frame needs about " + ssgi::FormatBytes(before + memory.bytes) +
+                             " (estimate), more than --max-memory " + ssgi::FormatBytes(limit));
+  } else if (const size_t available = ssgi::AvailableMemoryBytes(); available > 0 && memory.bytes > available) {
+    throw ssgi::InputError("a " + size + " frame needs about " + ssgi::FormatBytes(memory.bytes) +
+                           " more (estimate), more than the " + ssgi::FormatBytes(available) +
+                           " this machine has available; render smaller or set a smaller --shadow-map-size");
+  }
+
   ssgi::Frame frame = ssgi::RenderFrame(scene, config);
   ssgi::Stopwatch write;
   const int w = config.width, h = config.height;
@@ -187,6 +204,11 @@ int Render(const RenderOptions& options) {
       std::printf("  ssr traced %zu rays (%.1f Hi-Z steps each) in %zu of %zu tiles (%.1f%%)\n", t->rays,
                   t->meanIterations, t->tilesTraced, t->tiles, 100.0 * double(t->tilesTraced) / double(t->tiles));
     std::printf("  %-20s %10.3f\n", "write image", writeMs);
+    const size_t peak = ssgi::PeakResidentBytes();
+    std::printf("memory: peak %s resident (%.1f bytes per pixel), estimate %s (%s before the frame + %s of buffers)\n",
+                ssgi::FormatBytes(peak).c_str(), double(peak) / (double(w) * double(h)),
+                ssgi::FormatBytes(before + memory.bytes).c_str(), ssgi::FormatBytes(before).c_str(),
+                ssgi::FormatBytes(memory.bytes).c_str());
   }
   std::printf("wrote %s\n", output.string().c_str());
   return 0;
@@ -552,6 +574,9 @@ int main(int argc, char** argv) {
                                                          "byte-identical for any count.")
       ->check(CLI::Range(0, 1024));
   renderCommand->add_flag("--stats", render.stats, "Print each stage's time in ms and its throughput.");
+  renderCommand->add_option("--max-memory", render.maxMemory,
+                            "Refuse, before rendering, a frame whose estimated memory exceeds this (e.g. 8G, "
+                            "512M). Default: the memory the system has available.");
   renderCommand->add_flag("--explain", render.explain,
                           "Print the frame plan: each effect run or skipped and why, and the share of tiles and "
                           "pixels that need it.");

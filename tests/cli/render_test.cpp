@@ -1,5 +1,7 @@
 // End-to-end tests of `ssgi render`: exit codes and messages for bad input, no output left behind
 // on failure, byte-identical output at any thread count, and the golden image of the default scene.
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -257,6 +259,33 @@ TEST_CASE("render: with no scene renders the built-in default scene into the cur
   const std::string command = "cd " + Quote(dir.path()) + " && '" + CliPath().string() + "' render --size 64x48 2>&1";
   CHECK(std::system(command.c_str()) == 0);
   CHECK(fs::exists(dir / "default.png"));
+}
+
+TEST_CASE("render: a frame larger than the memory allowed is refused before rendering", "[cli][memory]") {
+  ScratchDir dir("cli-memory");
+  const std::string out = Quote(dir / "out.png");
+  const CommandResult refused = RunCli("render " + DefaultScene() + " --size 2048x2048 --max-memory 200M -o " + out);
+  CAPTURE(refused.output);
+  CHECK(refused.exitCode == 1);
+  CHECK(refused.output.find("ssgi: error: a 2048x2048 frame needs about ") == 0);
+  CHECK(refused.output.find("(estimate), more than --max-memory 200 MiB") != std::string::npos);
+  CHECK(std::count(refused.output.begin(), refused.output.end(), '\n') == 1);
+  const CommandResult badLimit = RunCli("render " + DefaultScene() + " --max-memory lots -o " + out);
+  CHECK(badLimit.exitCode == 1);
+  CHECK(badLimit.output.find("--max-memory: must be a size like 512M or 8G, got 'lots'") != std::string::npos);
+  RequireOnlyFiles(dir, {});
+  // The estimate against the measured peak resident set of the same render.
+  const CommandResult rendered = RunCli("render " + DefaultScene() + " --size 1536x1536 --stats -o " + out);
+  CAPTURE(rendered.output);
+  REQUIRE(rendered.exitCode == 0);
+  const size_t line = rendered.output.find("memory: peak ");
+  REQUIRE(line != std::string::npos);
+  double peak = 0, estimate = 0;
+  char peakUnit[8] = {}, estimateUnit[8] = {};
+  REQUIRE(std::sscanf(rendered.output.c_str() + line, "memory: peak %lf %3s resident (%*f bytes per pixel), estimate %lf %3s",
+                      &peak, peakUnit, &estimate, estimateUnit) == 4);
+  const auto mib = [](double value, const std::string& unit) { return unit == "GiB" ? value * 1024.0 : value; };
+  CHECK(std::abs(mib(estimate, estimateUnit) - mib(peak, peakUnit)) <= 0.1 * mib(peak, peakUnit));
 }
 
 }  // namespace

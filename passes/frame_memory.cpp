@@ -1,0 +1,114 @@
+// The frame's memory: estimate, and what the system has.
+#include "passes/frame_memory.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/plane.h"
+#include "core/pyramid.h"
+#include "passes/shadow_map.h"
+
+namespace ssgi {
+namespace {
+
+// The bytes of a Plane<T> of that size: hwy::Image pads each row to its alignment and vector size.
+template <class T>
+size_t PlaneBytes(size_t width, size_t height) {
+  return hwy::ImageBase::BytesPerRow(width, sizeof(T)) * height;
+}
+
+// What the rasterizer keeps per submitted triangle: the set-up triangle and its tile-bin entries.
+constexpr size_t kRasterBytesPerTriangle = 160;
+
+}  // namespace
+
+FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config) {
+  const size_t w = size_t(config.width), h = size_t(config.height);
+  FrameMemoryEstimate estimate;
+  const auto add = [&](std::string name, size_t bytes) {
+    estimate.buffers.push_back({std::move(name), bytes});
+    estimate.bytes += bytes;
+  };
+  const size_t floatPlane = PlaneBytes<float>(w, h);
+  add("g-buffer words 0-3", 4 * floatPlane);
+  add("visibility buffer", 2 * floatPlane);
+  add("g-buffer raster set-up", kRasterBytesPerTriangle * scene.mesh.TriangleCount());
+  const bool shadows = config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty();
+  if (shadows) {
+    const size_t side = size_t(config.shadowMap.resolution);
+    add("shadow map", 2 * PlaneBytes<float>(side, side));
+    add("shadow-map raster set-up", kRasterBytesPerTriangle * scene.mesh.TriangleCount());
+    add("shadow visibility", floatPlane);
+  }
+  add("direct light", 3 * floatPlane);
+  if (config.reflections != EffectMode::kOff) {
+    size_t hiz = 0, pyramid = 0;
+    for (const PyramidSize& level : PyramidLevelSizes(w, h)) {
+      hiz += PlaneBytes<float>(level.width, level.height);
+      pyramid += 3 * PlaneBytes<float>(level.width, level.height);
+    }
+    add("hi-z", hiz);
+    add("colour pyramid", pyramid);
+    add("ssr trace", 4 * floatPlane);
+    add("cone trace", 3 * floatPlane);
+    add("composite", 6 * floatPlane);
+  }
+  add("display image", w * h * 3);
+  return estimate;
+}
+
+size_t AvailableMemoryBytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  size_t kib = 0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024;
+  return 0;
+}
+
+size_t ResidentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  size_t pages = 0, resident = 0;
+  if (!(statm >> pages >> resident)) return 0;
+  return resident * size_t(::sysconf(_SC_PAGESIZE));
+}
+
+size_t PeakResidentBytes() {
+  rusage usage{};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return size_t(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+std::string FormatBytes(size_t bytes) {
+  char text[32];
+  const double value = double(bytes);
+  if (value >= 1024.0 * 1024.0 * 1024.0)
+    std::snprintf(text, sizeof(text), "%.1f GiB", value / (1024.0 * 1024.0 * 1024.0));
+  else
+    std::snprintf(text, sizeof(text), "%.0f MiB", value / (1024.0 * 1024.0));
+  return text;
+}
+
+size_t ParseByteCount(const std::string& text) {
+  size_t digits = 0;
+  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits]))) ++digits;
+  const std::string unit = text.substr(digits);
+  double scale = 0.0;
+  const char* const prefixes[] = {"", "K", "M", "G", "T"};
+  for (size_t k = 0; k < 5; ++k) {
+    const std::string p = prefixes[k];
+    for (const std::string& spelling : {p, p + "B", p.empty() ? std::string("B") : p + "iB"})
+      if (unit == spelling) scale = double(size_t(1) << (10 * k));
+  }
+  const double value = digits > 0 && digits <= 15 ? std::stod(text.substr(0, digits)) : 0.0;
+  if (scale == 0.0 || !(value > 0.0)) throw InputError("--max-memory: must be a size like 512M or 8G, got '" + text + "'");
+  return size_t(value * scale);
+}
+
+}  // namespace ssgi
