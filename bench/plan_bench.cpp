@@ -1,0 +1,99 @@
+// Cost that follows need (issue 14, DESIGN.md §9): whole frames of a floor whose smooth share grows
+// strip by strip, against the same frame with reflections switched off. bench/README.md records
+// results; bench/plot_cost_share.py draws them.
+#include <array>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "core/parallel.h"
+#include "core/plane.h"
+#include "passes/frame.h"
+
+namespace ssgi {
+namespace {
+
+constexpr int kStrips = 32;
+constexpr int kSize = 1024;
+
+void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material) {
+  const uint32_t base = uint32_t(mesh.positions.size());
+  const glm::vec3 normal = glm::normalize(glm::cross(u, v));
+  for (const glm::vec3& p : {o, o + u, o + u + v, o + v}) {
+    mesh.positions.push_back(p);
+    mesh.normals.push_back(normal);
+    mesh.uvs.emplace_back(0.0f);
+  }
+  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + i);
+  mesh.materials.insert(mesh.materials.end(), 2, material);
+}
+
+void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t material) {
+  const glm::vec3 d = hi - lo;
+  AddQuad(mesh, {lo.x, lo.y, hi.z}, {d.x, 0, 0}, {0, d.y, 0}, material);   // front (+z)
+  AddQuad(mesh, {hi.x, lo.y, lo.z}, {-d.x, 0, 0}, {0, d.y, 0}, material);  // back
+  AddQuad(mesh, {lo.x, lo.y, lo.z}, {0, 0, d.z}, {0, d.y, 0}, material);   // left (-x)
+  AddQuad(mesh, {hi.x, lo.y, hi.z}, {0, 0, -d.z}, {0, d.y, 0}, material);  // right
+  AddQuad(mesh, {lo.x, hi.y, hi.z}, {d.x, 0, 0}, {0, 0, -d.z}, material);  // top
+}
+
+// A floor of kStrips strips running away from the camera, the first `smooth` of them (from the left)
+// smooth enough to reflect, the others rough; grey boxes stand on it; a sun casts shadows.
+Scene StripFloor(int smooth) {
+  Scene scene;
+  // Looking down at the floor, which fills the image.
+  scene.camera.position = {0.0f, 2.5f, 3.0f};
+  scene.camera.target = {0.0f, 0.0f, -1.5f};
+  Material rough;
+  rough.roughness = 0.9f;
+  Material mirror;
+  mirror.roughness = 0.15f;
+  mirror.metallic = 1.0f;
+  scene.materials = {rough, mirror};
+  constexpr float kHalfWidth = 8.0f;
+  for (int i = 0; i < kStrips; ++i) {
+    const float x0 = -kHalfWidth + 2.0f * kHalfWidth * float(i) / kStrips;
+    AddQuad(scene.mesh, {x0, 0.0f, 4.0f}, {2.0f * kHalfWidth / kStrips, 0.0f, 0.0f}, {0.0f, 0.0f, -30.0f},
+            i < smooth ? 1u : 0u);
+  }
+  for (int b = 0; b < 5; ++b) {
+    const float x = -3.0f + 1.5f * float(b);
+    AddBox(scene.mesh, {x - 0.3f, 0.0f, -2.0f - 0.7f * float(b % 2)}, {x + 0.3f, 0.9f, -1.4f - 0.7f * float(b % 2)}, 0u);
+  }
+  DirectionalLight sun;
+  sun.direction = glm::normalize(glm::vec3(0.4f, -1.0f, -0.3f));
+  sun.angularDiameterDegrees = 2.0f;
+  scene.directionalLights.push_back(sun);
+  return scene;
+}
+
+// Arguments: smooth strips (0 .. kStrips), reflections (1 auto, 0 off), threads. Reports the share
+// of the image's pixels that need reflections, as the frame plan counts them.
+void BM_FrameReflectionShare(benchmark::State& state) {
+  RetainFreedMemory();
+  const ThreadLimit threads(int(state.range(2)));
+  const Scene scene = StripFloor(int(state.range(0)));
+  FrameConfig config;
+  config.width = config.height = kSize;
+  config.reflections = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
+  double share = 0.0;
+  RenderFrame(scene, config);  // the heap's pages, as a running renderer has them
+  for (auto _ : state) {
+    const Frame frame = RenderFrame(scene, config);
+    share = double(frame.plan.reflections.pixels) / double(frame.plan.pixels);
+  }
+  state.counters["reflectionShare"] = share;
+  state.SetItemsProcessed(int64_t(state.iterations()) * kSize * kSize);
+}
+
+void RegisterShares(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"smooth", "reflections", "threads"});
+  for (int smooth = 0; smooth <= kStrips; smooth += 2) b->Args({smooth, 1, 2});
+  b->Args({0, 0, 2});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_FrameReflectionShare)->Apply(RegisterShares);
+
+}  // namespace
+}  // namespace ssgi
