@@ -160,7 +160,11 @@ int Render(const RenderOptions& options) {
 
   // Refused before anything is allocated, rather than ending in bad_alloc or the OOM killer.
   const size_t before = ssgi::ResidentBytes();
-  const ssgi::FrameMemoryEstimate memory = ssgi::EstimateFrameMemory(scene, config);
+  // Without a dump, each buffer lives only until its last reader.
+  const ssgi::BufferLifetime lifetime =
+      options.dumpBuffers.empty() ? ssgi::BufferLifetime::kUntilLastReader : ssgi::BufferLifetime::kKeepAll;
+  const ssgi::FrameMemoryEstimate memory =
+      ssgi::EstimateFrameMemory(scene, config, lifetime, !options.dumpBuffers.empty());
   const std::string size = std::to_string(config.width) + "x" + std::to_string(config.height);
   if (!options.maxMemory.empty()) {
     const size_t limit = ssgi::ParseByteCount(options.maxMemory);
@@ -173,7 +177,7 @@ int Render(const RenderOptions& options) {
                            " this machine has available; render smaller or set a smaller --shadow-map-size");
   }
 
-  ssgi::Frame frame = ssgi::RenderFrame(scene, config);
+  ssgi::Frame frame = ssgi::RenderFrame(scene, config, lifetime);
   ssgi::Stopwatch write;
   const int w = config.width, h = config.height;
   if (kind == ssgi::ImageFileKind::kPng) {

@@ -47,18 +47,31 @@ void WriteAtomically(const fs::path& path, const std::vector<OIIO::ImageSpec>& s
   if (error) fail(error.message());
 }
 
-// A pixel of the part as `count` 4-byte words in the channels' native formats, interleaved.
-std::vector<uint32_t> InterleaveChannels(const ExrPart& part) {
+// Rows [yBegin, yEnd) of the part, each pixel `count` 4-byte words in the channels' native
+// formats, interleaved.
+void InterleaveRows(const ExrPart& part, size_t yBegin, size_t yEnd, std::vector<uint32_t>& interleaved) {
   const size_t count = part.channels.size();
-  const size_t width = size_t(part.width), height = size_t(part.height);
-  std::vector<uint32_t> interleaved(width * height * count);
+  const size_t width = size_t(part.width);
+  interleaved.resize(width * (yEnd - yBegin) * count);
   for (size_t c = 0; c < count; ++c) {
     const auto* source = static_cast<const uint32_t*>(part.channels[c].data);
-    for (size_t y = 0; y < height; ++y)
+    for (size_t y = yBegin; y < yEnd; ++y)
       for (size_t x = 0; x < width; ++x)
-        interleaved[(y * width + x) * count + c] = source[y * part.channels[c].rowStride + x];
+        interleaved[((y - yBegin) * width + x) * count + c] = source[y * part.channels[c].rowStride + x];
   }
-  return interleaved;
+}
+
+// Writes the part a band of rows at a time, so a dump of many layers never holds a whole
+// interleaved copy of them.
+bool WritePartRows(OIIO::ImageOutput& out, const ExrPart& part) {
+  constexpr size_t kBandRows = 64;
+  std::vector<uint32_t> band;
+  for (size_t y = 0; y < size_t(part.height); y += kBandRows) {
+    const size_t yEnd = std::min(y + kBandRows, size_t(part.height));
+    InterleaveRows(part, y, yEnd, band);
+    if (!out.write_scanlines(int(y), int(yEnd), 0, OIIO::TypeDesc::UNKNOWN, band.data())) return false;
+  }
+  return true;
 }
 
 OIIO::ImageSpec PartSpec(const ExrPart& part) {
@@ -117,9 +130,7 @@ void WriteExrParts(const fs::path& path, const std::vector<ExrPart>& parts,
     specs.back().full_height = parts[0].height;
   }
   for (const auto& [key, value] : metadata) specs[0].attribute(key, value);
-  WriteAtomically(path, specs, [&](OIIO::ImageOutput& out, size_t i) {
-    return out.write_image(OIIO::TypeDesc::UNKNOWN, InterleaveChannels(parts[i]).data());
-  });
+  WriteAtomically(path, specs, [&](OIIO::ImageOutput& out, size_t i) { return WritePartRows(out, parts[i]); });
 }
 
 float ExrLayer::Float(size_t i) const {

@@ -1,5 +1,7 @@
 #include "passes/frame.h"
 
+#include <type_traits>
+
 #include "core/error.h"
 #include "core/lighting.h"
 #include "core/stopwatch.h"
@@ -31,13 +33,19 @@ FramePass ParseFramePass(std::string_view name) {
   throw InputError("'" + std::string(name) + "' is not a pass; the passes: " + names);
 }
 
-Frame RenderFrame(const Scene& scene, const FrameConfig& config) {
+Frame RenderFrame(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime) {
   Frame frame;
-  RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+  RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
   return frame;
 }
 
-void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame) {
+void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame,
+                    BufferLifetime lifetime) {
+  // Frees a buffer whose last reader has run (BufferLifetime::kUntilLastReader).
+  const bool release = lifetime == BufferLifetime::kUntilLastReader;
+  const auto free = [release](auto& buffer) {
+    if (release) buffer = std::remove_reference_t<decltype(buffer)>();
+  };
   FrameStats& stats = frame.stats;
   stats = FrameStats{};
   Stopwatch total;
@@ -48,6 +56,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
 
   if (runs(FramePass::kGBuffer))
     stats.gbuffer = RunGBuffer({scene, frame.view}, {config.normalEncoding}, frame.gbuffer);
+  free(frame.gbuffer.visibility);
   GBuffer& gbuffer = frame.gbuffer.gbuffer;
 
   // Only the effects the visible pixels need (DESIGN.md §9). G-buffer word 3 has room for one
@@ -55,17 +64,17 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
   Stopwatch planning;
   frame.plan = PlanFrame(scene, config, gbuffer, frame.view);
   stats.planMs = planning.Lap();
-  const std::optional<size_t> shadowLight =
-      frame.plan.shadows.run ? frame.plan.shadowLight : std::optional<size_t>();
-  frame.shadows = shadowLight.has_value() && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
+  frame.shadows = frame.plan.shadows.run && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
+  const size_t shadowLight = frame.plan.shadowLight.value_or(0);  // meaningful where frame.shadows
   if (frame.shadows && runs(FramePass::kShadowMap)) {
     frame.shadowMap.emplace();
     stats.shadowMap =
-        RunShadowMap({scene, frame.view, gbuffer, *shadowLight}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
+        RunShadowMap({scene, frame.view, gbuffer, shadowLight}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
   }
+  free(frame.shadowMap);
   if (frame.shadows && runs(FramePass::kShadowFilter)) {
     const std::vector<PreparedLight> viewLights = PrepareLights(scene, frame.view.view);
-    stats.shadowFilter = RunShadowFilter({gbuffer, frame.view, viewLights[*shadowLight]}, config.shadowFilter,
+    stats.shadowFilter = RunShadowFilter({gbuffer, frame.view, viewLights[shadowLight]}, config.shadowFilter,
                                          frame.shadowVisibility);
   }
 
@@ -73,10 +82,11 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     DirectLightInputs directInputs{gbuffer, frame.view, scene};
     if (frame.shadows) {
       directInputs.lightVisibility = &frame.shadowVisibility.visibility;
-      directInputs.shadowedLight = *shadowLight;
+      directInputs.shadowedLight = shadowLight;
     }
     stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
   }
+  free(frame.shadowVisibility);
 
   frame.reflections = frame.plan.reflections.run;
   if (frame.reflections) {
@@ -84,12 +94,21 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     if (runs(FramePass::kColorPyramid)) stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
     if (runs(FramePass::kSsrTrace))
       stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
+    free(frame.hiz);
     if (runs(FramePass::kSsrCone))
       stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
+    free(frame.colorPyramid);
+    free(frame.ssrTrace.hitX);
+    free(frame.ssrTrace.hitY);
+    free(frame.ssrTrace.iterations);
     if (runs(FramePass::kComposite))
       stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
                                       frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
                                      frame.composite);
+    free(frame.ssrCone);
+    free(frame.ssrTrace.confidence);
+    free(frame.composite.indirect);
+    free(frame.direct);
   }
 
   if (runs(FramePass::kTonemap)) stats.tonemap = RunTonemap(frame.Result(), config.tonemap, frame.display);

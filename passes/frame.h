@@ -105,15 +105,24 @@ struct Frame {
   const Plane3<float>& Result() const { return reflections ? composite.result : direct.radiance; }
 };
 
+// How long a frame keeps its buffers.
+enum class BufferLifetime {
+  kKeepAll,          // to the frame's end: for dumps, tests and the benchmarks of single passes
+  // Each buffer freed once its last reader has run (passes/frame_memory.h gives the schedule): only
+  // the G-buffer words, the final image (Result) and the display image outlive the frame's passes.
+  kUntilLastReader,
+};
+
 // Renders the scene as the configuration says.
-Frame RenderFrame(const Scene& scene, const FrameConfig& config);
+Frame RenderFrame(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime = BufferLifetime::kKeepAll);
 
 // Runs the passes from `from` to `to` (inclusive, pipeline order) of the frame RenderFrame would
 // render, on a frame whose buffers that those passes read from earlier passes are filled already
 // (LoadFrameDump in passes/frame_dump.h). Which passes belong to the frame (shadows, reflections) is
 // the frame plan's decision on the G-buffer (passes/frame_plan.h); a pass that does not belong is
 // skipped. frame.stats holds the passes that ran.
-void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame);
+void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame,
+                    BufferLifetime lifetime = BufferLifetime::kKeepAll);
 
 // The G-buffer's albedo as 8-bit sRGB RGB rows (background black): the paper's "albedo" image.
 std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);

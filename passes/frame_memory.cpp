@@ -27,38 +27,55 @@ constexpr size_t kRasterBytesPerTriangle = 160;
 
 }  // namespace
 
-FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config) {
+FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
+                                        bool dumped) {
+  using P = FramePass;
   const size_t w = size_t(config.width), h = size_t(config.height);
   FrameMemoryEstimate estimate;
-  const auto add = [&](std::string name, size_t bytes) {
-    estimate.buffers.push_back({std::move(name), bytes});
-    estimate.bytes += bytes;
+  const auto add = [&](std::string name, size_t bytes, P made, P lastRead) {
+    estimate.buffers.push_back({std::move(name), bytes, made, lastRead});
   };
   const size_t floatPlane = PlaneBytes<float>(w, h);
-  add("g-buffer words 0-3", 4 * floatPlane);
-  add("visibility buffer", 2 * floatPlane);
-  add("g-buffer raster set-up", kRasterBytesPerTriangle * scene.mesh.TriangleCount());
-  const bool shadows = config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty();
-  if (shadows) {
+  const size_t setUp = kRasterBytesPerTriangle * scene.mesh.TriangleCount();
+  add("g-buffer words 0-3", 4 * floatPlane, P::kGBuffer, P::kTonemap);
+  add("visibility buffer", 2 * floatPlane, P::kGBuffer, P::kGBuffer);
+  add("g-buffer raster set-up", setUp, P::kGBuffer, P::kGBuffer);
+  if (config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty()) {
     const size_t side = size_t(config.shadowMap.resolution);
-    add("shadow map", 2 * PlaneBytes<float>(side, side));
-    add("shadow-map raster set-up", kRasterBytesPerTriangle * scene.mesh.TriangleCount());
-    add("shadow visibility", floatPlane);
+    add("shadow map", 2 * PlaneBytes<float>(side, side), P::kShadowMap, P::kShadowMap);
+    add("shadow-map raster set-up", setUp, P::kShadowMap, P::kShadowMap);
+    add("shadow visibility", floatPlane, P::kShadowFilter, P::kDirectLight);
   }
-  add("direct light", 3 * floatPlane);
-  if (config.reflections != EffectMode::kOff) {
+  const bool reflections = config.reflections != EffectMode::kOff;
+  add("direct light", 3 * floatPlane, P::kDirectLight, reflections ? P::kComposite : P::kTonemap);
+  if (reflections) {
     size_t hiz = 0, pyramid = 0;
     for (const PyramidSize& level : PyramidLevelSizes(w, h)) {
       hiz += PlaneBytes<float>(level.width, level.height);
       pyramid += 3 * PlaneBytes<float>(level.width, level.height);
     }
-    add("hi-z", hiz);
-    add("colour pyramid", pyramid);
-    add("ssr trace", 4 * floatPlane);
-    add("cone trace", 3 * floatPlane);
-    add("composite", 6 * floatPlane);
+    add("hi-z", hiz, P::kHiZ, P::kSsrTrace);
+    add("colour pyramid", pyramid, P::kColorPyramid, P::kSsrCone);
+    add("ssr hits and steps", 3 * floatPlane, P::kSsrTrace, P::kSsrCone);
+    add("ssr confidence", floatPlane, P::kSsrTrace, P::kComposite);
+    add("cone trace", 3 * floatPlane, P::kSsrCone, P::kComposite);
+    add("indirect", 3 * floatPlane, P::kComposite, P::kComposite);
+    add("result", 3 * floatPlane, P::kComposite, P::kTonemap);
   }
-  add("display image", w * h * 3);
+  add("display image", w * h * 3, P::kTonemap, P::kTonemap);
+  // The dump's decoded G-buffer and shadow-term layers (11) and 8-bit codes as uint32 (3).
+  if (dumped) add("dump's decoded layers", 14 * floatPlane, P::kTonemap, P::kTonemap);
+  for (FramePass pass : kFramePasses) {
+    size_t alive = 0;
+    for (const FrameMemoryEstimate::Buffer& buffer : estimate.buffers) {
+      const FramePass end = lifetime == BufferLifetime::kKeepAll ? P::kTonemap : buffer.lastRead;
+      if (buffer.made <= pass && pass <= end) alive += buffer.bytes;
+    }
+    if (alive > estimate.bytes) {
+      estimate.bytes = alive;
+      estimate.peakPass = pass;
+    }
+  }
   return estimate;
 }
 

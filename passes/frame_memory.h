@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "passes/frame.h"
 #include "passes/frame_config.h"
 
 namespace ssgi {
@@ -16,15 +17,22 @@ struct FrameMemoryEstimate {
   struct Buffer {
     std::string name;
     size_t bytes = 0;
+    FramePass made;      // the pass that allocates it
+    FramePass lastRead;  // the last pass that reads it (kTonemap: kept to the frame's end)
   };
-  std::vector<Buffer> buffers;  // every buffer the frame keeps, for the effects that may run
-  size_t bytes = 0;             // their sum
+  std::vector<Buffer> buffers;  // every buffer of the frame, for the effects that may run
+  size_t bytes = 0;             // the most alive at once: during the pass where the sum peaks
+  FramePass peakPass = FramePass::kGBuffer;
 };
 
-// The bytes of the buffers a frame of this scene and configuration keeps until it ends: every
-// plane at its padded row size, the shadow map and the rasterizers' per-triangle set-up, counting
-// every effect the scene and configuration allow (the frame plan may still skip some).
-FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config);
+// The peak bytes of the buffers of a frame of this scene and configuration: every plane at its
+// padded row size, the shadow map and the rasterizers' per-triangle set-up, counting every effect
+// the scene and configuration allow (the frame plan may still skip some), each buffer alive from
+// the pass that makes it to the end (kKeepAll) or to its last reader (kUntilLastReader, as
+// RunFramePasses frees them). dumped: the frame is written as a dump at its end (WriteFrameDump's
+// decoded layers counted too).
+FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
+                                        bool dumped = false);
 
 // The memory the system could give this process now (MemAvailable of /proc/meminfo), or 0 where
 // that is unknown.

@@ -44,5 +44,29 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
   CHECK(!direct.stats.composite);
 }
 
+TEST_CASE("a frame that frees each buffer after its last reader gives the same image", "[frame][memory]") {
+  CameraDesc camera;
+  camera.position = {0.0f, 2.0f, 4.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  test::TestScene scene = test::MakeScene(camera, 64, 48);
+  test::AddGround(scene.mesh, 5.0f);
+  test::AddBox(scene.mesh, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f});
+  scene.directionalLights.push_back(test::Sun(test::LightDirection(30.0f, 40.0f), 2.0f));
+  scene.materials[0].roughness = 0.2f;
+  const FrameConfig config = test::ConfigOf(scene);
+  const Frame kept = RenderFrame(scene, config, BufferLifetime::kKeepAll);
+  const Frame freed = RenderFrame(scene, config, BufferLifetime::kUntilLastReader);
+  REQUIRE(freed.reflections);
+  CHECK(freed.display.rgb == kept.display.rgb);
+  for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(freed.Result().c[c], kept.Result().c[c]));
+  // Only the G-buffer words, the result and the display image outlive the passes.
+  CHECK(freed.hiz.levels.empty());
+  CHECK(freed.colorPyramid.levels.empty());
+  CHECK(freed.direct.radiance.c[0].xsize() == 0);
+  CHECK(freed.ssrCone.reflected.c[0].xsize() == 0);
+  CHECK_FALSE(freed.shadowMap);
+  CHECK(freed.gbuffer.visibility.triangle.xsize() == 0);
+}
+
 }  // namespace
 }  // namespace ssgi
