@@ -1,0 +1,75 @@
+// What several passes of the port share, written from docs/pipeline.md (§Conventions, §G-buffer,
+// §Hi-Z pyramid). The runner puts this file between the `#version` line and each pass's source.
+//
+// The oracle is built with -ffp-contract=off: every product is rounded before it is added. GLSL
+// lets a compiler fuse a * b + c into one fma (Mesa does on llvmpipe), so every float variable of
+// the port is `precise`, which forbids fusing and reordering the operations it is computed from.
+
+// The pixel-centre view ray's direction, (x, y, -1) (§Conventions), for image position `position`.
+// `imageSize` and `tanHalf` (tanHalfX, tanHalfY) come from the runner's MakePerspective.
+uniform ivec2 imageSize;
+uniform vec2 tanHalf;
+
+vec3 PixelRayDirection(vec2 position) {
+  precise float x = (2.0 * position.x / float(imageSize.x) - 1.0) * tanHalf.x;
+  precise float y = (1.0 - 2.0 * position.y / float(imageSize.y)) * tanHalf.y;
+  return vec3(x, y, -1.0);
+}
+
+// glm's dot: (a.x b.x + a.y b.y) + a.z b.z, each product rounded (§Direct light).
+float Dot3(vec3 a, vec3 b) {
+  precise float xy = a.x * b.x + a.y * b.y;
+  precise float xyz = xy + a.z * b.z;
+  return xyz;
+}
+
+// glm's normalize: a * (1 / |a|).
+vec3 Normalize3(vec3 a) {
+  precise float inverseLength = 1.0 / sqrt(Dot3(a, a));
+  precise vec3 unit = a * inverseLength;
+  return unit;
+}
+
+// The G-buffer's normal encodings (§G-buffer, "Normal encodings").
+const int kNormalXyz8 = 0;
+const int kNormalOct24 = 1;
+uniform int normalEncoding;
+
+float DequantizeSigned(uint code, float maxCode) {
+  precise float t = float(code) / maxCode * 2.0 - 1.0;
+  return t;
+}
+
+vec3 UnpackNormal(uint word1) {
+  precise vec3 n;
+  if (normalEncoding == kNormalXyz8) {
+    n = vec3(DequantizeSigned(word1 & 0xFFu, 255.0), DequantizeSigned((word1 >> 8) & 0xFFu, 255.0),
+             DequantizeSigned((word1 >> 16) & 0xFFu, 255.0));
+  } else {
+    n.x = DequantizeSigned(word1 & 0xFFFu, 4095.0);
+    n.y = DequantizeSigned((word1 >> 12) & 0xFFFu, 4095.0);
+    n.z = 1.0 - abs(n.x) - abs(n.y);
+    precise float k = max(-n.z, 0.0);
+    n.x += n.x >= 0.0 ? -k : k;
+    n.y += n.y >= 0.0 ? -k : k;
+  }
+  // Three divisions by the length (not a multiplication by its reciprocal, as Normalize3).
+  precise vec3 unit = n / sqrt(Dot3(n, n));
+  return unit;
+}
+
+// Perceptual roughness and metallic: code / 255.
+float UnpackRoughness(uint word1) {
+  precise float r = float(word1 >> 24) / 255.0;
+  return r;
+}
+float UnpackMetallic(uint word0) {
+  precise float m = float(word0 >> 24) / 255.0;
+  return m;
+}
+
+// The last source texel (inclusive) of destination texel `x`'s footprint along one axis, whose
+// first is 2x: the last destination texel reaches the source's end (§Hi-Z pyramid, footprint).
+int FootprintEnd(int x, int destinationSize, int sourceSize) {
+  return x + 1 == destinationSize ? sourceSize - 1 : 2 * x + 1;
+}
