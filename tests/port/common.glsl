@@ -68,6 +68,21 @@ float UnpackMetallic(uint word0) {
   return m;
 }
 
+// The linear value of each 8-bit sRGB code (core/color.h's table, uploaded by the runner): the
+// albedo of G-buffer word 0. Binding 15 in every pass that decodes albedo.
+layout(std430, binding = 15) readonly buffer SrgbDecode { float srgbToLinear[]; };
+
+vec3 UnpackAlbedo(uint word0) {
+  return vec3(srgbToLinear[word0 & 0xFFu], srgbToLinear[(word0 >> 8) & 0xFFu], srgbToLinear[(word0 >> 16) & 0xFFu]);
+}
+
+// F0 = mix(0.04, albedo, metallic) evaluated as glm's mix, x (1 - a) + y a (GLSL's mix may
+// compile to another form).
+vec3 SpecularF0(vec3 albedo, float metallic) {
+  precise vec3 f0 = vec3(0.04) * (1.0 - metallic) + albedo * metallic;
+  return f0;
+}
+
 // The last source texel (inclusive) of destination texel `x`'s footprint along one axis, whose
 // first is 2x: the last destination texel reaches the source's end (§Hi-Z pyramid, footprint).
 int FootprintEnd(int x, int destinationSize, int sourceSize) {

@@ -12,8 +12,6 @@ layout(std430, binding = 6) writeonly buffer Indirect { float indirect[]; };   /
 layout(std430, binding = 7) writeonly buffer Result { float result[]; };       // three planes
 // The split-sum DFG table (A, B) pairs at [j * 32 + i], n.v = i / 31, roughness j / 31 (core/brdf.h).
 layout(std430, binding = 8) readonly buffer Dfg { vec2 dfg[]; };
-// The linear value of each 8-bit sRGB code (core/color.h).
-layout(std430, binding = 9) readonly buffer SrgbDecode { float srgbToLinear[]; };
 
 uniform float roughnessCutoff;  // the trace's
 
@@ -45,11 +43,8 @@ void main() {
   if (!isinf(depth[index]) && trust > 0.0) {
     const uint w0 = word0[index];
     const uint w1 = word1[index];
-    const vec3 albedo = vec3(srgbToLinear[w0 & 0xFFu], srgbToLinear[(w0 >> 8) & 0xFFu], srgbToLinear[(w0 >> 16) & 0xFFu]);
-    const float metallic = UnpackMetallic(w0);
     const float roughness = UnpackRoughness(w1);
-    // glm::mix(0.04, albedo, metallic) = 0.04 (1 - metallic) + albedo metallic.
-    precise vec3 f0 = vec3(0.04) * (1.0 - metallic) + albedo * metallic;
+    const vec3 f0 = SpecularF0(UnpackAlbedo(w0), UnpackMetallic(w0));
     const vec3 toViewer = Normalize3(-PixelRayDirection(vec2(pixel) + 0.5));
     precise float nDotV = clamp(Dot3(UnpackNormal(w1), toViewer), 0.0, 1.0);
     precise float fade = clamp((roughnessCutoff - roughness) / 0.1, 0.0, 1.0);

@@ -1,8 +1,8 @@
-// ssgi_gl_port: the reflection passes of docs/pipeline.md (Hi-Z, colour pyramid, SSR trace, cone
-// trace, composite) as GLSL 4.50 compute shaders (tests/port/*.comp, written from the spec alone),
-// run by OpenGL 4.5 core on an EGL surfaceless display (Mesa llvmpipe) on the G-buffer and direct
-// light of an ssgi dump, writing its buffers under the dump's layer names so the two files compare
-// layer by layer (tests/port/README.md).
+// ssgi_gl_port: the passes of docs/pipeline.md from direct light on (direct light, Hi-Z, colour
+// pyramid, SSR trace, cone trace, composite) as GLSL 4.50 compute shaders (tests/port/*.comp,
+// written from the spec), run by OpenGL 4.5 core on an EGL surfaceless display (Mesa llvmpipe) on
+// the G-buffer and shadow visibility of an ssgi dump, writing its buffers under the dump's layer
+// names so the two files compare layer by layer (tests/port/README.md).
 //
 //   ssgi_gl_port --scene SCENE IN.exr -o OUT.exr
 //
@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@
 #include "core/color.h"
 #include "core/error.h"
 #include "core/gbuffer.h"
+#include "core/lighting.h"
 #include "core/pyramid.h"
 #include "core/scene.h"
 #include "passes/frame_config.h"
@@ -37,6 +39,7 @@ namespace {
 constexpr int kExitNoGl = 77;
 constexpr int kGroupSize = 8;    // every shader's local_size_x and local_size_y
 constexpr int kMaxLevels = 16;   // the shaders' uniform arrays of pyramid levels
+constexpr GLuint kSrgbDecodeBinding = 15;  // common.glsl's sRGB table
 
 // A GL buffer object of 4-byte words; deleted with the object.
 class Buffer {
@@ -109,6 +112,7 @@ class Program {
   void Set(const char* name, float v) const { glProgramUniform1f(id_, Location(name), v); }
   void Set(const char* name, int x, int y) const { glProgramUniform2i(id_, Location(name), x, y); }
   void Set(const char* name, float x, float y) const { glProgramUniform2f(id_, Location(name), x, y); }
+  void Set(const char* name, float x, float y, float z) const { glProgramUniform3f(id_, Location(name), x, y, z); }
   void SetArray(const char* name, const std::vector<float>& v) const {
     glProgramUniform1fv(id_, Location(name), GLsizei(v.size()), v.data());
   }
@@ -147,6 +151,21 @@ struct FrameConstants {
   std::vector<PyramidSize> levels;  // PyramidLevelSizes(width, height)
 };
 
+// The shadowed light's index in PrepareLights order (§Direct light): the first light that casts
+// shadows, directional lights before spots; -1 when none does.
+int ShadowedLight(const Scene& scene) {
+  int index = 0;
+  for (const DirectionalLight& light : scene.directionalLights) {
+    if (light.castShadows) return index;
+    ++index;
+  }
+  for (const SpotLight& light : scene.spotLights) {
+    if (light.castShadows) return index;
+    ++index;
+  }
+  return -1;
+}
+
 void SetFrameConstants(const Program& program, const FrameConstants& frame) {
   program.Set("imageSize", frame.width, frame.height);
   program.Set("tanHalf", frame.view.halfX, frame.view.halfY);
@@ -184,6 +203,34 @@ void SetLevels(const Program& program, const Levels& levels) {
 }
 
 size_t Pixels(const PyramidSize& size) { return size.width * size.height; }
+
+// §Direct light, three planes. `visibility` is the shadow filter's output for the shadowed light,
+// or null when the frame ran no shadows.
+Buffer RunDirectLight(const FrameConstants& frame, const Scene& scene, const glm::vec3& background,
+                      const std::vector<Buffer>& words, const Buffer* visibility) {
+  const Program program("direct_light.comp");
+  SetFrameConstants(program, frame);
+  // Four vec4 per light, as direct_light.comp's Light.
+  std::vector<float> packed;
+  for (const PreparedLight& light : PrepareLights(scene, frame.view.view)) {
+    const float fields[16] = {light.position.x,  light.position.y,  light.position.z,  light.isSpot ? 1.0f : 0.0f,
+                              light.direction.x, light.direction.y, light.direction.z, light.radius,
+                              light.power.x,     light.power.y,     light.power.z,     light.tanAngularRadius,
+                              light.cosOuter,    light.coneScale,   0.0f,              0.0f};
+    packed.insert(packed.end(), fields, fields + 16);
+  }
+  const Buffer lights(packed.size(), packed.data());
+  program.Set("lightCount", int(packed.size() / 16));
+  program.Set("shadowedLight", visibility != nullptr ? ShadowedLight(scene) : -1);
+  program.Set("background", background.x, background.y, background.z);
+  Buffer direct(3 * size_t(frame.width) * size_t(frame.height));
+  for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
+  if (visibility != nullptr) visibility->Bind(3);
+  direct.Bind(4);
+  lights.Bind(5);
+  program.Dispatch(frame.width, frame.height);
+  return direct;
+}
 
 // §Hi-Z pyramid: level 0 = 1 / word 2, then each level the max of its footprint.
 std::vector<Buffer> RunHiZ(const FrameConstants& frame, const Buffer& word2) {
@@ -305,9 +352,8 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   const Program program("composite.comp");
   SetFrameConstants(program, frame);
   program.Set("roughnessCutoff", roughnessCutoff);
-  // The tables the spec defines and core builds (core/brdf.h, core/color.h).
+  // The table the spec defines and core builds (core/brdf.h).
   const Buffer dfg(size_t(2 * kDfgSize * kDfgSize), DfgTableForKernels());
-  const Buffer srgb(256, SrgbDecodeTableForKernels());
   const size_t planes = 3 * size_t(frame.width) * size_t(frame.height);
   CompositeOutput out{Buffer(planes), Buffer(planes)};
   for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
@@ -317,7 +363,6 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   out.indirect.Bind(6);
   out.result.Bind(7);
   dfg.Bind(8);
-  srgb.Bind(9);
   program.Dispatch(frame.width, frame.height);
   return out;
 }
@@ -354,12 +399,16 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   std::vector<Buffer> words;
   for (int w = 0; w < 4; ++w)
     words.emplace_back(pixels, FindLayer(main, "gbuffer.word" + std::to_string(w), input).samples.data());
-  std::vector<uint32_t> directPlanes;
-  for (const char* channel : {"direct.R", "direct.G", "direct.B"}) {
-    const Layer& layer = FindLayer(main, channel, input);
-    directPlanes.insert(directPlanes.end(), layer.samples.begin(), layer.samples.end());
-  }
-  const Buffer direct(3 * pixels, directPlanes.data());
+  // The G-buffer's albedo codes decode through core's sRGB table (core/color.h).
+  const Buffer srgbDecode(256, SrgbDecodeTableForKernels());
+  srgbDecode.Bind(kSrgbDecodeBinding);
+  // The shadow filter's output, present in the dump when the frame ran shadows.
+  std::optional<Buffer> visibility;
+  for (const auto& [name, layer] : main.channels)
+    if (name == "shadow.visibility") visibility.emplace(pixels, layer.samples.data());
+
+  const Buffer direct =
+      RunDirectLight(frame, scene.scene, config.directLight.background, words, visibility ? &*visibility : nullptr);
 
   const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
   const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, direct);
@@ -383,6 +432,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   channels.emplace_back("ssr.confidence", Layer{false, trace.confidence.Download()});
   channels.emplace_back("ssr.iterations", Layer{false, trace.iterations.Download()});
   const char* rgb[] = {"R", "G", "B"};
+  const std::vector<uint32_t> directWords = direct.Download();
+  for (size_t c = 0; c < 3; ++c) channels.emplace_back(std::string("direct.") + rgb[c], PlaneLayer(directWords, c, pixels));
   const std::vector<uint32_t> reflectedWords = reflected.Download(), indirectWords = composite.indirect.Download(),
                               resultWords = composite.result.Download();
   for (size_t c = 0; c < 3; ++c) channels.emplace_back(std::string("ssr.reflected.") + rgb[c], PlaneLayer(reflectedWords, c, pixels));
