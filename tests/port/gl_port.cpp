@@ -4,14 +4,17 @@
 // the G-buffer and shadow visibility of an ssgi dump, writing its buffers under the dump's layer
 // names so the two files compare layer by layer (tests/port/README.md).
 //
-//   ssgi_gl_port --scene SCENE IN.exr -o OUT.exr
+//   ssgi_gl_port --scene SCENE IN.exr -o OUT.exr [--oracle-inputs]
 //
 // SCENE is the scene the dump was rendered from: its camera, and the pass parameters of its render
-// block. The image size is the dump's. Exit codes: 0 written, 1 bad input, 2 usage, 3 a GL error,
-// 77 no EGL display or OpenGL 4.5 context here (the test then skips).
+// block. The image size is the dump's. Each pass reads the port's own earlier buffers, or with
+// --oracle-inputs the oracle's from the dump where it holds them, so each pass is checked alone.
+// Exit codes: 0 written, 1 bad input, 2 usage, 3 a GL error, 77 no EGL display or OpenGL 4.5
+// context here (the test then skips).
 #include <GL/glcorearb.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -53,6 +56,11 @@ class Buffer {
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
   Buffer(Buffer&& other) noexcept : id_(other.id_), words_(other.words_) { other.id_ = 0; }
+  Buffer& operator=(Buffer&& other) noexcept {
+    std::swap(id_, other.id_);
+    std::swap(words_, other.words_);
+    return *this;
+  }
 
   GLuint id() const { return id_; }
   size_t words() const { return words_; }
@@ -191,9 +199,39 @@ Levels Concatenate(const std::vector<Buffer>& levels, const std::vector<PyramidS
   }
   Levels result{Buffer(total), offsets, xy};
   for (size_t k = 0; k < levels.size(); ++k)
-    glCopyNamedBufferSubData(levels[k].id(), result.all.id(), 0, GLintptr(offsets[k]) * 4, GLsizeiptr(levels[k].words() * 4));
+    glCopyNamedBufferSubData(levels[k].id(), result.all.id(), 0, GLintptr(offsets[k]) * 4,
+                             GLsizeiptr(levels[k].words() * 4));
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   return result;
+}
+
+// The channels `names` of `part`, one plane after the other; nothing when the part lacks one.
+std::optional<Buffer> UploadPlanes(const Part& part, const std::vector<std::string>& names) {
+  std::vector<uint32_t> planes;
+  for (const std::string& name : names) {
+    const auto found = std::find_if(part.channels.begin(), part.channels.end(),
+                                    [&](const auto& channel) { return channel.first == name; });
+    if (found == part.channels.end()) return std::nullopt;
+    planes.insert(planes.end(), found->second.samples.begin(), found->second.samples.end());
+  }
+  return Buffer(planes.size(), planes.data());
+}
+
+// The dump's parts `prefix`0, `prefix`1, ... of the sizes `sizes`, channels `names`, as one buffer
+// laid out as Concatenate lays out the port's; nothing when a level is missing or of another size.
+std::optional<Levels> UploadLevels(const std::vector<Part>& dump, const std::string& prefix,
+                                   const std::vector<std::string>& names, const std::vector<PyramidSize>& sizes) {
+  std::vector<Buffer> levels;
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    const std::string name = prefix + std::to_string(k);
+    const auto part = std::find_if(dump.begin(), dump.end(), [&](const Part& p) { return p.name == name; });
+    if (part == dump.end() || size_t(part->width) != sizes[k].width || size_t(part->height) != sizes[k].height)
+      return std::nullopt;
+    std::optional<Buffer> level = UploadPlanes(*part, names);
+    if (!level) return std::nullopt;
+    levels.push_back(std::move(*level));
+  }
+  return Concatenate(levels, sizes);
 }
 
 void SetLevels(const Program& program, const Levels& levels) {
@@ -325,8 +363,15 @@ std::vector<float> ConeTanTable() {
   return table;
 }
 
+// The trace's outputs the cone trace and the composite read.
+struct TraceHits {
+  const Buffer& hitX;
+  const Buffer& hitY;
+  const Buffer& confidence;
+};
+
 Buffer RunSsrCone(const FrameConstants& frame, const SsrConeParams& params, const Buffer& word1,
-                  const TraceOutput& trace, const Levels& pyramid) {
+                  const TraceHits& trace, const Levels& pyramid) {
   const Program program("ssr_cone.comp");
   SetFrameConstants(program, frame);
   SetLevels(program, pyramid);
@@ -374,7 +419,7 @@ Layer PlaneLayer(const std::vector<uint32_t>& words, size_t plane, size_t pixels
 }
 
 int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input,
-        const std::filesystem::path& output) {
+        const std::filesystem::path& output, bool oracleInputs) {
   const std::vector<Part> dump = ReadExrParts(input);
   const Part& main = dump[0];
   const SceneFile scene = LoadSceneFile(scenePath);
@@ -407,17 +452,40 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   for (const auto& [name, layer] : main.channels)
     if (name == "shadow.visibility") visibility.emplace(pixels, layer.samples.data());
 
+  // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
+  std::optional<Buffer> oracleDirect, oracleHitX, oracleHitY, oracleConfidence, oracleReflected;
+  std::optional<Levels> oracleHiZ, oraclePyramid;
+  if (oracleInputs) {
+    oracleDirect = UploadPlanes(main, {"direct.R", "direct.G", "direct.B"});
+    oracleHitX = UploadPlanes(main, {"ssr.hitX"});
+    oracleHitY = UploadPlanes(main, {"ssr.hitY"});
+    oracleConfidence = UploadPlanes(main, {"ssr.confidence"});
+    oracleReflected = UploadPlanes(main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"});
+    oracleHiZ = UploadLevels(dump, "hiz.", {"Y"}, frame.levels);
+    oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels);
+    std::string taken;
+    const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
+    note(oracleDirect.has_value(), "direct");
+    note(oracleHiZ.has_value(), "hiz");
+    note(oraclePyramid.has_value(), "pyramid");
+    note(oracleHitX && oracleHitY && oracleConfidence, "ssr.hit");
+    note(oracleReflected.has_value(), "ssr.reflected");
+    std::printf("ssgi_gl_port: the oracle's inputs taken from the dump:%s\n", taken.empty() ? " none" : taken.c_str());
+  }
+  const auto pick = [](const auto& oracle, const auto& own) -> const auto& { return oracle ? *oracle : own; };
+
   const Buffer direct =
       RunDirectLight(frame, scene.scene, config.directLight.background, words, visibility ? &*visibility : nullptr);
-
   const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
-  const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, direct);
+  const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, pick(oracleDirect, direct));
   const Levels hiz = Concatenate(hizLevels, frame.levels);
   const Levels pyramid = Concatenate(pyramidLevels, frame.levels);
-  const TraceOutput trace = RunSsrTrace(frame, config.ssrTrace, words[1], words[2], hiz);
-  const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], trace, pyramid);
-  const CompositeOutput composite =
-      RunComposite(frame, config.ssrTrace.roughnessCutoff, words, trace.confidence, reflected, direct);
+  const TraceOutput trace = RunSsrTrace(frame, config.ssrTrace, words[1], words[2], pick(oracleHiZ, hiz));
+  const TraceHits hits{pick(oracleHitX, trace.hitX), pick(oracleHitY, trace.hitY),
+                       pick(oracleConfidence, trace.confidence)};
+  const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
+  const CompositeOutput composite = RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence,
+                                                 pick(oracleReflected, reflected), pick(oracleDirect, direct));
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
     std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));
@@ -432,22 +500,23 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   channels.emplace_back("ssr.confidence", Layer{false, trace.confidence.Download()});
   channels.emplace_back("ssr.iterations", Layer{false, trace.iterations.Download()});
   const char* rgb[] = {"R", "G", "B"};
-  const std::vector<uint32_t> directWords = direct.Download();
-  for (size_t c = 0; c < 3; ++c) channels.emplace_back(std::string("direct.") + rgb[c], PlaneLayer(directWords, c, pixels));
-  const std::vector<uint32_t> reflectedWords = reflected.Download(), indirectWords = composite.indirect.Download(),
-                              resultWords = composite.result.Download();
-  for (size_t c = 0; c < 3; ++c) channels.emplace_back(std::string("ssr.reflected.") + rgb[c], PlaneLayer(reflectedWords, c, pixels));
-  for (size_t c = 0; c < 3; ++c) channels.emplace_back(std::string("indirect.") + rgb[c], PlaneLayer(indirectWords, c, pixels));
-  for (size_t c = 0; c < 3; ++c) channels.emplace_back(std::string("result.") + rgb[c], PlaneLayer(resultWords, c, pixels));
+  // The three planes of `buffer` as the layers `prefix`R, G, B.
+  const auto addRgb = [&](std::vector<std::pair<std::string, Layer>>& to, const std::string& prefix,
+                          const Buffer& buffer, size_t planePixels) {
+    const std::vector<uint32_t> planes = buffer.Download();
+    for (size_t c = 0; c < 3; ++c) to.emplace_back(prefix + rgb[c], PlaneLayer(planes, c, planePixels));
+  };
+  addRgb(channels, "direct.", direct, pixels);
+  addRgb(channels, "ssr.reflected.", reflected, pixels);
+  addRgb(channels, "indirect.", composite.indirect, pixels);
+  addRgb(channels, "result.", composite.result, pixels);
   for (size_t k = 0; k < frame.levels.size(); ++k) {
     const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
     parts.push_back(Part{"hiz." + std::to_string(k), w, h, {{"Y", Layer{false, hizLevels[k].Download()}}}});
   }
   for (size_t k = 0; k < frame.levels.size(); ++k) {
-    const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
-    const std::vector<uint32_t> levelWords = pyramidLevels[k].Download();
-    Part part{"pyramid." + std::to_string(k), w, h, {}};
-    for (size_t c = 0; c < 3; ++c) part.channels.emplace_back(rgb[c], PlaneLayer(levelWords, c, Pixels(frame.levels[k])));
+    Part part{"pyramid." + std::to_string(k), int(frame.levels[k].width), int(frame.levels[k].height), {}};
+    addRgb(part.channels, "", pyramidLevels[k], Pixels(frame.levels[k]));
     parts.push_back(std::move(part));
   }
   WriteExrParts(output, parts);
@@ -463,13 +532,18 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene, "The scene the dump was rendered from.")->required();
   app.add_option("input", input, "The oracle's dump (ssgi render --dump-gbuffer IN.exr).")->required();
   app.add_option("-o,--output", output, "The port's buffers, as an EXR with the dump's layer names.")->required();
+  bool oracleInputs = false;
+  app.add_flag("--oracle-inputs", oracleInputs,
+               "Each pass reads the oracle's buffers of the passes before it where the dump holds them "
+               "(direct.*, hiz.L, pyramid.L, ssr.hitX/hitY/confidence, ssr.reflected.*), so each pass is checked "
+               "alone; default: the port's own.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    return ssgi::port::Run(scene, input, output);
+    return ssgi::port::Run(scene, input, output, oracleInputs);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi_gl_port: error: %s\n", e.what());
     return 1;

@@ -98,12 +98,38 @@ std::vector<Part> OracleParts(const Frame& frame, const std::filesystem::path& d
   return parts;
 }
 
-// Renders `sceneFile` at width x height with the oracle, runs the port on its dump and checks every
-// layer the port writes against the oracle's. Prints one line per layer. Every layer must be
-// bit-exact: the spec pins each operation and its order, and the shaders' `precise` forbids the
-// contractions GLSL otherwise allows (tests/port/README.md); a tolerance here would hide a
-// divergence from the spec. (Thresholds for GPUs with approximate division or sqrt are `ssgi
-// diff`'s, issue 13.)
+// Checks every layer of the port's output `ported` against the oracle's. Prints one line per layer.
+void CompareWithOracle(const std::vector<Part>& oracle, const std::filesystem::path& ported) {
+  for (const Part& part : port::ReadExrParts(ported)) {
+    const Part* oraclePart = FindPart(oracle, part.name);
+    INFO("part '" << part.name << "'");
+    REQUIRE(oraclePart != nullptr);
+    REQUIRE(oraclePart->width == part.width);
+    REQUIRE(oraclePart->height == part.height);
+    for (const auto& [channel, layer] : part.channels) {
+      const std::string name = part.name.empty() ? channel : part.name + "." + channel;
+      const Layer* oracleLayer = FindChannel(*oraclePart, channel);
+      if (oracleLayer == nullptr) {
+        std::printf("  %-20s not in the oracle's dump\n", name.c_str());
+        continue;
+      }
+      const LayerDiff diff = CompareLayer(*oracleLayer, layer);
+      std::printf("  %-20s max abs %-9.3g max ulp %-6lld differing %zu of %zu\n", name.c_str(), diff.maxAbs,
+                  (long long)diff.maxUlp, diff.differing, layer.samples.size());
+      INFO(name << ": max abs " << diff.maxAbs << ", max ulp " << diff.maxUlp << ", " << diff.differing
+                << " samples differ, the worst at (" << diff.worst % size_t(part.width) << ", "
+                << diff.worst / size_t(part.width) << ")");
+      CHECK(diff.differing == 0);
+    }
+  }
+}
+
+// Renders `sceneFile` at width x height with the oracle, runs the port on its buffers twice, chained
+// (each pass on the port's own earlier buffers) and with --oracle-inputs (each pass on the oracle's),
+// and checks every layer the port writes against the oracle's. Every layer must be bit-exact: the
+// spec pins each operation and its order, and the shaders' `precise` forbids the contractions GLSL
+// otherwise allows (tests/port/README.md); a tolerance here would hide a departure from the spec.
+// (Thresholds for GPUs with approximate division or sqrt are `ssgi diff`'s, issue 13.)
 void CheckPort(const std::filesystem::path& sceneFile, int width, int height) {
   if (std::string(kGlPortPath).empty()) {
     WARN("the GLSL port is not built (no EGL/OpenGL development files): skipped");
@@ -116,40 +142,24 @@ void CheckPort(const std::filesystem::path& sceneFile, int width, int height) {
   const Frame frame = RenderFrame(scene.scene, config);
   REQUIRE(frame.reflections);
   const test::ScratchDir scratch("gl-port");
-  const std::filesystem::path dump = scratch / "oracle.exr", ported = scratch / "port.exr";
+  const std::filesystem::path dump = scratch / "dump.exr", input = scratch / "oracle.exr",
+                              ported = scratch / "port.exr";
   WriteFrameBuffers(dump, frame);
-  const test::CommandResult run = test::RunProgram(
-      kGlPortPath, "--scene " + test::Quote(sceneFile) + " " + test::Quote(dump) + " -o " + test::Quote(ported));
-  if (run.exitCode == 77) {
-    WARN("no EGL display with OpenGL 4.5 here, the port cannot run: skipped (" << run.output << ")");
-    return;
-  }
-  INFO(run.output);
-  REQUIRE(run.exitCode == 0);
-
-  const std::vector<Part> oracle = OracleParts(frame, dump), portParts = port::ReadExrParts(ported);
-  std::printf("port vs oracle, %s at %dx%d:\n", sceneFile.filename().c_str(), width, height);
-  for (const Part& part : portParts) {
-    const Part* oraclePart = FindPart(oracle, part.name);
-    INFO("part '" << part.name << "'");
-    REQUIRE(oraclePart != nullptr);
-    REQUIRE(oraclePart->width == part.width);
-    REQUIRE(oraclePart->height == part.height);
-    for (const auto& [channel, layer] : part.channels) {
-      const std::string name = part.name.empty() ? channel : part.name + "." + channel;
-      const Layer* oracleLayer = FindChannel(*oraclePart, channel);
-      if (oracleLayer == nullptr) {
-        std::printf("  %-22s not in the oracle's dump\n", name.c_str());
-        continue;
-      }
-      const LayerDiff diff = CompareLayer(*oracleLayer, layer);
-      std::printf("  %-20s max abs %-9.3g max ulp %-6lld differing %zu of %zu\n", name.c_str(), diff.maxAbs,
-                  (long long)diff.maxUlp, diff.differing, layer.samples.size());
-      INFO(name << ": max abs " << diff.maxAbs << ", max ulp " << diff.maxUlp << ", " << diff.differing
-                << " samples differ, the worst at (" << diff.worst % size_t(part.width) << ", "
-                << diff.worst / size_t(part.width) << ")");
-      CHECK(diff.differing == 0);
+  // The port's input: the dump and the Hi-Z and colour-pyramid levels --oracle-inputs reads.
+  const std::vector<Part> oracle = OracleParts(frame, dump);
+  port::WriteExrParts(input, oracle);
+  for (const std::string mode : {"", " --oracle-inputs"}) {
+    const test::CommandResult run = test::RunProgram(
+        kGlPortPath,
+        "--scene " + test::Quote(sceneFile) + " " + test::Quote(input) + " -o " + test::Quote(ported) + mode);
+    if (run.exitCode == 77) {
+      WARN("no EGL display with OpenGL 4.5 here, the port cannot run: skipped (" << run.output << ")");
+      return;
     }
+    INFO(run.output);
+    REQUIRE(run.exitCode == 0);
+    std::printf("port%s vs oracle, %s at %dx%d:\n", mode.c_str(), sceneFile.filename().c_str(), width, height);
+    CompareWithOracle(oracle, ported);
   }
 }
 

@@ -58,7 +58,8 @@ vec3 Project(vec3 q) {
   precise float d = -q.z;
   precise float ndcX = q.x / (d * tanHalf.x);
   precise float ndcY = q.y / (d * tanHalf.y);
-  precise vec3 projected = vec3((ndcX * 0.5 + 0.5) * float(imageSize.x), (0.5 - ndcY * 0.5) * float(imageSize.y), 1.0 / d);
+  precise vec3 projected =
+      vec3((ndcX * 0.5 + 0.5) * float(imageSize.x), (0.5 - ndcY * 0.5) * float(imageSize.y), 1.0 / d);
   return projected;
 }
 
