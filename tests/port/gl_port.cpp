@@ -493,7 +493,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   }
 
   std::vector<Part> parts(1);
-  parts[0] = Part{"", frame.width, frame.height, {}};
+  parts[0] = Part{"frame", frame.width, frame.height, {}};  // the image part's name in ssgi's dumps
   auto& channels = parts[0].channels;
   channels.emplace_back("ssr.hitX", Layer{false, trace.hitX.Download()});
   channels.emplace_back("ssr.hitY", Layer{false, trace.hitY.Download()});

@@ -86,6 +86,7 @@ Layer FloatLayer(const Plane<float>& plane) {
 // "hiz.L" (Y) and "pyramid.L" (R, G, B), the names the port writes them under.
 std::vector<Part> OracleParts(const Frame& frame, const std::filesystem::path& dump) {
   std::vector<Part> parts = port::ReadExrParts(dump);
+  parts[0].name = "frame";  // the image part's name in issue 13's multi-part dump, which the port writes
   for (size_t k = 0; k < frame.hiz.levels.size(); ++k) {
     const Plane<float>& level = frame.hiz.levels[k];
     parts.push_back({"hiz." + std::to_string(k), int(level.xsize()), int(level.ysize()), {{"Y", FloatLayer(level)}}});
@@ -107,7 +108,8 @@ void CompareWithOracle(const std::vector<Part>& oracle, const std::filesystem::p
     REQUIRE(oraclePart->width == part.width);
     REQUIRE(oraclePart->height == part.height);
     for (const auto& [channel, layer] : part.channels) {
-      const std::string name = part.name.empty() ? channel : part.name + "." + channel;
+      // Named as `ssgi diff` names layers: the channel in part "frame", else part:channel.
+      const std::string name = part.name == "frame" ? channel : part.name + ":" + channel;
       const Layer* oracleLayer = FindChannel(*oraclePart, channel);
       if (oracleLayer == nullptr) {
         std::printf("  %-20s not in the oracle's dump\n", name.c_str());

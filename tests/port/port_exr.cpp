@@ -13,7 +13,7 @@ std::vector<Part> ReadExrParts(const std::filesystem::path& path) {
   for (int subimage = 0; in->seek_subimage(subimage, 0); ++subimage) {
     const OIIO::ImageSpec& spec = in->spec();
     Part part;
-    part.name = subimage == 0 ? "" : spec.get_string_attribute("oiio:subimagename");
+    part.name = spec.get_string_attribute("oiio:subimagename");
     part.width = spec.width;
     part.height = spec.height;
     for (int c = 0; c < spec.nchannels; ++c) {

@@ -17,7 +17,7 @@ struct Layer {
   std::vector<uint32_t> samples;
 };
 
-// One part (OpenImageIO subimage) of an EXR: its name ("" for the first, unnamed part), size and
+// One part (OpenImageIO subimage) of an EXR: its name ("" when unnamed: a single-part file), size and
 // channels by name, in the order written.
 struct Part {
   std::string name;
