@@ -168,6 +168,9 @@ void CheckPort(const std::filesystem::path& sceneFile, int width, int height) {
 TEST_CASE("the GLSL port matches the oracle on the default scene", "[port]") {
   CheckPort(test::SourceDir() / "data" / "default.json", 160, 120);
   CheckPort(test::SourceDir() / "data" / "default.json", 67, 45);
+  // Degenerate pyramids: one level; a 3-wide footprint beside a 1-tall one.
+  CheckPort(test::SourceDir() / "data" / "default.json", 1, 1);
+  CheckPort(test::SourceDir() / "data" / "default.json", 33, 2);
 }
 
 TEST_CASE("the GLSL port matches the oracle on Sponza", "[port][sponza]") {
