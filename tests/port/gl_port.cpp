@@ -180,8 +180,8 @@ void SetFrameConstants(const Program& program, const FrameConstants& frame) {
   program.Set("normalEncoding", frame.normalEncoding == NormalEncoding::kXyz8 ? 0 : 1);
 }
 
-// One buffer holding `levels` one after the other (each `planes` planes), for the passes that read
-// every level; offsets in floats, per level.
+// One buffer holding every level of a pyramid one after the other, for the passes that read every
+// level; offsets in floats, per level.
 struct Levels {
   Buffer all;
   std::vector<int> offsets;
@@ -205,14 +205,17 @@ Levels Concatenate(const std::vector<Buffer>& levels, const std::vector<PyramidS
   return result;
 }
 
-// The channels `names` of `part`, one plane after the other; nothing when the part lacks one.
-std::optional<Buffer> UploadPlanes(const Part& part, const std::vector<std::string>& names) {
+// The float channels `names` of `part` of `file`, one plane after the other; nothing when the part
+// lacks one.
+std::optional<Buffer> UploadPlanes(const Part& part, const std::vector<std::string>& names,
+                                   const std::filesystem::path& file) {
   std::vector<uint32_t> planes;
   for (const std::string& name : names) {
-    const auto found = std::find_if(part.channels.begin(), part.channels.end(),
-                                    [&](const auto& channel) { return channel.first == name; });
-    if (found == part.channels.end()) return std::nullopt;
-    planes.insert(planes.end(), found->second.samples.begin(), found->second.samples.end());
+    const bool present = std::any_of(part.channels.begin(), part.channels.end(),
+                                     [&](const auto& channel) { return channel.first == name; });
+    if (!present) return std::nullopt;
+    const Layer& layer = FindLayer(part, name, false, file);
+    planes.insert(planes.end(), layer.samples.begin(), layer.samples.end());
   }
   return Buffer(planes.size(), planes.data());
 }
@@ -220,14 +223,15 @@ std::optional<Buffer> UploadPlanes(const Part& part, const std::vector<std::stri
 // The dump's parts `prefix`0, `prefix`1, ... of the sizes `sizes`, channels `names`, as one buffer
 // laid out as Concatenate lays out the port's; nothing when a level is missing or of another size.
 std::optional<Levels> UploadLevels(const std::vector<Part>& dump, const std::string& prefix,
-                                   const std::vector<std::string>& names, const std::vector<PyramidSize>& sizes) {
+                                   const std::vector<std::string>& names, const std::vector<PyramidSize>& sizes,
+                                   const std::filesystem::path& file) {
   std::vector<Buffer> levels;
   for (size_t k = 0; k < sizes.size(); ++k) {
     const std::string name = prefix + std::to_string(k);
     const auto part = std::find_if(dump.begin(), dump.end(), [&](const Part& p) { return p.name == name; });
     if (part == dump.end() || size_t(part->width) != sizes[k].width || size_t(part->height) != sizes[k].height)
       return std::nullopt;
-    std::optional<Buffer> level = UploadPlanes(*part, names);
+    std::optional<Buffer> level = UploadPlanes(*part, names, file);
     if (!level) return std::nullopt;
     levels.push_back(std::move(*level));
   }
@@ -443,26 +447,24 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
 
   std::vector<Buffer> words;
   for (int w = 0; w < 4; ++w)
-    words.emplace_back(pixels, FindLayer(main, "gbuffer.word" + std::to_string(w), input).samples.data());
+    words.emplace_back(pixels, FindLayer(main, "gbuffer.word" + std::to_string(w), true, input).samples.data());
   // The G-buffer's albedo codes decode through core's sRGB table (core/color.h).
   const Buffer srgbDecode(256, SrgbDecodeTableForKernels());
   srgbDecode.Bind(kSrgbDecodeBinding);
   // The shadow filter's output, present in the dump when the frame ran shadows.
-  std::optional<Buffer> visibility;
-  for (const auto& [name, layer] : main.channels)
-    if (name == "shadow.visibility") visibility.emplace(pixels, layer.samples.data());
+  std::optional<Buffer> visibility = UploadPlanes(main, {"shadow.visibility"}, input);
 
   // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
   std::optional<Buffer> oracleDirect, oracleHitX, oracleHitY, oracleConfidence, oracleReflected;
   std::optional<Levels> oracleHiZ, oraclePyramid;
   if (oracleInputs) {
-    oracleDirect = UploadPlanes(main, {"direct.R", "direct.G", "direct.B"});
-    oracleHitX = UploadPlanes(main, {"ssr.hitX"});
-    oracleHitY = UploadPlanes(main, {"ssr.hitY"});
-    oracleConfidence = UploadPlanes(main, {"ssr.confidence"});
-    oracleReflected = UploadPlanes(main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"});
-    oracleHiZ = UploadLevels(dump, "hiz.", {"Y"}, frame.levels);
-    oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels);
+    oracleDirect = UploadPlanes(main, {"direct.R", "direct.G", "direct.B"}, input);
+    oracleHitX = UploadPlanes(main, {"ssr.hitX"}, input);
+    oracleHitY = UploadPlanes(main, {"ssr.hitY"}, input);
+    oracleConfidence = UploadPlanes(main, {"ssr.confidence"}, input);
+    oracleReflected = UploadPlanes(main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"}, input);
+    oracleHiZ = UploadLevels(dump, "hiz.", {"Y"}, frame.levels, input);
+    oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels, input);
     std::string taken;
     const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
     note(oracleDirect.has_value(), "direct");
@@ -527,7 +529,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
 }  // namespace ssgi::port
 
 int main(int argc, char** argv) {
-  CLI::App app{"Runs the GLSL port of ssgi's reflection passes on an ssgi dump (tests/port/README.md)."};
+  CLI::App app{"Runs the GLSL port of ssgi's passes from direct light on, on an ssgi dump (tests/port/README.md)."};
   std::string scene, input, output;
   app.add_option("--scene", scene, "The scene the dump was rendered from.")->required();
   app.add_option("input", input, "The oracle's dump (ssgi render --dump-gbuffer IN.exr).")->required();
@@ -549,6 +551,9 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const ssgi::port::GlError& e) {
     std::fprintf(stderr, "ssgi_gl_port: OpenGL: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ssgi_gl_port: internal error: %s\n", e.what());
     return 3;
   }
 }

@@ -65,9 +65,14 @@ void WriteExrParts(const std::filesystem::path& path, const std::vector<Part>& p
   if (!out->close()) throw InputError(path, "cannot write: " + out->geterror());
 }
 
-const Layer& FindLayer(const Part& part, const std::string& name, const std::filesystem::path& file) {
-  for (const auto& [channelName, layer] : part.channels)
-    if (channelName == name) return layer;
+const Layer& FindLayer(const Part& part, const std::string& name, bool isUint, const std::filesystem::path& file) {
+  for (const auto& [channelName, layer] : part.channels) {
+    if (channelName != name) continue;
+    if (layer.isUint != isUint)
+      throw InputError(file, "layer " + name + " is " + (layer.isUint ? "uint32" : "float") + ", must be " +
+                                 (isUint ? "uint32" : "float"));
+    return layer;
+  }
   throw InputError(file, "has no layer " + name);
 }
 

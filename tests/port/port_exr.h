@@ -30,7 +30,8 @@ std::vector<Part> ReadExrParts(const std::filesystem::path& path);
 // Writes the parts in order (zip compression); throws InputError naming the file on failure.
 void WriteExrParts(const std::filesystem::path& path, const std::vector<Part>& parts);
 
-// The channel `name` of `part`; throws InputError naming `file` when it is missing.
-const Layer& FindLayer(const Part& part, const std::string& name, const std::filesystem::path& file);
+// The channel `name` of `part`, uint32 or float as `isUint` says; throws InputError naming `file`
+// when it is missing or of the other type.
+const Layer& FindLayer(const Part& part, const std::string& name, bool isUint, const std::filesystem::path& file);
 
 }  // namespace ssgi::port
