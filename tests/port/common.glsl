@@ -30,6 +30,9 @@ vec3 Normalize3(vec3 a) {
   return unit;
 }
 
+// G-buffer word 2 of a background pixel: +inf.
+const float kBackgroundDepth = uintBitsToFloat(0x7F800000u);
+
 // The G-buffer's normal encodings (§G-buffer, "Normal encodings").
 const int kNormalXyz8 = 0;
 const int kNormalOct24 = 1;

@@ -40,7 +40,7 @@ void main() {
   const int plane = imageSize.x * imageSize.y;
   precise vec3 indirectRadiance = vec3(0.0);
   const float trust = confidence[index];
-  if (!isinf(depth[index]) && trust > 0.0) {
+  if (depth[index] != kBackgroundDepth && trust > 0.0) {
     const uint w0 = word0[index];
     const uint w1 = word1[index];
     const float roughness = UnpackRoughness(w1);

@@ -23,7 +23,6 @@ uniform vec3 background;
 
 const float kPi = 3.14159265358979323846;
 const float kMinGgxAlpha = 0.045 * 0.045;
-const float kBackgroundDepth = uintBitsToFloat(0x7F800000u);  // +inf
 
 float Clamp01(float x) { return x < 0.0 ? 0.0 : (1.0 < x ? 1.0 : x); }  // std::clamp(x, 0, 1)
 

@@ -4,8 +4,8 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer Word1 { uint word1[]; };
-layout(std430, binding = 1) readonly buffer Trace { float hitX[]; };
-layout(std430, binding = 2) readonly buffer TraceY { float hitY[]; };
+layout(std430, binding = 1) readonly buffer HitX { float hitX[]; };
+layout(std430, binding = 2) readonly buffer HitY { float hitY[]; };
 layout(std430, binding = 3) readonly buffer Confidence { float confidence[]; };
 // Every level of the colour pyramid, one after the other, each three planes (R, G, B).
 layout(std430, binding = 4) readonly buffer Pyramid { float pyramid[]; };

@@ -30,7 +30,6 @@ const float kTinyComponent = 1e-20; // direction components below this have no r
 const float kNudge = 1.0 / 64.0;    // px past a crossed cell boundary
 const float kMaxCoordinate = 32768.0;
 const float kMaxRayLengthInDepths = 1000.0;
-const float kBackgroundDepth = uintBitsToFloat(0x7F800000u);  // +inf, G-buffer word 2 of the background
 
 float SafeReciprocal(float v) {
   precise float reciprocal = 1.0 / v;
