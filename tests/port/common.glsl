@@ -33,9 +33,8 @@ vec3 Normalize3(vec3 a) {
 // G-buffer word 2 of a background pixel: +inf.
 const float kBackgroundDepth = uintBitsToFloat(0x7F800000u);
 
-// The G-buffer's normal encodings (§G-buffer, "Normal encodings").
+// The G-buffer's normal encoding (§G-buffer, "Normal encodings"): kNormalXyz8, else oct24 (1).
 const int kNormalXyz8 = 0;
-const int kNormalOct24 = 1;
 uniform int normalEncoding;
 
 float DequantizeSigned(uint code, float maxCode) {
