@@ -1,0 +1,62 @@
+// Composite (docs/pipeline.md §Composite): indirect = the cone-traced radiance times the split-sum
+// specular weight times the trace's confidence and the roughness fade; result = direct + indirect.
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(std430, binding = 0) readonly buffer Word0 { uint word0[]; };
+layout(std430, binding = 1) readonly buffer Word1 { uint word1[]; };
+layout(std430, binding = 2) readonly buffer Word2 { float depth[]; };
+layout(std430, binding = 3) readonly buffer Confidence { float confidence[]; };
+layout(std430, binding = 4) readonly buffer Reflected { float reflected[]; };  // three planes
+layout(std430, binding = 5) readonly buffer Direct { float direct[]; };        // three planes
+layout(std430, binding = 6) writeonly buffer Indirect { float indirect[]; };   // three planes
+layout(std430, binding = 7) writeonly buffer Result { float result[]; };       // three planes
+// The split-sum DFG table (A, B) pairs at [j * 32 + i], n.v = i / 31, roughness j / 31 (core/brdf.h).
+layout(std430, binding = 8) readonly buffer Dfg { vec2 dfg[]; };
+
+uniform float roughnessCutoff;  // the trace's
+
+const int kDfgSize = 32;
+
+vec2 DfgEntry(int i, int j) { return dfg[j * kDfgSize + i]; }
+
+vec3 SpecularWeight(vec3 f0, float nDotV, float roughness) {
+  precise float u = clamp(nDotV, 0.0, 1.0) * float(kDfgSize - 1);
+  precise float v = clamp(roughness, 0.0, 1.0) * float(kDfgSize - 1);
+  const int i0 = min(int(u), kDfgSize - 2);
+  const int j0 = min(int(v), kDfgSize - 2);
+  precise float fu = u - float(i0);
+  precise float fv = v - float(j0);
+  precise vec2 top = DfgEntry(i0, j0) + (DfgEntry(i0 + 1, j0) - DfgEntry(i0, j0)) * fu;
+  precise vec2 bottom = DfgEntry(i0, j0 + 1) + (DfgEntry(i0 + 1, j0 + 1) - DfgEntry(i0, j0 + 1)) * fu;
+  precise vec2 ab = top + (bottom - top) * fv;
+  precise vec3 weight = f0 * ab.x + vec3(ab.y);
+  return weight;
+}
+
+void main() {
+  const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (pixel.x >= imageSize.x || pixel.y >= imageSize.y) return;
+  const int index = pixel.y * imageSize.x + pixel.x;
+  const int plane = imageSize.x * imageSize.y;
+  precise vec3 indirectRadiance = vec3(0.0);
+  const float trust = confidence[index];
+  if (depth[index] != kBackgroundDepth && trust > 0.0) {
+    const uint w0 = word0[index];
+    const uint w1 = word1[index];
+    const float roughness = UnpackRoughness(w1);
+    const vec3 f0 = SpecularF0(UnpackAlbedo(w0), UnpackMetallic(w0));
+    const vec3 toViewer = Normalize3(-PixelRayDirection(vec2(pixel) + 0.5));
+    precise float nDotV = clamp(Dot3(UnpackNormal(w1), toViewer), 0.0, 1.0);
+    precise float fade = clamp((roughnessCutoff - roughness) / 0.1, 0.0, 1.0);
+    const vec3 traced = vec3(reflected[index], reflected[index + plane], reflected[index + 2 * plane]);
+    // The weight first, then the radiance times it (§Composite).
+    precise vec3 weight = SpecularWeight(f0, nDotV, roughness) * (trust * fade);
+    indirectRadiance = traced * weight;
+  }
+  const vec3 directRadiance = vec3(direct[index], direct[index + plane], direct[index + 2 * plane]);
+  precise vec3 sum = directRadiance + indirectRadiance;
+  for (int c = 0; c < 3; ++c) {
+    indirect[index + c * plane] = indirectRadiance[c];
+    result[index + c * plane] = sum[c];
+  }
+}

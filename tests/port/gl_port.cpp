@@ -1,0 +1,559 @@
+// ssgi_gl_port: the passes of docs/pipeline.md from direct light on (direct light, Hi-Z, colour
+// pyramid, SSR trace, cone trace, composite) as GLSL 4.50 compute shaders (tests/port/*.comp,
+// written from the spec), run by OpenGL 4.5 core on an EGL surfaceless display (Mesa llvmpipe) on
+// the G-buffer and shadow visibility of an ssgi dump, writing its buffers under the dump's layer
+// names so the two files compare layer by layer (tests/port/README.md).
+//
+//   ssgi_gl_port --scene SCENE IN.exr -o OUT.exr [--oracle-inputs]
+//
+// SCENE is the scene the dump was rendered from: its camera, and the pass parameters of its render
+// block. The image size is the dump's. Each pass reads the port's own earlier buffers, or with
+// --oracle-inputs the oracle's from the dump where it holds them, so each pass is checked alone.
+// Exit codes: 0 written, 1 bad input, 2 usage, 3 a GL error, 77 no EGL display or OpenGL 4.5
+// context here (the test then skips).
+#include <GL/glcorearb.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/brdf.h"
+#include "core/camera.h"
+#include "core/color.h"
+#include "core/error.h"
+#include "core/gbuffer.h"
+#include "core/lighting.h"
+#include "core/pyramid.h"
+#include "core/scene.h"
+#include "passes/frame_config.h"
+#include "tests/port/gl_context.h"
+#include "tests/port/port_exr.h"
+#include "tests/port/port_shaders.h"
+
+namespace ssgi::port {
+namespace {
+
+constexpr int kExitNoGl = 77;
+constexpr int kGroupSize = 8;    // every shader's local_size_x and local_size_y
+constexpr int kMaxLevels = 16;   // the shaders' uniform arrays of pyramid levels
+constexpr GLuint kSrgbDecodeBinding = 15;  // common.glsl's sRGB table
+
+// A GL buffer object of 4-byte words; deleted with the object.
+class Buffer {
+ public:
+  explicit Buffer(size_t words, const void* data = nullptr) : words_(words) {
+    glCreateBuffers(1, &id_);
+    // At least one word: a zero-size store is an error in GL.
+    glNamedBufferData(id_, GLsizeiptr(std::max<size_t>(words, 1) * 4), data, GL_DYNAMIC_COPY);
+  }
+  ~Buffer() { glDeleteBuffers(1, &id_); }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  Buffer(Buffer&& other) noexcept : id_(other.id_), words_(other.words_) { other.id_ = 0; }
+  Buffer& operator=(Buffer&& other) noexcept {
+    std::swap(id_, other.id_);
+    std::swap(words_, other.words_);
+    return *this;
+  }
+
+  GLuint id() const { return id_; }
+  size_t words() const { return words_; }
+  std::vector<uint32_t> Download() const {
+    std::vector<uint32_t> words(words_);
+    glGetNamedBufferSubData(id_, 0, GLsizeiptr(words_ * 4), words.data());
+    return words;
+  }
+  void Bind(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+
+ private:
+  GLuint id_ = 0;
+  size_t words_ = 0;
+};
+
+std::string_view ShaderSource(std::string_view file) {
+  for (const EmbeddedShader& shader : kEmbeddedShaders)
+    if (shader.file == file) return shader.source;
+  throw std::logic_error("no embedded shader " + std::string(file));
+}
+
+class GlError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A compute program of `file` with common.glsl before it; deleted with the object.
+class Program {
+ public:
+  explicit Program(std::string_view file) {
+    const std::string version = "#version 450 core\n";
+    const std::string_view common = ShaderSource("common.glsl"), pass = ShaderSource(file);
+    const char* sources[] = {version.data(), common.data(), pass.data()};
+    const GLint lengths[] = {GLint(version.size()), GLint(common.size()), GLint(pass.size())};
+    const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+    glShaderSource(shader, 3, sources, lengths);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+      const std::string log = InfoLog(shader, glGetShaderInfoLog);
+      glDeleteShader(shader);
+      throw GlError(std::string(file) + " does not compile: " + log);
+    }
+    id_ = glCreateProgram();
+    glAttachShader(id_, shader);
+    glLinkProgram(id_);
+    glDeleteShader(shader);
+    glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+    if (!ok) throw GlError(std::string(file) + " does not link: " + InfoLog(id_, glGetProgramInfoLog));
+  }
+  ~Program() { glDeleteProgram(id_); }
+  Program(const Program&) = delete;
+  Program& operator=(const Program&) = delete;
+
+  // Uniforms by name; one the compiler removed as unused is ignored (location -1), as GL does.
+  void Set(const char* name, int v) const { glProgramUniform1i(id_, Location(name), v); }
+  void Set(const char* name, float v) const { glProgramUniform1f(id_, Location(name), v); }
+  void Set(const char* name, int x, int y) const { glProgramUniform2i(id_, Location(name), x, y); }
+  void Set(const char* name, float x, float y) const { glProgramUniform2f(id_, Location(name), x, y); }
+  void Set(const char* name, float x, float y, float z) const { glProgramUniform3f(id_, Location(name), x, y, z); }
+  void SetArray(const char* name, const std::vector<float>& v) const {
+    glProgramUniform1fv(id_, Location(name), GLsizei(v.size()), v.data());
+  }
+  void SetArray(const char* name, const std::vector<int>& v) const {
+    glProgramUniform1iv(id_, Location(name), GLsizei(v.size()), v.data());
+  }
+  void SetArray2(const char* name, const std::vector<int>& xy) const {
+    glProgramUniform2iv(id_, Location(name), GLsizei(xy.size() / 2), xy.data());
+  }
+
+  // One invocation per (x, y, z) of width x height x depth; the writes are visible to the next
+  // dispatch and to downloads when it returns.
+  void Dispatch(int width, int height, int depth = 1) const {
+    glUseProgram(id_);
+    glDispatchCompute(GLuint((width + kGroupSize - 1) / kGroupSize), GLuint((height + kGroupSize - 1) / kGroupSize),
+                      GLuint(depth));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+
+ private:
+  template <class GetLog>
+  static std::string InfoLog(GLuint object, GetLog getLog) {
+    std::vector<char> log(8192, '\0');
+    getLog(object, GLsizei(log.size()), nullptr, log.data());
+    return log.data();
+  }
+  GLint Location(const char* name) const { return glGetUniformLocation(id_, name); }
+  GLuint id_ = 0;
+};
+
+// What every pass reads of the frame: the image size, the camera and the normal encoding.
+struct FrameConstants {
+  int width = 0, height = 0;
+  ViewProjection view;
+  NormalEncoding normalEncoding = NormalEncoding::kOct24;
+  std::vector<PyramidSize> levels;  // PyramidLevelSizes(width, height)
+};
+
+// The shadowed light's index in PrepareLights order (§Direct light): the first light that casts
+// shadows, directional lights before spots; -1 when none does.
+int ShadowedLight(const Scene& scene) {
+  int index = 0;
+  for (const DirectionalLight& light : scene.directionalLights) {
+    if (light.castShadows) return index;
+    ++index;
+  }
+  for (const SpotLight& light : scene.spotLights) {
+    if (light.castShadows) return index;
+    ++index;
+  }
+  return -1;
+}
+
+void SetFrameConstants(const Program& program, const FrameConstants& frame) {
+  program.Set("imageSize", frame.width, frame.height);
+  program.Set("tanHalf", frame.view.halfX, frame.view.halfY);
+  program.Set("normalEncoding", frame.normalEncoding == NormalEncoding::kXyz8 ? 0 : 1);
+}
+
+// One buffer holding every level of a pyramid one after the other, for the passes that read every
+// level; offsets in floats, per level.
+struct Levels {
+  Buffer all;
+  std::vector<int> offsets;
+  std::vector<int> sizes;  // x, y per level
+};
+
+Levels Concatenate(const std::vector<Buffer>& levels, const std::vector<PyramidSize>& sizes) {
+  size_t total = 0;
+  std::vector<int> offsets, xy;
+  for (size_t k = 0; k < levels.size(); ++k) {
+    offsets.push_back(int(total));
+    total += levels[k].words();
+    xy.push_back(int(sizes[k].width));
+    xy.push_back(int(sizes[k].height));
+  }
+  Levels result{Buffer(total), offsets, xy};
+  for (size_t k = 0; k < levels.size(); ++k)
+    glCopyNamedBufferSubData(levels[k].id(), result.all.id(), 0, GLintptr(offsets[k]) * 4,
+                             GLsizeiptr(levels[k].words() * 4));
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  return result;
+}
+
+// The float channels `names` of `part` of `file`, one plane after the other; nothing when the part
+// lacks one.
+std::optional<Buffer> UploadPlanes(const Part& part, const std::vector<std::string>& names,
+                                   const std::filesystem::path& file) {
+  std::vector<uint32_t> planes;
+  for (const std::string& name : names) {
+    const bool present = std::any_of(part.channels.begin(), part.channels.end(),
+                                     [&](const auto& channel) { return channel.first == name; });
+    if (!present) return std::nullopt;
+    const Layer& layer = FindLayer(part, name, false, file);
+    planes.insert(planes.end(), layer.samples.begin(), layer.samples.end());
+  }
+  return Buffer(planes.size(), planes.data());
+}
+
+// The dump's parts `prefix`0, `prefix`1, ... of the sizes `sizes`, channels `names`, as one buffer
+// laid out as Concatenate lays out the port's; nothing when a level is missing or of another size.
+std::optional<Levels> UploadLevels(const std::vector<Part>& dump, const std::string& prefix,
+                                   const std::vector<std::string>& names, const std::vector<PyramidSize>& sizes,
+                                   const std::filesystem::path& file) {
+  std::vector<Buffer> levels;
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    const std::string name = prefix + std::to_string(k);
+    const auto part = std::find_if(dump.begin(), dump.end(), [&](const Part& p) { return p.name == name; });
+    if (part == dump.end() || size_t(part->width) != sizes[k].width || size_t(part->height) != sizes[k].height)
+      return std::nullopt;
+    std::optional<Buffer> level = UploadPlanes(*part, names, file);
+    if (!level) return std::nullopt;
+    levels.push_back(std::move(*level));
+  }
+  return Concatenate(levels, sizes);
+}
+
+void SetLevels(const Program& program, const Levels& levels) {
+  program.Set("levelCount", int(levels.offsets.size()));
+  program.SetArray2("levelSizes", levels.sizes);
+  program.SetArray("levelOffsets", levels.offsets);
+}
+
+size_t Pixels(const PyramidSize& size) { return size.width * size.height; }
+
+// §Direct light, three planes. `visibility` is the shadow filter's output for the shadowed light,
+// or null when the frame ran no shadows.
+Buffer RunDirectLight(const FrameConstants& frame, const Scene& scene, const glm::vec3& background,
+                      const std::vector<Buffer>& words, const Buffer* visibility) {
+  const Program program("direct_light.comp");
+  SetFrameConstants(program, frame);
+  // Four vec4 per light, as direct_light.comp's Light.
+  std::vector<float> packed;
+  for (const PreparedLight& light : PrepareLights(scene, frame.view.view)) {
+    const float fields[16] = {light.position.x,  light.position.y,  light.position.z,  light.isSpot ? 1.0f : 0.0f,
+                              light.direction.x, light.direction.y, light.direction.z, light.radius,
+                              light.power.x,     light.power.y,     light.power.z,     light.tanAngularRadius,
+                              light.cosOuter,    light.coneScale,   0.0f,              0.0f};
+    packed.insert(packed.end(), fields, fields + 16);
+  }
+  const Buffer lights(packed.size(), packed.data());
+  program.Set("lightCount", int(packed.size() / 16));
+  program.Set("shadowedLight", visibility != nullptr ? ShadowedLight(scene) : -1);
+  program.Set("background", background.x, background.y, background.z);
+  Buffer direct(3 * size_t(frame.width) * size_t(frame.height));
+  for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
+  if (visibility != nullptr) visibility->Bind(3);
+  direct.Bind(4);
+  lights.Bind(5);
+  program.Dispatch(frame.width, frame.height);
+  return direct;
+}
+
+// §Hi-Z pyramid: level 0 = 1 / word 2, then each level the max of its footprint.
+std::vector<Buffer> RunHiZ(const FrameConstants& frame, const Buffer& word2) {
+  const Program program("hiz.comp");
+  std::vector<Buffer> levels;
+  for (size_t k = 0; k < frame.levels.size(); ++k) {
+    const PyramidSize destination = frame.levels[k], source = frame.levels[k == 0 ? 0 : k - 1];
+    levels.emplace_back(Pixels(destination));
+    (k == 0 ? word2 : levels[k - 1]).Bind(0);
+    levels[k].Bind(1);
+    program.Set("invertDepth", k == 0 ? 1 : 0);
+    program.Set("sourceSize", int(source.width), int(source.height));
+    program.Set("destinationSize", int(destination.width), int(destination.height));
+    program.Dispatch(int(destination.width), int(destination.height));
+  }
+  return levels;
+}
+
+// §Colour pyramid: level 0 = the sanitised direct light; level k+1 = level k blurred horizontally,
+// vertically, then area-averaged over each footprint. Three planes per level.
+std::vector<Buffer> RunColorPyramid(const FrameConstants& frame, const Buffer& direct) {
+  enum Stage { kSanitize = 0, kHorizontal = 1, kVertical = 2, kDownsample = 3 };
+  const Program program("color_pyramid.comp");
+  // Uludag's 7 taps, normalised in double, then rounded (kColorPyramidWeights).
+  const double taps[7] = {0.001, 0.028, 0.233, 0.474, 0.233, 0.028, 0.001};
+  std::vector<float> weights;
+  for (double tap : taps) weights.push_back(float(tap / 0.998));
+  program.SetArray("weights", weights);
+  program.Set("level0Size", frame.width, frame.height);
+  const auto run = [&](Stage stage, const Buffer& source, const Buffer& destination, PyramidSize sourceSize,
+                       PyramidSize destinationSize) {
+    source.Bind(0);
+    destination.Bind(1);
+    program.Set("stage", int(stage));
+    program.Set("sourceSize", int(sourceSize.width), int(sourceSize.height));
+    program.Set("destinationSize", int(destinationSize.width), int(destinationSize.height));
+    program.Dispatch(int(destinationSize.width), int(destinationSize.height), 3);
+  };
+  std::vector<Buffer> levels;
+  levels.emplace_back(3 * Pixels(frame.levels[0]));
+  run(kSanitize, direct, levels[0], frame.levels[0], frame.levels[0]);
+  for (size_t k = 0; k + 1 < frame.levels.size(); ++k) {
+    const PyramidSize size = frame.levels[k];
+    const Buffer horizontal(3 * Pixels(size)), vertical(3 * Pixels(size));
+    run(kHorizontal, levels[k], horizontal, size, size);
+    run(kVertical, horizontal, vertical, size, size);
+    levels.emplace_back(3 * Pixels(frame.levels[k + 1]));
+    program.Set("sourceLevel", int(k));
+    run(kDownsample, vertical, levels[k + 1], size, frame.levels[k + 1]);
+  }
+  return levels;
+}
+
+struct TraceOutput {
+  Buffer hitX, hitY, confidence, iterations;
+};
+
+TraceOutput RunSsrTrace(const FrameConstants& frame, const SsrTraceParams& params, const Buffer& word1,
+                        const Buffer& word2, const Levels& hiz) {
+  const Program program("ssr_trace.comp");
+  SetFrameConstants(program, frame);
+  SetLevels(program, hiz);
+  program.Set("nearPlane", frame.view.nearPlane);
+  program.Set("maxIterations", params.maxIterations);
+  program.Set("startLevel", params.startLevel);
+  program.Set("roughnessCutoff", params.roughnessCutoff);
+  program.Set("thickness", params.thickness);
+  program.Set("edgeFade", params.edgeFade);
+  program.Set("towardCameraFade", params.towardCameraFade);
+  const size_t pixels = size_t(frame.width) * size_t(frame.height);
+  TraceOutput out{Buffer(pixels), Buffer(pixels), Buffer(pixels), Buffer(pixels)};
+  word1.Bind(0);
+  word2.Bind(1);
+  hiz.all.Bind(2);
+  out.hitX.Bind(3);
+  out.hitY.Bind(4);
+  out.confidence.Bind(5);
+  out.iterations.Bind(6);
+  program.Dispatch(frame.width, frame.height);
+  return out;
+}
+
+// tan(theta) per roughness code (§SSR: cone trace): r = code / 255, alpha = r^2, Phong exponent
+// n = min(2 / alpha^2 - 2, 1e6), theta = acos(0.244^(1 / (n + 1))); in double, rounded once.
+std::vector<float> ConeTanTable() {
+  std::vector<float> table;
+  for (int code = 0; code < 256; ++code) {
+    const double alpha = (code / 255.0) * (code / 255.0);
+    const double exponent = std::min(2.0 / (alpha * alpha) - 2.0, 1e6);
+    table.push_back(float(std::tan(std::acos(std::pow(0.244, 1.0 / (exponent + 1.0))))));
+  }
+  return table;
+}
+
+// The trace's outputs the cone trace and the composite read.
+struct TraceHits {
+  const Buffer& hitX;
+  const Buffer& hitY;
+  const Buffer& confidence;
+};
+
+Buffer RunSsrCone(const FrameConstants& frame, const SsrConeParams& params, const Buffer& word1,
+                  const TraceHits& trace, const Levels& pyramid) {
+  const Program program("ssr_cone.comp");
+  SetFrameConstants(program, frame);
+  SetLevels(program, pyramid);
+  program.SetArray("coneTan", ConeTanTable());
+  program.Set("maxSamples", params.maxSamples);
+  Buffer reflected(3 * size_t(frame.width) * size_t(frame.height));
+  word1.Bind(0);
+  trace.hitX.Bind(1);
+  trace.hitY.Bind(2);
+  trace.confidence.Bind(3);
+  pyramid.all.Bind(4);
+  reflected.Bind(5);
+  program.Dispatch(frame.width, frame.height);
+  return reflected;
+}
+
+struct CompositeOutput {
+  Buffer indirect, result;
+};
+
+CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff, const std::vector<Buffer>& words,
+                             const Buffer& confidence, const Buffer& reflected, const Buffer& direct) {
+  const Program program("composite.comp");
+  SetFrameConstants(program, frame);
+  program.Set("roughnessCutoff", roughnessCutoff);
+  // The table the spec defines and core builds (core/brdf.h).
+  const Buffer dfg(size_t(2 * kDfgSize * kDfgSize), DfgTableForKernels());
+  const size_t planes = 3 * size_t(frame.width) * size_t(frame.height);
+  CompositeOutput out{Buffer(planes), Buffer(planes)};
+  for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
+  confidence.Bind(3);
+  reflected.Bind(4);
+  direct.Bind(5);
+  out.indirect.Bind(6);
+  out.result.Bind(7);
+  dfg.Bind(8);
+  program.Dispatch(frame.width, frame.height);
+  return out;
+}
+
+// Plane `plane` of a buffer of planes of `pixels` words each, as a float layer.
+Layer PlaneLayer(const std::vector<uint32_t>& words, size_t plane, size_t pixels) {
+  return Layer{false, std::vector<uint32_t>(words.begin() + std::ptrdiff_t(plane * pixels),
+                                            words.begin() + std::ptrdiff_t((plane + 1) * pixels))};
+}
+
+int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input,
+        const std::filesystem::path& output, bool oracleInputs) {
+  const std::vector<Part> dump = ReadExrParts(input);
+  const Part& main = dump[0];
+  const SceneFile scene = LoadSceneFile(scenePath);
+  const FrameConfig config = FrameConfigFromSceneFile(scene);
+  FrameConstants frame;
+  frame.width = main.width;
+  frame.height = main.height;
+  frame.view = MakePerspective(scene.scene.camera, frame.width, frame.height);
+  frame.normalEncoding = config.normalEncoding;
+  frame.levels = PyramidLevelSizes(size_t(frame.width), size_t(frame.height));
+  if (frame.levels.size() > size_t(kMaxLevels)) throw InputError(input, "is larger than the port's 16 levels allow");
+  const size_t pixels = size_t(frame.width) * size_t(frame.height);
+
+  std::string error;
+  const auto context = GlContext::Open(error);
+  if (!context) {
+    std::fprintf(stderr, "ssgi_gl_port: skipped: %s\n", error.c_str());
+    return kExitNoGl;
+  }
+  std::printf("ssgi_gl_port: %s\n", context->Renderer().c_str());
+
+  std::vector<Buffer> words;
+  for (int w = 0; w < 4; ++w)
+    words.emplace_back(pixels, FindLayer(main, "gbuffer.word" + std::to_string(w), true, input).samples.data());
+  // The G-buffer's albedo codes decode through core's sRGB table (core/color.h).
+  const Buffer srgbDecode(256, SrgbDecodeTableForKernels());
+  srgbDecode.Bind(kSrgbDecodeBinding);
+  // The shadow filter's output, present in the dump when the frame ran shadows.
+  std::optional<Buffer> visibility = UploadPlanes(main, {"shadow.visibility"}, input);
+
+  // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
+  std::optional<Buffer> oracleDirect, oracleHitX, oracleHitY, oracleConfidence, oracleReflected;
+  std::optional<Levels> oracleHiZ, oraclePyramid;
+  if (oracleInputs) {
+    oracleDirect = UploadPlanes(main, {"direct.R", "direct.G", "direct.B"}, input);
+    oracleHitX = UploadPlanes(main, {"ssr.hitX"}, input);
+    oracleHitY = UploadPlanes(main, {"ssr.hitY"}, input);
+    oracleConfidence = UploadPlanes(main, {"ssr.confidence"}, input);
+    oracleReflected = UploadPlanes(main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"}, input);
+    oracleHiZ = UploadLevels(dump, "hiz.", {"Y"}, frame.levels, input);
+    oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels, input);
+    std::string taken;
+    const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
+    note(oracleDirect.has_value(), "direct");
+    note(oracleHiZ.has_value(), "hiz");
+    note(oraclePyramid.has_value(), "pyramid");
+    note(oracleHitX && oracleHitY && oracleConfidence, "ssr.hit");
+    note(oracleReflected.has_value(), "ssr.reflected");
+    std::printf("ssgi_gl_port: the oracle's inputs taken from the dump:%s\n", taken.empty() ? " none" : taken.c_str());
+  }
+  const auto pick = [](const auto& oracle, const auto& own) -> const auto& { return oracle ? *oracle : own; };
+
+  const Buffer direct =
+      RunDirectLight(frame, scene.scene, config.directLight.background, words, visibility ? &*visibility : nullptr);
+  const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
+  const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, pick(oracleDirect, direct));
+  const Levels hiz = Concatenate(hizLevels, frame.levels);
+  const Levels pyramid = Concatenate(pyramidLevels, frame.levels);
+  const TraceOutput trace = RunSsrTrace(frame, config.ssrTrace, words[1], words[2], pick(oracleHiZ, hiz));
+  const TraceHits hits{pick(oracleHitX, trace.hitX), pick(oracleHitY, trace.hitY),
+                       pick(oracleConfidence, trace.confidence)};
+  const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
+  const CompositeOutput composite = RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence,
+                                                 pick(oracleReflected, reflected), pick(oracleDirect, direct));
+  if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
+    char text[64];
+    std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));
+    throw GlError(text);
+  }
+
+  std::vector<Part> parts(1);
+  parts[0] = Part{"frame", frame.width, frame.height, {}};  // the image part's name in ssgi's dumps
+  auto& channels = parts[0].channels;
+  channels.emplace_back("ssr.hitX", Layer{false, trace.hitX.Download()});
+  channels.emplace_back("ssr.hitY", Layer{false, trace.hitY.Download()});
+  channels.emplace_back("ssr.confidence", Layer{false, trace.confidence.Download()});
+  channels.emplace_back("ssr.iterations", Layer{false, trace.iterations.Download()});
+  const char* rgb[] = {"R", "G", "B"};
+  // The three planes of `buffer` as the layers `prefix`R, G, B.
+  const auto addRgb = [&](std::vector<std::pair<std::string, Layer>>& to, const std::string& prefix,
+                          const Buffer& buffer, size_t planePixels) {
+    const std::vector<uint32_t> planes = buffer.Download();
+    for (size_t c = 0; c < 3; ++c) to.emplace_back(prefix + rgb[c], PlaneLayer(planes, c, planePixels));
+  };
+  addRgb(channels, "direct.", direct, pixels);
+  addRgb(channels, "ssr.reflected.", reflected, pixels);
+  addRgb(channels, "indirect.", composite.indirect, pixels);
+  addRgb(channels, "result.", composite.result, pixels);
+  for (size_t k = 0; k < frame.levels.size(); ++k) {
+    const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
+    parts.push_back(Part{"hiz." + std::to_string(k), w, h, {{"Y", Layer{false, hizLevels[k].Download()}}}});
+  }
+  for (size_t k = 0; k < frame.levels.size(); ++k) {
+    Part part{"pyramid." + std::to_string(k), int(frame.levels[k].width), int(frame.levels[k].height), {}};
+    addRgb(part.channels, "", pyramidLevels[k], Pixels(frame.levels[k]));
+    parts.push_back(std::move(part));
+  }
+  WriteExrParts(output, parts);
+  return 0;
+}
+
+}  // namespace
+}  // namespace ssgi::port
+
+int main(int argc, char** argv) {
+  CLI::App app{"Runs the GLSL port of ssgi's passes from direct light on, on an ssgi dump (tests/port/README.md)."};
+  std::string scene, input, output;
+  app.add_option("--scene", scene, "The scene the dump was rendered from.")->required();
+  app.add_option("input", input, "The oracle's dump (ssgi render --dump-gbuffer IN.exr).")->required();
+  app.add_option("-o,--output", output, "The port's buffers, as an EXR with the dump's layer names.")->required();
+  bool oracleInputs = false;
+  app.add_flag("--oracle-inputs", oracleInputs,
+               "Each pass reads the oracle's buffers of the passes before it where the dump holds them "
+               "(direct.*, hiz.L, pyramid.L, ssr.hitX/hitY/confidence, ssr.reflected.*), so each pass is checked "
+               "alone; default: the port's own.");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    return ssgi::port::Run(scene, input, output, oracleInputs);
+  } catch (const ssgi::InputError& e) {
+    std::fprintf(stderr, "ssgi_gl_port: error: %s\n", e.what());
+    return 1;
+  } catch (const ssgi::port::GlError& e) {
+    std::fprintf(stderr, "ssgi_gl_port: OpenGL: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ssgi_gl_port: internal error: %s\n", e.what());
+    return 3;
+  }
+}
