@@ -28,12 +28,13 @@
 #include "core/color.h"
 #include "core/error.h"
 #include "core/gbuffer.h"
+#include "core/image_io.h"
 #include "core/lighting.h"
 #include "core/pyramid.h"
 #include "core/scene.h"
 #include "passes/frame_config.h"
+#include "passes/frame_dump.h"
 #include "tests/port/gl_context.h"
-#include "tests/port/port_exr.h"
 #include "tests/port/port_shaders.h"
 
 namespace ssgi::port {
@@ -205,33 +206,43 @@ Levels Concatenate(const std::vector<Buffer>& levels, const std::vector<PyramidS
   return result;
 }
 
-// The float channels `names` of `part` of `file`, one plane after the other; nothing when the part
-// lacks one.
-std::optional<Buffer> UploadPlanes(const Part& part, const std::vector<std::string>& names,
-                                   const std::filesystem::path& file) {
+// The dump's layer `name` of part `part`, or null; throws InputError naming `file` when it is of the
+// other type than `isUint` says or not width x height.
+const ExrLayer* FindLayer(const ExrFile& dump, const std::string& part, const std::string& name, bool isUint,
+                          size_t width, size_t height, const std::filesystem::path& file) {
+  const ExrLayer* layer = dump.Find(part, name);
+  if (layer == nullptr) return nullptr;
+  if (layer->isUint != isUint)
+    throw InputError(file, "layer " + name + " is " + (layer->isUint ? "uint32" : "float") + ", must be " +
+                               (isUint ? "uint32" : "float"));
+  if (size_t(layer->width) != width || size_t(layer->height) != height)
+    throw InputError(file, "layer " + name + " of part " + part + " is " + std::to_string(layer->width) + "x" +
+                               std::to_string(layer->height) + ", must be " + std::to_string(width) + "x" +
+                               std::to_string(height));
+  return layer;
+}
+
+// The float channels `names` of part `part` (width x height), one plane after the other; nothing when
+// the part lacks one.
+std::optional<Buffer> UploadPlanes(const ExrFile& dump, const std::string& part, const std::vector<std::string>& names,
+                                   size_t width, size_t height, const std::filesystem::path& file) {
   std::vector<uint32_t> planes;
   for (const std::string& name : names) {
-    const bool present = std::any_of(part.channels.begin(), part.channels.end(),
-                                     [&](const auto& channel) { return channel.first == name; });
-    if (!present) return std::nullopt;
-    const Layer& layer = FindLayer(part, name, false, file);
-    planes.insert(planes.end(), layer.samples.begin(), layer.samples.end());
+    const ExrLayer* layer = FindLayer(dump, part, name, false, width, height, file);
+    if (layer == nullptr) return std::nullopt;
+    planes.insert(planes.end(), layer->samples.begin(), layer->samples.end());
   }
   return Buffer(planes.size(), planes.data());
 }
 
 // The dump's parts `prefix`0, `prefix`1, ... of the sizes `sizes`, channels `names`, as one buffer
-// laid out as Concatenate lays out the port's; nothing when a level is missing or of another size.
-std::optional<Levels> UploadLevels(const std::vector<Part>& dump, const std::string& prefix,
-                                   const std::vector<std::string>& names, const std::vector<PyramidSize>& sizes,
-                                   const std::filesystem::path& file) {
+// laid out as Concatenate lays out the port's; nothing when a level is missing.
+std::optional<Levels> UploadLevels(const ExrFile& dump, const std::string& prefix, const std::vector<std::string>& names,
+                                   const std::vector<PyramidSize>& sizes, const std::filesystem::path& file) {
   std::vector<Buffer> levels;
   for (size_t k = 0; k < sizes.size(); ++k) {
-    const std::string name = prefix + std::to_string(k);
-    const auto part = std::find_if(dump.begin(), dump.end(), [&](const Part& p) { return p.name == name; });
-    if (part == dump.end() || size_t(part->width) != sizes[k].width || size_t(part->height) != sizes[k].height)
-      return std::nullopt;
-    std::optional<Buffer> level = UploadPlanes(*part, names, file);
+    std::optional<Buffer> level =
+        UploadPlanes(dump, prefix + std::to_string(k), names, sizes[k].width, sizes[k].height, file);
     if (!level) return std::nullopt;
     levels.push_back(std::move(*level));
   }
@@ -416,21 +427,36 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   return out;
 }
 
-// Plane `plane` of a buffer of planes of `pixels` words each, as a float layer.
-Layer PlaneLayer(const std::vector<uint32_t>& words, size_t plane, size_t pixels) {
-  return Layer{false, std::vector<uint32_t>(words.begin() + std::ptrdiff_t(plane * pixels),
-                                            words.begin() + std::ptrdiff_t((plane + 1) * pixels))};
+// Plane `plane` of a buffer of planes of width x height words each, as the float layer `name` of part
+// `part`.
+ExrLayer PlaneLayer(const std::string& part, const std::string& name, const std::vector<uint32_t>& words, size_t plane,
+                    int width, int height) {
+  const size_t pixels = size_t(width) * size_t(height);
+  return ExrLayer{part, name, width, height, false,
+                  std::vector<uint32_t>(words.begin() + std::ptrdiff_t(plane * pixels),
+                                        words.begin() + std::ptrdiff_t((plane + 1) * pixels))};
 }
 
 int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input,
         const std::filesystem::path& output, bool oracleInputs) {
-  const std::vector<Part> dump = ReadExrParts(input);
-  const Part& main = dump[0];
-  const SceneFile scene = LoadSceneFile(scenePath);
-  const FrameConfig config = FrameConfigFromSceneFile(scene);
+  const ExrFile dump = ReadExrFile(input);
+  // The image part: "frame" in ssgi's dumps.
+  const std::string main = "frame";
+  const ExrLayer* word0 = dump.Find(main, "gbuffer.word0");
+  if (word0 == nullptr) throw InputError(input, "has no layer gbuffer.word0 in a part 'frame'");
+  // The scene and settings the dump was rendered with, as `ssgi passes` takes them.
+  std::filesystem::path sceneFile = scenePath;
+  if (sceneFile.empty()) {
+    const auto named = dump.metadata.find("ssgi:scene");
+    if (named == dump.metadata.end()) throw InputError(input, "names no scene (no ssgi:scene metadata): give --scene");
+    sceneFile = named->second;
+  }
+  const SceneFile scene = LoadSceneFile(sceneFile);
+  FrameConfig config = FrameConfigFromSceneFile(scene);
+  ApplyDumpSettings(dump, input, config);
   FrameConstants frame;
-  frame.width = main.width;
-  frame.height = main.height;
+  frame.width = word0->width;
+  frame.height = word0->height;
   frame.view = MakePerspective(scene.scene.camera, frame.width, frame.height);
   frame.normalEncoding = config.normalEncoding;
   frame.levels = PyramidLevelSizes(size_t(frame.width), size_t(frame.height));
@@ -446,23 +472,31 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   std::printf("ssgi_gl_port: %s\n", context->Renderer().c_str());
 
   std::vector<Buffer> words;
-  for (int w = 0; w < 4; ++w)
-    words.emplace_back(pixels, FindLayer(main, "gbuffer.word" + std::to_string(w), true, input).samples.data());
+  const size_t width = size_t(frame.width), height = size_t(frame.height);
+  for (int w = 0; w < 4; ++w) {
+    const std::string name = "gbuffer.word" + std::to_string(w);
+    const ExrLayer* layer = FindLayer(dump, main, name, true, width, height, input);
+    // Word 3 is the shadow pass's: a frame without shadows leaves it lit (0).
+    if (layer == nullptr && w < 3) throw InputError(input, "has no layer " + name);
+    const std::vector<uint32_t> lit(pixels, kShadowLit);
+    words.emplace_back(pixels, layer ? layer->samples.data() : lit.data());
+  }
   // The G-buffer's albedo codes decode through core's sRGB table (core/color.h).
   const Buffer srgbDecode(256, SrgbDecodeTableForKernels());
   srgbDecode.Bind(kSrgbDecodeBinding);
   // The shadow filter's output, present in the dump when the frame ran shadows.
-  std::optional<Buffer> visibility = UploadPlanes(main, {"shadow.visibility"}, input);
+  std::optional<Buffer> visibility = UploadPlanes(dump, main, {"shadow.visibility"}, width, height, input);
 
   // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
   std::optional<Buffer> oracleDirect, oracleHitX, oracleHitY, oracleConfidence, oracleReflected;
   std::optional<Levels> oracleHiZ, oraclePyramid;
   if (oracleInputs) {
-    oracleDirect = UploadPlanes(main, {"direct.R", "direct.G", "direct.B"}, input);
-    oracleHitX = UploadPlanes(main, {"ssr.hitX"}, input);
-    oracleHitY = UploadPlanes(main, {"ssr.hitY"}, input);
-    oracleConfidence = UploadPlanes(main, {"ssr.confidence"}, input);
-    oracleReflected = UploadPlanes(main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"}, input);
+    oracleDirect = UploadPlanes(dump, main, {"direct.R", "direct.G", "direct.B"}, width, height, input);
+    oracleHitX = UploadPlanes(dump, main, {"ssr.hitX"}, width, height, input);
+    oracleHitY = UploadPlanes(dump, main, {"ssr.hitY"}, width, height, input);
+    oracleConfidence = UploadPlanes(dump, main, {"ssr.confidence"}, width, height, input);
+    oracleReflected =
+        UploadPlanes(dump, main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"}, width, height, input);
     oracleHiZ = UploadLevels(dump, "hiz.", {"Y"}, frame.levels, input);
     oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels, input);
     std::string taken;
@@ -494,34 +528,31 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     throw GlError(text);
   }
 
-  std::vector<Part> parts(1);
-  parts[0] = Part{"frame", frame.width, frame.height, {}};  // the image part's name in ssgi's dumps
-  auto& channels = parts[0].channels;
-  channels.emplace_back("ssr.hitX", Layer{false, trace.hitX.Download()});
-  channels.emplace_back("ssr.hitY", Layer{false, trace.hitY.Download()});
-  channels.emplace_back("ssr.confidence", Layer{false, trace.confidence.Download()});
-  channels.emplace_back("ssr.iterations", Layer{false, trace.iterations.Download()});
-  const char* rgb[] = {"R", "G", "B"};
-  // The three planes of `buffer` as the layers `prefix`R, G, B.
-  const auto addRgb = [&](std::vector<std::pair<std::string, Layer>>& to, const std::string& prefix,
-                          const Buffer& buffer, size_t planePixels) {
-    const std::vector<uint32_t> planes = buffer.Download();
-    for (size_t c = 0; c < 3; ++c) to.emplace_back(prefix + rgb[c], PlaneLayer(planes, c, planePixels));
+  ExrFile out;
+  const auto addLayer = [&](const std::string& name, const Buffer& buffer) {
+    out.layers.push_back(ExrLayer{main, name, frame.width, frame.height, false, buffer.Download()});
   };
-  addRgb(channels, "direct.", direct, pixels);
-  addRgb(channels, "ssr.reflected.", reflected, pixels);
-  addRgb(channels, "indirect.", composite.indirect, pixels);
-  addRgb(channels, "result.", composite.result, pixels);
+  addLayer("ssr.hitX", trace.hitX);
+  addLayer("ssr.hitY", trace.hitY);
+  addLayer("ssr.confidence", trace.confidence);
+  addLayer("ssr.iterations", trace.iterations);
+  const char* rgb[] = {"R", "G", "B"};
+  // The three planes of `buffer` as the layers `prefix`R, G, B of part `part`.
+  const auto addRgb = [&](const std::string& part, const std::string& prefix, const Buffer& buffer, int w, int h) {
+    const std::vector<uint32_t> planes = buffer.Download();
+    for (size_t c = 0; c < 3; ++c) out.layers.push_back(PlaneLayer(part, prefix + rgb[c], planes, c, w, h));
+  };
+  addRgb(main, "direct.", direct, frame.width, frame.height);
+  addRgb(main, "ssr.reflected.", reflected, frame.width, frame.height);
+  addRgb(main, "indirect.", composite.indirect, frame.width, frame.height);
+  addRgb(main, "result.", composite.result, frame.width, frame.height);
   for (size_t k = 0; k < frame.levels.size(); ++k) {
     const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
-    parts.push_back(Part{"hiz." + std::to_string(k), w, h, {{"Y", Layer{false, hizLevels[k].Download()}}}});
+    out.layers.push_back(ExrLayer{"hiz." + std::to_string(k), "Y", w, h, false, hizLevels[k].Download()});
   }
-  for (size_t k = 0; k < frame.levels.size(); ++k) {
-    Part part{"pyramid." + std::to_string(k), int(frame.levels[k].width), int(frame.levels[k].height), {}};
-    addRgb(part.channels, "", pyramidLevels[k], Pixels(frame.levels[k]));
-    parts.push_back(std::move(part));
-  }
-  WriteExrParts(output, parts);
+  for (size_t k = 0; k < frame.levels.size(); ++k)
+    addRgb("pyramid." + std::to_string(k), "", pyramidLevels[k], int(frame.levels[k].width), int(frame.levels[k].height));
+  WriteExrFile(output, out);
   return 0;
 }
 
@@ -531,8 +562,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
 int main(int argc, char** argv) {
   CLI::App app{"Runs the GLSL port of ssgi's passes from direct light on, on an ssgi dump (tests/port/README.md)."};
   std::string scene, input, output;
-  app.add_option("--scene", scene, "The scene the dump was rendered from.")->required();
-  app.add_option("input", input, "The oracle's dump (ssgi render --dump-gbuffer IN.exr).")->required();
+  app.add_option("--scene", scene, "The scene the dump was rendered from. Default: the one the dump names.");
+  app.add_option("input", input, "The oracle's dump (ssgi render --dump IN.exr).")->required();
   app.add_option("-o,--output", output, "The port's buffers, as an EXR with the dump's layer names.")->required();
   bool oracleInputs = false;
   app.add_flag("--oracle-inputs", oracleInputs,
