@@ -529,6 +529,9 @@ int Diff(const DiffOptions& options) {
                 static_cast<unsigned long long>(layer.maxUlp), FormatDifference(layer.rmse).c_str(), layer.overTolerance,
                 layer.edgePixels, worst.c_str(), layer.ok ? "ok" : "FAIL", layer.problem.empty() ? "" : (": " + layer.problem).c_str());
   }
+  size_t compared = 0, absent = 0;
+  for (const ssgi::LayerDiff& layer : report.layers) (layer.compared ? compared : absent) += 1;
+  std::printf("%zu layers compared, %zu in one file only\n", compared, absent);
   if (report.ok)
     std::printf("verdict: PASS, every compared layer within tolerance\n");
   else
