@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <stdexcept>
 
 #include <OpenImageIO/imageio.h>
+#include <catch2/catch.hpp>
 #include <hwy/targets.h>
 
 namespace ssgi::test {
@@ -85,6 +87,17 @@ std::vector<float> SpecialFloats() {
 }
 
 CommandResult RunCli(const std::string& arguments) { return RunProgram(CliPath(), arguments); }
+
+void CheckCliErrors(const std::vector<CliErrorCase>& cases) {
+  for (const CliErrorCase& c : cases) {
+    const CommandResult result = RunCli(c.arguments);
+    CAPTURE(c.arguments, result.output);
+    CHECK(result.exitCode == c.exitCode);
+    CHECK(result.output.find(c.expected) != std::string::npos);
+    CHECK(result.output.find("ssgi: error: ") == 0);
+    CHECK(std::count(result.output.begin(), result.output.end(), '\n') == 1);
+  }
+}
 
 CommandResult RunProgram(const std::filesystem::path& program, const std::string& arguments) {
   const std::string command = "'" + program.string() + "' " + arguments + " 2>&1";

@@ -110,4 +110,13 @@ std::vector<float> SpecialFloats();
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);
 
+// A command line the CLI must refuse: its exit code and a piece of its one-line message.
+struct CliErrorCase {
+  std::string arguments;
+  std::string expected;
+  int exitCode;  // 2: a command line that does not parse (or input `diff` cannot use); 1: bad input
+};
+// Checks each case: that exit code, one line starting "ssgi: error: " that holds `expected`.
+void CheckCliErrors(const std::vector<CliErrorCase>& cases);
+
 }  // namespace ssgi::test

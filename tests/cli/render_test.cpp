@@ -32,12 +32,7 @@ void RequireOnlyFiles(const ScratchDir& dir, std::initializer_list<std::string> 
 TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
   ScratchDir dir("cli-bad-args");
   const std::string out = Quote(dir / "out.png");
-  struct Case {
-    std::string arguments;
-    std::string expected;
-    int exitCode;  // 2: an option's value the command line rejects before any work; 1: bad input
-  };
-  const Case cases[] = {
+  CheckCliErrors({
       {"render " + DefaultScene() + " --size 0x10 -o " + out, "--size", 2},
       {"render " + DefaultScene() + " --size 20000x100 -o " + out, "[1, 16384]", 2},
       {"render " + DefaultScene() + " --size banana -o " + out, "WIDTHxHEIGHT", 2},
@@ -46,15 +41,7 @@ TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
       {"render " + DefaultScene() + " -o " + Quote(dir / "missing" / "out.png"), "does not exist", 1},
       {"render " + DefaultScene() + " -o " + out + " --dump-gbuffer " + Quote(dir / "g.png"), "EXR", 1},
       {"render " + Quote(dir / "nowhere.json") + " -o " + out, "nowhere.json", 1},
-  };
-  for (const Case& c : cases) {
-    const CommandResult result = RunCli(c.arguments);
-    CAPTURE(c.arguments, result.output);
-    CHECK(result.exitCode == c.exitCode);
-    CHECK(result.output.find(c.expected) != std::string::npos);
-    CHECK(result.output.find("ssgi: error: ") == 0);
-    CHECK(std::count(result.output.begin(), result.output.end(), '\n') == 1);
-  }
+  });
   RequireOnlyFiles(dir, {});
   // Quality knobs out of range are command-line errors (exit 2), caught before any work.
   const CommandResult knob = RunCli("render " + DefaultScene() + " --ssr-iterations 0 -o " + out);

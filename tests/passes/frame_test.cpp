@@ -13,15 +13,21 @@ std::vector<std::string> StageNames(const Frame& frame) {
   return names;
 }
 
-TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[frame]") {
+// A box on a glossy ground under a shadow-casting sun: every pass of the frame runs.
+test::TestScene BoxOnGlossyGround(int width, int height) {
   CameraDesc camera;
   camera.position = {0.0f, 2.0f, 4.0f};
   camera.target = {0.0f, 0.0f, 0.0f};
-  test::TestScene scene = test::MakeScene(camera, 48, 32);
+  test::TestScene scene = test::MakeScene(camera, width, height);
   test::AddGround(scene.mesh, 5.0f);
   test::AddBox(scene.mesh, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f});
   scene.directionalLights.push_back(test::Sun(test::LightDirection(30.0f, 40.0f), 2.0f));
   scene.materials[0].roughness = 0.2f;
+  return scene;
+}
+
+TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[frame]") {
+  const test::TestScene scene = BoxOnGlossyGround(48, 32);
 
   FrameConfig config = test::ConfigOf(scene);
   const Frame all = RenderFrame(scene, config);
@@ -45,14 +51,7 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
 }
 
 TEST_CASE("a frame that frees each buffer after its last reader gives the same image", "[frame][memory]") {
-  CameraDesc camera;
-  camera.position = {0.0f, 2.0f, 4.0f};
-  camera.target = {0.0f, 0.0f, 0.0f};
-  test::TestScene scene = test::MakeScene(camera, 64, 48);
-  test::AddGround(scene.mesh, 5.0f);
-  test::AddBox(scene.mesh, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f});
-  scene.directionalLights.push_back(test::Sun(test::LightDirection(30.0f, 40.0f), 2.0f));
-  scene.materials[0].roughness = 0.2f;
+  const test::TestScene scene = BoxOnGlossyGround(64, 48);
   const FrameConfig config = test::ConfigOf(scene);
   const Frame kept = RenderFrame(scene, config, BufferLifetime::kKeepAll);
   const Frame freed = RenderFrame(scene, config, BufferLifetime::kUntilLastReader);
