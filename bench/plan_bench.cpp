@@ -38,8 +38,9 @@ void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t material) {
 }
 
 // A floor of kStrips strips running away from the camera, the first `smooth` of them (from the left)
-// smooth enough to reflect, the others rough; grey boxes stand on it; a sun casts shadows.
-Scene StripFloor(int smooth) {
+// smooth enough to reflect, the others rough; grey posts stand on it; a sun of that angular
+// diameter casts shadows (the wider the sun, the wider the penumbrae).
+Scene StripFloor(int smooth, float sunDegrees = 2.0f) {
   Scene scene;
   // Looking down at the floor, which fills the image.
   scene.camera.position = {0.0f, 2.5f, 3.0f};
@@ -56,13 +57,16 @@ Scene StripFloor(int smooth) {
     AddQuad(scene.mesh, {x0, 0.0f, 4.0f}, {2.0f * kHalfWidth / kStrips, 0.0f, 0.0f}, {0.0f, 0.0f, -30.0f},
             i < smooth ? 1u : 0u);
   }
-  for (int b = 0; b < 5; ++b) {
-    const float x = -3.0f + 1.5f * float(b);
-    AddBox(scene.mesh, {x - 0.3f, 0.0f, -2.0f - 0.7f * float(b % 2)}, {x + 0.3f, 0.9f, -1.4f - 0.7f * float(b % 2)}, 0u);
+  // A grid of tall posts: their shadows, and penumbrae, stripe the floor.
+  for (int row = 0; row < 6; ++row) {
+    for (int column = 0; column < 9; ++column) {
+      const float x = -3.2f + 0.8f * float(column) + 0.4f * float(row % 2), z = 1.0f - 1.1f * float(row);
+      AddBox(scene.mesh, {x - 0.08f, 0.0f, z - 0.08f}, {x + 0.08f, 1.4f, z + 0.08f}, 0u);
+    }
   }
   DirectionalLight sun;
   sun.direction = glm::normalize(glm::vec3(0.4f, -1.0f, -0.3f));
-  sun.angularDiameterDegrees = 2.0f;
+  sun.angularDiameterDegrees = sunDegrees;
   scene.directionalLights.push_back(sun);
   return scene;
 }
@@ -94,6 +98,36 @@ void RegisterShares(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_FrameReflectionShare)->Apply(RegisterShares);
+
+// The same floor, all rough, under suns of growing size: the share of the image the shadow blur
+// runs on grows with the penumbrae. Arguments: the sun's angular diameter in tenths of a degree,
+// shadows (1 auto, 0 off), threads. Reports the share of 16x16 tiles the blur ran on.
+void BM_FramePenumbraShare(benchmark::State& state) {
+  RetainFreedMemory();
+  const ThreadLimit threads(int(state.range(2)));
+  const Scene scene = StripFloor(0, float(state.range(0)) / 10.0f);
+  FrameConfig config;
+  config.width = config.height = kSize;
+  config.shadows = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
+  double share = 0.0;
+  RenderFrame(scene, config);
+  for (auto _ : state) {
+    const Frame frame = RenderFrame(scene, config);
+    const auto& filter = frame.stats.shadowFilter;
+    share = filter && filter->tiles > 0 ? double(filter->tilesBlurred) / double(filter->tiles) : 0.0;
+  }
+  state.counters["penumbraShare"] = share;
+  state.SetItemsProcessed(int64_t(state.iterations()) * kSize * kSize);
+}
+
+void RegisterPenumbrae(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"sunTenthsDeg", "shadows", "threads"});
+  for (int tenths : {0, 2, 5, 10, 20, 40, 80, 160}) b->Args({tenths, 1, 2});
+  b->Args({0, 0, 2});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_FramePenumbraShare)->Apply(RegisterPenumbrae);
 
 }  // namespace
 }  // namespace ssgi

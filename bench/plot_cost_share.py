@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Plots frame time against the share of pixels that need reflections, from the JSON output of
-BM_FrameReflectionShare (bench/plan_bench.cpp), with the frame with reflections switched off as
-a reference line.
+"""Plots frame time against the share of the image that needs reflections (BM_FrameReflectionShare)
+and against the share in penumbra (BM_FramePenumbraShare, bench/plan_bench.cpp), each beside the
+frame with the effect switched off, from ssgi_bench's JSON output.
 
-    build/bench/ssgi_bench --benchmark_filter=BM_FrameReflectionShare --benchmark_repetitions=5 \\
+    build/bench/ssgi_bench --benchmark_filter='BM_Frame(Reflection|Penumbra)Share' --benchmark_repetitions=5 \\
         --benchmark_report_aggregates_only=true --benchmark_format=json > share.json
     python3 bench/plot_cost_share.py share.json docs/images/cost_share.png
 
@@ -20,24 +20,33 @@ def main():
     args = parser.parse_args()
     with open(args.json) as f:
         runs = json.load(f)["benchmarks"]
-    medians = [r for r in runs if r.get("aggregate_name", "median") == "median" and "reflectionShare" in r]
-    points = sorted((100.0 * r["reflectionShare"], r["real_time"]) for r in medians if "/reflections:1/" in r["name"])
-    off = [r["real_time"] for r in medians if "/reflections:0/" in r["name"]]
-    if not points or not off:
-        sys.exit("no BM_FrameReflectionShare medians in " + args.json)
+    medians = [r for r in runs if r.get("aggregate_name", "median") == "median"]
+
+    def series(name, counter, effect):
+        on = sorted((100.0 * r[counter], r["real_time"]) for r in medians
+                    if r["name"].startswith(name) and "/%s:1/" % effect in r["name"])
+        off = [r["real_time"] for r in medians if r["name"].startswith(name) and "/%s:0/" % effect in r["name"]]
+        return on, off
+
+    panels = [("BM_FrameReflectionShare", "reflectionShare", "reflections", "pixels that need reflections"),
+              ("BM_FramePenumbraShare", "penumbraShare", "shadows", "tiles the shadow blur runs on")]
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=100)
-    ax.plot([p[0] for p in points], [p[1] for p in points], "o-", label="reflections auto (frame plan)")
-    ax.axhline(off[0], color="grey", linestyle="--", label="reflections off")
-    ax.set_xlabel("pixels that need reflections (% of the image)")
-    ax.set_ylabel("frame time (ms, median)")
-    ax.set_xlim(-2, 100)
-    ax.set_ylim(0, max(p[1] for p in points) * 1.1)
-    ax.set_title("1024x1024, 2 threads: frame time against the need for reflections")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="lower right")
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.0), dpi=100)
+    for ax, (name, counter, effect, label) in zip(axes, panels):
+        on, off = series(name, counter, effect)
+        if not on or not off:
+            sys.exit("no %s medians in %s" % (name, args.json))
+        ax.plot([p[0] for p in on], [p[1] for p in on], "o-", label="%s auto (frame plan)" % effect)
+        ax.axhline(off[0], color="grey", linestyle="--", label="%s off" % effect)
+        ax.set_xlabel("%s (%% of the image)" % label)
+        ax.set_ylabel("frame time (ms, median)")
+        ax.set_xlim(-2, 100)
+        ax.set_ylim(0, max(p[1] for p in on) * 1.1)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="lower right")
+    fig.suptitle("1024x1024, 2 threads: frame time against the need for each effect")
     fig.tight_layout()
     fig.savefig(args.png)
 
