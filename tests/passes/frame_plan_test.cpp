@@ -57,6 +57,13 @@ TEST_CASE("frame plan: a smooth surface off screen or covered does not run the r
     // Nothing on screen reflects, so the skipped passes would have added nothing.
     CHECK(autoFrame.display.rgb == forced.display.rgb);
   }
+  SECTION("beside the view") {
+    test::TestScene scene = RoughFloor();
+    AddBoxOfRoughness(scene, {-30.0f, 0.0f, -1.0f}, {-28.0f, 2.0f, 1.0f}, 0.1f);
+    const Frame frame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+    CHECK_FALSE(frame.plan.reflections.run);
+    CHECK(frame.display.rgb == Render(scene, EffectMode::kAuto, EffectMode::kOn).display.rgb);
+  }
   SECTION("covered by a rough wall") {
     test::TestScene scene = RoughFloor();
     AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
