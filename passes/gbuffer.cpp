@@ -58,7 +58,8 @@ size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint3
   return covered;
 }
 
-GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out) {
+GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out,
+                        KernelPath kernels) {
   const Scene& scene = in.scene;
   const ViewProjection& view = in.view;
   SSGI_CHECK(!view.orthographic);
@@ -67,7 +68,7 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   Stopwatch stopwatch;
   const SceneRasterInput raster(scene, view, true);
   out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
-  stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility);
+  stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility, nullptr, kernels);
   stats.rasterMs = stopwatch.Lap();
 
   out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);

@@ -8,6 +8,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/raster.h"
 #include "core/scene.h"
 #include "core/surface.h"
@@ -35,7 +36,9 @@ struct GBufferStats {
   size_t coveredPixels = 0;
 };
 
-GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
+// `kernels` picks the raster's tile kernel; both paths give the same bytes.
+GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out,
+                        KernelPath kernels = KernelPath::kSimd);
 
 // What the resolve of every row shares: the frame's constants.
 struct GBufferResolveContext {

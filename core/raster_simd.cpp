@@ -1,0 +1,186 @@
+// The Highway twin of RasterizeTileScalar (core/raster.cpp, core/raster_tile.h): lanes are the 64
+// samples of an 8x8 block (a tile stores its blocks' samples consecutively, so a block is a few
+// whole vectors). Per triangle and block, the edge functions at the block's corners (exact, 64-bit)
+// reject or accept the whole block, as in Abrash's "Rasterization on Larrabee"; in a block that an
+// edge crosses, the edge's values at the samples are the corner's plus a per-sample step that the
+// triangle's set-up computes once per tile, in 32-bit lanes (exact: a crossed block's values are
+// within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge is evaluated per
+// sample in 64 bits). Depth keys are computed, compared and written in vectors with the scalar
+// kernel's operations in its order (no fused multiply-add), so every target gives the scalar bytes
+// (tests/core/raster_simd_test.cpp checks each compiled target).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/raster_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
+
+#include "core/raster_tile.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Lanes are samples of one block, at most a block per vector.
+using DS = hn::CappedTag<int32_t, kRasterBlockSamples>;
+using DK = hn::Rebind<float, DS>;
+using DT = hn::Rebind<uint32_t, DS>;
+
+// Sample k of a block is its pixel (k % 8, k / 8).
+constexpr std::array<int32_t, kRasterBlockSamples> SampleOffsets(bool row) {
+  std::array<int32_t, kRasterBlockSamples> offsets{};
+  for (int k = 0; k < kRasterBlockSamples; ++k) offsets[size_t(k)] = row ? k / kRasterBlockSize : k % kRasterBlockSize;
+  return offsets;
+}
+alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleX = SampleOffsets(false);
+alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleY = SampleOffsets(true);
+
+template <bool kWriteTriangle, bool kCountCoverage>
+void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
+  const int x0 = std::max(t.minX, tile.x0), x1 = std::min(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max(t.minY, tile.y0), y1 = std::min(t.maxY, tile.y0 + tile.height - 1);
+  if (x0 > x1 || y0 > y1) return;
+  const DS ds;
+  const DK dk;
+  const DT dt;
+  const size_t lanes = hn::Lanes(ds);
+  const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
+  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const auto keyBaseV = hn::Set(dk, keyBase);
+  const auto keyDx = hn::Set(dk, float(t.keyDx)), keyDy = hn::Set(dk, float(t.keyDy));
+  const auto zero = hn::Zero(ds), minusOne = hn::Set(ds, -1);
+  const auto triangleId = hn::Set(dt, t.triangle);
+  auto edgeAt = [&](int e, int px, int py) {
+    return t.edge[e].a * (px * kSubPixelScale + kHalfPixel) + t.edge[e].b * (py * kSubPixelScale + kHalfPixel) + t.edge[e].c;
+  };
+
+  // Per edge: its extremes over a block relative to the block's first sample, and (32-bit edges)
+  // its value at each sample relative to the same.
+  constexpr int64_t kBlockSpan = (kRasterBlockSize - 1) * kSubPixelScale;
+  int64_t lowest[3], highest[3];
+  HWY_ALIGN int32_t sampleStep[3][kRasterBlockSamples];
+  for (int e = 0; e < 3; ++e) {
+    const int64_t spanX = t.edge[e].a * kBlockSpan, spanY = t.edge[e].b * kBlockSpan;
+    lowest[e] = std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
+    highest[e] = std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
+    if (!t.edgesFit32Bits) continue;
+    const auto stepX = hn::Set(ds, int32_t(t.edge[e].a * kSubPixelScale));
+    const auto stepY = hn::Set(ds, int32_t(t.edge[e].b * kSubPixelScale));
+    for (size_t k = 0; k < kRasterBlockSamples; k += lanes) {
+      const auto step = hn::Add(hn::Mul(stepX, hn::Load(ds, kSampleX.data() + k)),
+                                hn::Mul(stepY, hn::Load(ds, kSampleY.data() + k)));
+      hn::Store(step, ds, sampleStep[e] + k);
+    }
+  }
+
+  const int firstBlockX = tile.x0 + (x0 - tile.x0) / kRasterBlockSize * kRasterBlockSize;
+  const int firstBlockY = tile.y0 + (y0 - tile.y0) / kRasterBlockSize * kRasterBlockSize;
+  for (int by = firstBlockY; by <= y1; by += kRasterBlockSize) {
+    const int ly = by - tile.y0;
+    for (int bx = firstBlockX; bx <= x1; bx += kRasterBlockSize) {
+      const int lx = bx - tile.x0;
+      // The edges that cross the block, with their values at its first sample; the samples of
+      // an edge too long for 32 bits as 0 (inside) or -1 (outside).
+      int crossing[3], crossingCount = 0;
+      int32_t cornerValue[3];
+      HWY_ALIGN int32_t outside[3][kRasterBlockSamples];
+      bool reject = false;
+      for (int e = 0; e < 3; ++e) {
+        const int64_t corner = edgeAt(e, bx, by);
+        if (corner + highest[e] < 0) reject = true;
+        if (reject || corner + lowest[e] >= 0) continue;
+        if (t.edgesFit32Bits) {
+          cornerValue[crossingCount] = int32_t(corner);
+        } else {
+          for (int k = 0; k < kRasterBlockSamples; ++k) {
+            const int64_t value = corner + t.edge[e].a * kSampleX[size_t(k)] * kSubPixelScale +
+                                  t.edge[e].b * kSampleY[size_t(k)] * kSubPixelScale;
+            outside[crossingCount][k] = value >= 0 ? 0 : -1;
+          }
+        }
+        crossing[crossingCount++] = e;
+      }
+      if (reject) continue;
+      // Samples past the image's right or bottom edge are not the tile's.
+      const bool clipped = lx + kRasterBlockSize > tile.width || ly + kRasterBlockSize > tile.height;
+      const auto tileWidth = hn::Set(ds, tile.width - lx), tileHeight = hn::Set(ds, tile.height - ly);
+      const auto lxV = hn::ConvertTo(dk, hn::Set(ds, lx)), lyV = hn::ConvertTo(dk, hn::Set(ds, ly));
+      const size_t blockIndex = size_t(TilePixelIndex(lx, ly));
+      float* depth = tile.depth + blockIndex;
+
+      uint64_t visible = 0;  // alpha-tested triangles: samples covered and nearer, for the test
+      HWY_ALIGN float keys[kRasterBlockSamples];
+      for (size_t k = 0; k < kRasterBlockSamples; k += lanes) {
+        const auto sampleX = hn::Load(ds, kSampleX.data() + k), sampleY = hn::Load(ds, kSampleY.data() + k);
+        // Inside: the OR of the crossing edges' values is >= 0, i.e. > -1.
+        auto inside = zero;
+        for (int c = 0; c < crossingCount; ++c) {
+          inside = hn::Or(inside, t.edgesFit32Bits
+                                      ? hn::Add(hn::Set(ds, cornerValue[c]), hn::Load(ds, sampleStep[crossing[c]] + k))
+                                      : hn::Load(ds, outside[c] + k));
+        }
+        auto covered = hn::Gt(inside, minusOne);
+        if (clipped) covered = hn::And(covered, hn::And(hn::Lt(sampleX, tileWidth), hn::Lt(sampleY, tileHeight)));
+        if constexpr (kCountCoverage) {
+          uint32_t* coverage = tile.coverage + blockIndex + k;
+          const auto count = hn::Load(dt, coverage);
+          hn::Store(hn::Sub(count, hn::BitCast(dt, hn::VecFromMask(ds, covered))), dt, coverage);
+        }
+        if (hn::AllFalse(ds, covered)) continue;
+        // keyBase + keyDx * float(lx) + keyDy * float(ly), as the scalar kernel adds them.
+        const auto key = hn::Add(hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lxV, hn::ConvertTo(dk, sampleX)))),
+                                 hn::Mul(keyDy, hn::Add(lyV, hn::ConvertTo(dk, sampleY))));
+        const auto stored = hn::Load(dk, depth + k);
+        const auto nearer = hn::And(hn::RebindMask(dk, covered), hn::Gt(key, stored));
+        if (alphaTested) {
+          hn::Store(key, dk, keys + k);
+          uint8_t bits[8] = {};
+          hn::StoreMaskBits(dk, nearer, bits);
+          uint64_t laneBits;
+          std::memcpy(&laneBits, bits, sizeof(laneBits));
+          if (lanes < 64) laneBits &= (uint64_t(1) << lanes) - 1;
+          visible |= laneBits << k;
+          continue;
+        }
+        hn::Store(hn::IfThenElse(nearer, key, stored), dk, depth + k);
+        if constexpr (kWriteTriangle) {
+          uint32_t* triangle = tile.triangle + blockIndex + k;
+          hn::Store(hn::IfThenElse(hn::RebindMask(dt, nearer), triangleId, hn::Load(dt, triangle)), dt, triangle);
+        }
+      }
+      if (visible == 0) continue;
+      visible = alphaTest.passes(alphaTest.context, t.triangle, bx, by, visible);
+      for (; visible != 0; visible &= visible - 1) {
+        const int sample = std::countr_zero(visible);
+        depth[sample] = keys[sample];
+        if constexpr (kWriteTriangle) tile.triangle[blockIndex + size_t(sample)] = t.triangle;
+      }
+    }
+  }
+}
+
+void RasterizeTile(const TileTriangles& batch, TileTarget& tile) {
+  ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
+    RasterizeInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile);
+  });
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace ssgi {
+
+HWY_EXPORT(RasterizeTile);
+
+void RasterizeTileSimd(const TileTriangles& batch, TileTarget& tile) {
+  HWY_DYNAMIC_DISPATCH(RasterizeTile)(batch, tile);
+}
+
+}  // namespace ssgi
+#endif
