@@ -8,6 +8,7 @@
 #include "bench/bench_scene.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
+#include "core/plane.h"
 #include "passes/gbuffer.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
@@ -43,6 +44,8 @@ const ShadowInputs& Inputs(const BenchScene& bench) {
 void BM_ShadowMap(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  // Freed blocks stay in the heap: the set-up's per-frame buffers reuse pages already faulted in.
+  if (!RetainFreedMemory()) return state.SkipWithError("cannot set the allocator's page reuse (glibc mallopt)");
   const KernelPath kernels = state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
   const ThreadLimit threads(int(state.range(1)));
   const ShadowInputs& in = Inputs(bench);

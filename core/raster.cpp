@@ -6,6 +6,7 @@
 #include <memory>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "core/check.h"
@@ -281,8 +282,11 @@ template <class T>
 void CopyTileOut(const TileTarget& tile, const T* values, Plane<T>& image) {
   for (int y = 0; y < tile.height; ++y) {
     T* row = image.MutableRow(size_t(tile.y0 + y)) + tile.x0;
-    for (int x = 0; x < tile.width; x += kRasterBlockSize)
-      std::copy_n(values + TilePixelIndex(x, y), std::min(kRasterBlockSize, tile.width - x), row + x);
+    int x = 0;
+    // Whole block rows as fixed-size copies, which compile to a few moves instead of memmove calls.
+    for (; x + kRasterBlockSize <= tile.width; x += kRasterBlockSize)
+      std::memcpy(row + x, values + TilePixelIndex(x, y), sizeof(T) * kRasterBlockSize);
+    if (x < tile.width) std::copy_n(values + TilePixelIndex(x, y), tile.width - x, row + x);
   }
 }
 

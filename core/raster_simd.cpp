@@ -31,13 +31,18 @@ using DK = hn::Rebind<float, DS>;
 using DT = hn::Rebind<uint32_t, DS>;
 
 // Sample k of a block is its pixel (k % 8, k / 8).
-constexpr std::array<int32_t, kRasterBlockSamples> SampleOffsets(bool row) {
-  std::array<int32_t, kRasterBlockSamples> offsets{};
-  for (int k = 0; k < kRasterBlockSamples; ++k) offsets[size_t(k)] = row ? k / kRasterBlockSize : k % kRasterBlockSize;
+template <class T>
+constexpr std::array<T, kRasterBlockSamples> SampleOffsets(bool row) {
+  std::array<T, kRasterBlockSamples> offsets{};
+  for (int k = 0; k < kRasterBlockSamples; ++k) offsets[size_t(k)] = T(row ? k / kRasterBlockSize : k % kRasterBlockSize);
   return offsets;
 }
-alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleX = SampleOffsets(false);
-alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleY = SampleOffsets(true);
+alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleX = SampleOffsets<int32_t>(false);
+alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleY = SampleOffsets<int32_t>(true);
+alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleXf = SampleOffsets<float>(false);
+alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleYf = SampleOffsets<float>(true);
+// A vector of at least a block row holds the same columns in every vector of a block.
+constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
 
 template <bool kWriteTriangle, bool kCountCoverage>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
@@ -79,8 +84,17 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
 
   const int firstBlockX = tile.x0 + (x0 - tile.x0) / kRasterBlockSize * kRasterBlockSize;
   const int firstBlockY = tile.y0 + (y0 - tile.y0) / kRasterBlockSize * kRasterBlockSize;
+  // Edge values at the first sample of each block, stepped from block to block (exact integers).
+  int64_t rowCorner[3], blockStepX[3], blockStepY[3];
+  for (int e = 0; e < 3; ++e) {
+    rowCorner[e] = edgeAt(e, firstBlockX, firstBlockY);
+    blockStepX[e] = t.edge[e].a * kRasterBlockSize * kSubPixelScale;
+    blockStepY[e] = t.edge[e].b * kRasterBlockSize * kSubPixelScale;
+  }
   for (int by = firstBlockY; by <= y1; by += kRasterBlockSize) {
     const int ly = by - tile.y0;
+    int64_t blockCorner[3] = {rowCorner[0], rowCorner[1], rowCorner[2]};
+    for (int e = 0; e < 3; ++e) rowCorner[e] += blockStepY[e];
     for (int bx = firstBlockX; bx <= x1; bx += kRasterBlockSize) {
       const int lx = bx - tile.x0;
       // The edges that cross the block, with their values at its first sample; the samples of
@@ -90,7 +104,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       HWY_ALIGN int32_t outside[3][kRasterBlockSamples];
       bool reject = false;
       for (int e = 0; e < 3; ++e) {
-        const int64_t corner = edgeAt(e, bx, by);
+        const int64_t corner = blockCorner[e];
+        blockCorner[e] += blockStepX[e];
         if (corner + highest[e] < 0) reject = true;
         if (reject || corner + lowest[e] >= 0) continue;
         if (t.edgesFit32Bits) {
@@ -108,14 +123,19 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       // Samples past the image's right or bottom edge are not the tile's.
       const bool clipped = lx + kRasterBlockSize > tile.width || ly + kRasterBlockSize > tile.height;
       const auto tileWidth = hn::Set(ds, tile.width - lx), tileHeight = hn::Set(ds, tile.height - ly);
-      const auto lxV = hn::ConvertTo(dk, hn::Set(ds, lx)), lyV = hn::ConvertTo(dk, hn::Set(ds, ly));
+      const auto lxV = hn::Set(dk, float(lx)), lyV = hn::Set(dk, float(ly));
       const size_t blockIndex = size_t(TilePixelIndex(lx, ly));
       float* depth = tile.depth + blockIndex;
+      // The key keyBase + keyDx * float(lx) + keyDy * float(ly) in the scalar kernel's order; its
+      // first sum depends only on the sample's column (k % 8).
+      auto keyOfColumns = [&](size_t k) {
+        return hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lxV, hn::Load(dk, kSampleXf.data() + k % kRasterBlockSize))));
+      };
+      const auto blockKeyOfColumns = keyOfColumns(0);
 
       uint64_t visible = 0;  // alpha-tested triangles: samples covered and nearer, for the test
       HWY_ALIGN float keys[kRasterBlockSamples];
       for (size_t k = 0; k < kRasterBlockSamples; k += lanes) {
-        const auto sampleX = hn::Load(ds, kSampleX.data() + k), sampleY = hn::Load(ds, kSampleY.data() + k);
         // Inside: the OR of the crossing edges' values is >= 0, i.e. > -1.
         auto inside = zero;
         for (int c = 0; c < crossingCount; ++c) {
@@ -124,16 +144,18 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
                                       : hn::Load(ds, outside[c] + k));
         }
         auto covered = hn::Gt(inside, minusOne);
-        if (clipped) covered = hn::And(covered, hn::And(hn::Lt(sampleX, tileWidth), hn::Lt(sampleY, tileHeight)));
+        if (clipped) {
+          covered = hn::And(covered, hn::And(hn::Lt(hn::Load(ds, kSampleX.data() + k), tileWidth),
+                                             hn::Lt(hn::Load(ds, kSampleY.data() + k), tileHeight)));
+        }
         if constexpr (kCountCoverage) {
           uint32_t* coverage = tile.coverage + blockIndex + k;
           const auto count = hn::Load(dt, coverage);
           hn::Store(hn::Sub(count, hn::BitCast(dt, hn::VecFromMask(ds, covered))), dt, coverage);
         }
         if (hn::AllFalse(ds, covered)) continue;
-        // keyBase + keyDx * float(lx) + keyDy * float(ly), as the scalar kernel adds them.
-        const auto key = hn::Add(hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lxV, hn::ConvertTo(dk, sampleX)))),
-                                 hn::Mul(keyDy, hn::Add(lyV, hn::ConvertTo(dk, sampleY))));
+        const auto key = hn::Add(kWholeBlockRows ? blockKeyOfColumns : keyOfColumns(k),
+                                 hn::Mul(keyDy, hn::Add(lyV, hn::Load(dk, kSampleYf.data() + k))));
         const auto stored = hn::Load(dk, depth + k);
         const auto nearer = hn::And(hn::RebindMask(dk, covered), hn::Gt(key, stored));
         if (alphaTested) {
