@@ -36,7 +36,8 @@ struct GBufferStats {
   size_t coveredPixels = 0;
 };
 
-// `kernels` picks the raster's tile kernel; both paths give the same bytes.
+// `kernels` picks the raster's tile kernel and the resolve's row kernel; both paths give the same
+// bytes.
 GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out,
                         KernelPath kernels = KernelPath::kSimd);
 
@@ -46,16 +47,28 @@ struct GBufferResolveContext {
   const ViewProjection& view;
   const SurfaceResolver& resolver;  // the scene's surface seen from `view` (SceneRasterInput::Resolver)
   const uint32_t* constantWord0;    // per material: its word 0 when it has no colour or metallic texture
+  // Per material: bits 24-31 of word 1 (the roughness code) when it has no roughness texture, and
+  // whether any texture feeds word 0 or 1 (the SIMD kernel resolves those pixels with
+  // GBufferResolvePixelScalar).
+  const uint32_t* constantRoughnessBits;
+  const uint32_t* textured;  // 1 or 0
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
   NormalEncoding normalEncoding;
 };
 
-// The resolve's scalar row kernel, the definition a SIMD twin (passes/gbuffer_simd.cpp) must equal
+// The resolve of one pixel (x, y) covered by `triangle` with depth key `depthKey`: its G-buffer
+// words 0-2.
+void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
+                               uint32_t& word0, uint32_t& word1, uint32_t& word2);
+
+// The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)
 // into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) are left untouched.
 // Returns how many pixels it resolved.
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
                                uint32_t* word2);
+size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
+                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2);
 
 }  // namespace ssgi

@@ -1,0 +1,167 @@
+// The Highway twin of GBufferResolveRowScalar (gbuffer.cpp): lanes are the pixels of the row. Per
+// pixel the triangle's vertices are gathered, the view ray's barycentrics on the triangle's plane
+// (SurfaceResolver::At, core/surface.cpp), the interpolated normal, its encoding and the depth are
+// computed with the scalar operations in their order through the core twins (core/*-inl.h), so
+// every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each compiled target).
+// Pixels of textured materials are resolved by GBufferResolvePixelScalar, one at a time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+#include "core/camera-inl.h"
+#include "core/gbuffer-inl.h"
+#include "core/math-inl.h"
+#include "core/row-inl.h"
+#include "passes/gbuffer.h"
+
+#ifndef SSGI_PASSES_GBUFFER_SIMD_ONCE
+#define SSGI_PASSES_GBUFFER_SIMD_ONCE
+namespace ssgi {
+namespace {
+
+// What the resolve of one row reads, flattened into plain pointers for the dispatch boundary.
+struct GBufferResolveRowInputs {
+  const GBufferResolveContext* context;  // for the pixels of textured materials
+  const ViewProjection* view;
+  const uint32_t* indices;         // three per triangle
+  const float* viewPositions;      // x, y, z per vertex, in the view
+  const float* normals;            // x, y, z per vertex, world space
+  const uint32_t* materials;       // per triangle
+  const uint32_t* constantWord0;   // per material (GBufferResolveContext)
+  const uint32_t* constantRoughnessBits;
+  const uint32_t* textured;
+  glm::mat3 normalToView;
+  NormalEncoding encoding;
+};
+
+}  // namespace
+}  // namespace ssgi
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+namespace {
+
+// The x, y, z of vertices `vertex` (per lane) of a table of three floats per vertex.
+Vec3V<DF> GatherVec3(const float* table, hn::Vec<DI> vertex) {
+  const DF df;
+  const DI di;
+  const auto first = hn::Mul(vertex, hn::Set(di, 3));
+  return {hn::GatherIndex(df, table, first), hn::GatherIndex(df, table + 1, first),
+          hn::GatherIndex(df, table + 2, first)};
+}
+
+size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
+                         int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const size_t lanes = hn::Lanes(df);
+  const size_t count = size_t(width);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+  const float py = float(y) + 0.5f;
+  size_t covered = 0;
+  HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
+  for (size_t x = 0; x < count; x += lanes) {
+    const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
+    const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
+    if (hn::AllFalse(du, drawn)) continue;
+    covered += hn::CountTrue(du, drawn);
+    // Lanes without a triangle read triangle 0's data, which is never stored.
+    const auto safeTriangle = hn::BitCast(di, hn::IfThenElseZero(drawn, triangle));
+    const auto material = hn::BitCast(di, hn::GatherIndex(du, in.materials, safeTriangle));
+    const auto firstIndex = hn::Mul(safeTriangle, hn::Set(di, 3));
+    const hn::Vec<DI> vertex[3] = {hn::BitCast(di, hn::GatherIndex(du, in.indices, firstIndex)),
+                                   hn::BitCast(di, hn::GatherIndex(du, in.indices + 1, firstIndex)),
+                                   hn::BitCast(di, hn::GatherIndex(du, in.indices + 2, firstIndex))};
+
+    // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
+    // (Moller-Trumbore without the bounds test), clamped into the triangle.
+    const Vec3V<DF> p0 = GatherVec3(in.viewPositions, vertex[0]);
+    const Vec3V<DF> e1 = Sub3(GatherVec3(in.viewPositions, vertex[1]), p0);
+    const Vec3V<DF> e2 = Sub3(GatherVec3(in.viewPositions, vertex[2]), p0);
+    const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
+    const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
+    const Vec3V<DF> p = Cross3(ray.direction, e2);
+    const VF det = Dot3(e1, p);
+    const auto hit = hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f));
+    const VF invDet = hn::Div(one, det);
+    const Vec3V<DF> s = Sub3(ray.origin, p0);
+    const Vec3V<DF> q = Cross3(s, e1);
+    const VF third = hn::Set(df, 1.0f / 3.0f);
+    VF b1 = hn::IfThenElse(hit, hn::Mul(Dot3(s, p), invDet), third);
+    VF b2 = hn::IfThenElse(hit, hn::Mul(Dot3(ray.direction, q), invDet), third);
+    b1 = MinStd(MaxStd(b1, zero), one);  // glm::clamp(b, 0, 1)
+    b2 = MinStd(MaxStd(b2, zero), one);
+    const VF sum = hn::Add(b1, b2);
+    const auto beyond = hn::Gt(sum, one);
+    b1 = hn::IfThenElse(beyond, hn::Div(b1, sum), b1);
+    b2 = hn::IfThenElse(beyond, hn::Div(b2, sum), b2);
+    const VF b0 = hn::Sub(hn::Sub(one, b1), b2);
+
+    // The interpolated normal in the view, the face's where it vanishes, turned towards the camera.
+    const Vec3V<DF> interpolated =
+        Add3(Add3(Scale3(GatherVec3(in.normals, vertex[0]), b0), Scale3(GatherVec3(in.normals, vertex[1]), b1)),
+             Scale3(GatherVec3(in.normals, vertex[2]), b2));
+    const Vec3V<DF> normal = MulMat3(df, in.normalToView, interpolated);
+    const VF length = Length3(normal);
+    const Vec3V<DF> faceNormal = Cross3(e1, e2);
+    const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
+    Vec3V<DF> unit = IfThenElse3(usable, Div3(normal, length), Normalize3(df, faceNormal));
+    unit = IfThenElse3(hn::Gt(Dot3(faceNormal, ray.direction), zero), Neg3(unit), unit);
+
+    const auto depthKey = LoadRow(df, depthKeys, x, count, 1.0f);
+    const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
+    const auto words0 = hn::GatherIndex(du, in.constantWord0, material);
+    const auto words1 =
+        hn::Or(EncodeNormalV(df, unit, in.encoding), hn::GatherIndex(du, in.constantRoughnessBits, material));
+    StoreRow(hn::IfThenElse(drawn, words0, LoadRow(du, word0, x, count, 0u)), du, word0, x, count);
+    StoreRow(hn::IfThenElse(drawn, words1, LoadRow(du, word1, x, count, 0u)), du, word1, x, count);
+    StoreRow(hn::IfThenElse(drawn, hn::BitCast(du, depth), LoadRow(du, word2, x, count, 0u)), du, word2, x, count);
+
+    const auto texturedLanes = hn::And(hn::GatherIndex(du, in.textured, material), hn::VecFromMask(du, drawn));
+    if (hn::AllFalse(du, hn::Ne(texturedLanes, hn::Zero(du)))) continue;
+    hn::Store(texturedLanes, du, textured);
+    for (size_t lane = 0; lane < lanes && x + lane < count; ++lane) {
+      const size_t i = x + lane;
+      if (textured[lane] != 0)
+        GBufferResolvePixelScalar(*in.context, triangles[i], depthKeys[i], int(i), y, word0[i], word1[i], word2[i]);
+    }
+  }
+  return covered;
+}
+
+}  // namespace
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace ssgi {
+
+HWY_EXPORT(GBufferResolveRow);
+
+size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
+                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+  const Mesh& mesh = context.scene.mesh;
+  const GBufferResolveRowInputs in{
+      &context,
+      &context.view,
+      mesh.indices.data(),
+      reinterpret_cast<const float*>(context.resolver.ViewPositions()),
+      reinterpret_cast<const float*>(mesh.normals.data()),
+      mesh.materials.data(),
+      context.constantWord0,
+      context.constantRoughnessBits,
+      context.textured,
+      context.normalToView,
+      context.normalEncoding,
+  };
+  return HWY_DYNAMIC_DISPATCH(GBufferResolveRow)(in, triangles, depthKeys, y, width, word0, word1, word2);
+}
+
+}  // namespace ssgi
+#endif
