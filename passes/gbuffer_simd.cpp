@@ -54,6 +54,74 @@ Vec3V<DF> GatherVec3(const float* table, hn::Vec<DI> vertex) {
           hn::GatherIndex(df, table + 2, first)};
 }
 
+// What the resolve reads of each lane's triangle: its material, and per vertex the view-space
+// position and the world-space normal.
+struct TriangleData {
+  hn::Vec<DI> material;
+  Vec3V<DF> position[3], normal[3];
+};
+
+TriangleData GatherTriangles(const GBufferResolveRowInputs& in, hn::Vec<DI> triangle) {
+  const DI di;
+  const DU du;
+  TriangleData data;
+  data.material = hn::BitCast(di, hn::GatherIndex(du, in.materials, triangle));
+  const auto firstIndex = hn::Mul(triangle, hn::Set(di, 3));
+  for (int v = 0; v < 3; ++v) {
+    const auto vertex = hn::BitCast(di, hn::GatherIndex(du, in.indices + v, firstIndex));
+    data.position[v] = GatherVec3(in.viewPositions, vertex);
+    data.normal[v] = GatherVec3(in.normals, vertex);
+  }
+  return data;
+}
+
+// The same for one triangle in every lane: most vectors of a row lie on one triangle, and loads
+// and broadcasts are far cheaper than gathers.
+TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
+  const DF df;
+  const DI di;
+  TriangleData data;
+  data.material = hn::Set(di, int32_t(in.materials[triangle]));
+  for (int v = 0; v < 3; ++v) {
+    const size_t vertex = in.indices[3 * size_t(triangle) + size_t(v)];
+    const float* position = in.viewPositions + 3 * vertex;
+    const float* normal = in.normals + 3 * vertex;
+    data.position[v] = Set3(df, glm::vec3(position[0], position[1], position[2]));
+    data.normal[v] = Set3(df, glm::vec3(normal[0], normal[1], normal[2]));
+  }
+  return data;
+}
+
+// A vector of a row meets few triangles, mostly one: up to kMaxBroadcastTriangles of them are
+// broadcast, each into the lanes it covers; a vector with more is gathered.
+constexpr int kMaxBroadcastTriangles = 4;
+
+// The triangle data of the lanes of `drawn` (`triangle` per lane, as in `triangles`); the other
+// lanes hold some lane's data, never stored.
+TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+                           hn::Mask<DU> drawn) {
+  const DF df;
+  const DI di;
+  const DU du;
+  uint32_t next = triangles[hn::FindFirstTrue(du, drawn)];
+  auto remaining = hn::AndNot(hn::Eq(triangle, hn::Set(du, next)), drawn);
+  TriangleData data = BroadcastTriangle(in, next);
+  for (int broadcast = 1; !hn::AllFalse(du, remaining); ++broadcast) {
+    if (broadcast == kMaxBroadcastTriangles) return GatherTriangles(in, hn::BitCast(di, hn::IfThenElseZero(drawn, triangle)));
+    next = triangles[hn::FindFirstTrue(du, remaining)];
+    const auto covers = hn::Eq(triangle, hn::Set(du, next));
+    remaining = hn::AndNot(covers, remaining);
+    const TriangleData more = BroadcastTriangle(in, next);
+    const auto lanes = hn::RebindMask(df, covers);
+    data.material = hn::IfThenElse(hn::RebindMask(di, covers), more.material, data.material);
+    for (int v = 0; v < 3; ++v) {
+      data.position[v] = IfThenElse3(lanes, more.position[v], data.position[v]);
+      data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
+    }
+  }
+  return data;
+}
+
 size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
                          int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
   const DF df;
@@ -70,19 +138,14 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
     if (hn::AllFalse(du, drawn)) continue;
     covered += hn::CountTrue(du, drawn);
-    // Lanes without a triangle read triangle 0's data, which is never stored.
-    const auto safeTriangle = hn::BitCast(di, hn::IfThenElseZero(drawn, triangle));
-    const auto material = hn::BitCast(di, hn::GatherIndex(du, in.materials, safeTriangle));
-    const auto firstIndex = hn::Mul(safeTriangle, hn::Set(di, 3));
-    const hn::Vec<DI> vertex[3] = {hn::BitCast(di, hn::GatherIndex(du, in.indices, firstIndex)),
-                                   hn::BitCast(di, hn::GatherIndex(du, in.indices + 1, firstIndex)),
-                                   hn::BitCast(di, hn::GatherIndex(du, in.indices + 2, firstIndex))};
+    const TriangleData data = LoadTriangles(in, triangles + x, triangle, drawn);
+    const auto material = data.material;
 
     // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
     // (Moller-Trumbore without the bounds test), clamped into the triangle.
-    const Vec3V<DF> p0 = GatherVec3(in.viewPositions, vertex[0]);
-    const Vec3V<DF> e1 = Sub3(GatherVec3(in.viewPositions, vertex[1]), p0);
-    const Vec3V<DF> e2 = Sub3(GatherVec3(in.viewPositions, vertex[2]), p0);
+    const Vec3V<DF>& p0 = data.position[0];
+    const Vec3V<DF> e1 = Sub3(data.position[1], p0);
+    const Vec3V<DF> e2 = Sub3(data.position[2], p0);
     const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
     const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
     const Vec3V<DF> p = Cross3(ray.direction, e2);
@@ -98,19 +161,21 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     b2 = MinStd(MaxStd(b2, zero), one);
     const VF sum = hn::Add(b1, b2);
     const auto beyond = hn::Gt(sum, one);
-    b1 = hn::IfThenElse(beyond, hn::Div(b1, sum), b1);
-    b2 = hn::IfThenElse(beyond, hn::Div(b2, sum), b2);
+    if (!hn::AllFalse(df, beyond)) {  // rare: only rounding puts a covered pixel beyond an edge
+      b1 = hn::IfThenElse(beyond, hn::Div(b1, sum), b1);
+      b2 = hn::IfThenElse(beyond, hn::Div(b2, sum), b2);
+    }
     const VF b0 = hn::Sub(hn::Sub(one, b1), b2);
 
     // The interpolated normal in the view, the face's where it vanishes, turned towards the camera.
-    const Vec3V<DF> interpolated =
-        Add3(Add3(Scale3(GatherVec3(in.normals, vertex[0]), b0), Scale3(GatherVec3(in.normals, vertex[1]), b1)),
-             Scale3(GatherVec3(in.normals, vertex[2]), b2));
+    const Vec3V<DF> interpolated = Add3(Add3(Scale3(data.normal[0], b0), Scale3(data.normal[1], b1)),
+                                        Scale3(data.normal[2], b2));
     const Vec3V<DF> normal = MulMat3(df, in.normalToView, interpolated);
     const VF length = Length3(normal);
     const Vec3V<DF> faceNormal = Cross3(e1, e2);
     const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
-    Vec3V<DF> unit = IfThenElse3(usable, Div3(normal, length), Normalize3(df, faceNormal));
+    Vec3V<DF> unit = Div3(normal, length);
+    if (!hn::AllTrue(df, usable)) unit = IfThenElse3(usable, unit, Normalize3(df, faceNormal));
     unit = IfThenElse3(hn::Gt(Dot3(faceNormal, ray.direction), zero), Neg3(unit), unit);
 
     const auto depthKey = LoadRow(df, depthKeys, x, count, 1.0f);
