@@ -43,6 +43,9 @@ alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleXf = SampleO
 alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleYf = SampleOffsets<float>(true);
 // A vector of at least a block row holds the same columns in every vector of a block.
 constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
+// Vector k / lanes of a block starts at sample row k / 8, column k % 8: its samples' edge values are
+// the row's first plus those of samples k % 8 ... k % 8 + lanes - 1 of the block's first rows.
+constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBlockSize;
 
 template <bool kWriteTriangle, bool kCountCoverage>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
@@ -64,20 +67,21 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   };
 
   // Per edge: its extremes over a block relative to the block's first sample, and (32-bit edges)
-  // its value at each sample relative to the same.
+  // its change from there to the first kStepSamples samples, and per sample row.
   constexpr int64_t kBlockSpan = (kRasterBlockSize - 1) * kSubPixelScale;
   int64_t lowest[3], highest[3];
-  HWY_ALIGN int32_t sampleStep[3][kRasterBlockSamples];
+  HWY_ALIGN int32_t sampleStep[3][kStepSamples];
+  int32_t rowStep[3];
   for (int e = 0; e < 3; ++e) {
     const int64_t spanX = t.edge[e].a * kBlockSpan, spanY = t.edge[e].b * kBlockSpan;
     lowest[e] = std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
     highest[e] = std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
     if (!t.edgesFit32Bits) continue;
     const auto stepX = hn::Set(ds, int32_t(t.edge[e].a * kSubPixelScale));
-    const auto stepY = hn::Set(ds, int32_t(t.edge[e].b * kSubPixelScale));
-    for (size_t k = 0; k < kRasterBlockSamples; k += lanes) {
+    rowStep[e] = int32_t(t.edge[e].b * kSubPixelScale);
+    for (size_t k = 0; k < kStepSamples; k += lanes) {
       const auto step = hn::Add(hn::Mul(stepX, hn::Load(ds, kSampleX.data() + k)),
-                                hn::Mul(stepY, hn::Load(ds, kSampleY.data() + k)));
+                                hn::Mul(hn::Set(ds, rowStep[e]), hn::Load(ds, kSampleY.data() + k)));
       hn::Store(step, ds, sampleStep[e] + k);
     }
   }
@@ -133,15 +137,21 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       };
       const auto blockKeyOfColumns = keyOfColumns(0);
 
+      // The vectors holding the block's sample rows inside the triangle's bounds: the others cover
+      // nothing.
+      const size_t firstSample = size_t(std::max(y0, by) - by) * kRasterBlockSize / lanes * lanes;
+      const size_t endSample = size_t(std::min(y1, by + kRasterBlockSize - 1) - by + 1) * kRasterBlockSize;
       uint64_t visible = 0;  // alpha-tested triangles: samples covered and nearer, for the test
       HWY_ALIGN float keys[kRasterBlockSamples];
-      for (size_t k = 0; k < kRasterBlockSamples; k += lanes) {
+      for (size_t k = firstSample; k < endSample; k += lanes) {
+        const size_t row = k / kRasterBlockSize, column = k % kRasterBlockSize;
         // Inside: the OR of the crossing edges' values is >= 0, i.e. > -1.
         auto inside = zero;
         for (int c = 0; c < crossingCount; ++c) {
-          inside = hn::Or(inside, t.edgesFit32Bits
-                                      ? hn::Add(hn::Set(ds, cornerValue[c]), hn::Load(ds, sampleStep[crossing[c]] + k))
-                                      : hn::Load(ds, outside[c] + k));
+          const int e = crossing[c];
+          inside = hn::Or(inside, t.edgesFit32Bits ? hn::Add(hn::Set(ds, cornerValue[c] + rowStep[e] * int32_t(row)),
+                                                             hn::Load(ds, sampleStep[e] + column))
+                                                   : hn::Load(ds, outside[c] + k));
         }
         auto covered = hn::Gt(inside, minusOne);
         if (clipped) {
