@@ -47,7 +47,8 @@ constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
 // the row's first plus those of samples k % 8 ... k % 8 + lanes - 1 of the block's first rows.
 constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBlockSize;
 
-template <bool kWriteTriangle, bool kCountCoverage>
+// kEdges32: t.edgesFit32Bits, as a template parameter so the sample loop has no branch on it.
+template <bool kWriteTriangle, bool kCountCoverage, bool kEdges32>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
   const int x0 = std::max(t.minX, tile.x0), x1 = std::min(t.maxX, tile.x0 + tile.width - 1);
   const int y0 = std::max(t.minY, tile.y0), y1 = std::min(t.maxY, tile.y0 + tile.height - 1);
@@ -76,7 +77,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
     const int64_t spanX = t.edge[e].a * kBlockSpan, spanY = t.edge[e].b * kBlockSpan;
     lowest[e] = std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
     highest[e] = std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
-    if (!t.edgesFit32Bits) continue;
+    if (!kEdges32) continue;
     const auto stepX = hn::Set(ds, int32_t(t.edge[e].a * kSubPixelScale));
     rowStep[e] = int32_t(t.edge[e].b * kSubPixelScale);
     for (size_t k = 0; k < kStepSamples; k += lanes) {
@@ -112,7 +113,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
         blockCorner[e] += blockStepX[e];
         if (corner + highest[e] < 0) reject = true;
         if (reject || corner + lowest[e] >= 0) continue;
-        if (t.edgesFit32Bits) {
+        if constexpr (kEdges32) {
           cornerValue[crossingCount] = int32_t(corner);
         } else {
           for (int k = 0; k < kRasterBlockSamples; ++k) {
@@ -149,9 +150,9 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
         auto inside = zero;
         for (int c = 0; c < crossingCount; ++c) {
           const int e = crossing[c];
-          inside = hn::Or(inside, t.edgesFit32Bits ? hn::Add(hn::Set(ds, cornerValue[c] + rowStep[e] * int32_t(row)),
-                                                             hn::Load(ds, sampleStep[e] + column))
-                                                   : hn::Load(ds, outside[c] + k));
+          inside = hn::Or(inside, kEdges32 ? hn::Add(hn::Set(ds, cornerValue[c] + rowStep[e] * int32_t(row)),
+                                                     hn::Load(ds, sampleStep[e] + column))
+                                           : hn::Load(ds, outside[c] + k));
         }
         auto covered = hn::Gt(inside, minusOne);
         if (clipped) {
@@ -197,7 +198,11 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
 
 void RasterizeTile(const TileTriangles& batch, TileTarget& tile) {
   ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
-    RasterizeInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile);
+    if (t.edgesFit32Bits) {
+      RasterizeInTile<writeTriangle, countCoverage, true>(t, *batch.alphaTest, tile);
+    } else {
+      RasterizeInTile<writeTriangle, countCoverage, false>(t, *batch.alphaTest, tile);
+    }
   });
 }
 
