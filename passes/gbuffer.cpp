@@ -56,7 +56,12 @@ size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint3
                                uint32_t* word2) {
   size_t covered = 0;
   for (int x = 0; x < width; ++x) {
-    if (triangles[x] == kNoTriangle) continue;
+    if (triangles[x] == kNoTriangle) {
+      word0[x] = 0u;
+      word1[x] = 0u;
+      word2[x] = PackDepth(kBackgroundDepth);
+      continue;
+    }
     ++covered;
     GBufferResolvePixelScalar(context, triangles[x], depthKeys[x], x, y, word0[x], word1[x], word2[x]);
   }

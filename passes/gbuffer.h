@@ -63,7 +63,8 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
 
 // The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)
-// into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) are left untouched.
+// into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) get the background's
+// (0, 0, +inf), so every pixel is written and the twin's vector stores need not read the row first.
 // Returns how many pixels it resolved.
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,

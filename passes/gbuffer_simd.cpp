@@ -131,12 +131,21 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   const size_t count = size_t(width);
   const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
   const float py = float(y) + 0.5f;
+  const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
   size_t covered = 0;
   HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
   for (size_t x = 0; x < count; x += lanes) {
     const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
-    if (hn::AllFalse(du, drawn)) continue;
+    const auto storeWords = [&](hn::Vec<DU> w0, hn::Vec<DU> w1, hn::Vec<DU> w2) {
+      StoreRow(w0, du, word0, x, count);
+      StoreRow(w1, du, word1, x, count);
+      StoreRow(w2, du, word2, x, count);
+    };
+    if (hn::AllFalse(du, drawn)) {
+      storeWords(hn::Zero(du), hn::Zero(du), background);
+      continue;
+    }
     covered += hn::CountTrue(du, drawn);
     const TriangleData data = LoadTriangles(in, triangles + x, triangle, drawn);
     const auto material = data.material;
@@ -183,9 +192,8 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     const auto words0 = hn::GatherIndex(du, in.constantWord0, material);
     const auto words1 =
         hn::Or(EncodeNormalV(df, unit, in.encoding), hn::GatherIndex(du, in.constantRoughnessBits, material));
-    StoreRow(hn::IfThenElse(drawn, words0, LoadRow(du, word0, x, count, 0u)), du, word0, x, count);
-    StoreRow(hn::IfThenElse(drawn, words1, LoadRow(du, word1, x, count, 0u)), du, word1, x, count);
-    StoreRow(hn::IfThenElse(drawn, hn::BitCast(du, depth), LoadRow(du, word2, x, count, 0u)), du, word2, x, count);
+    storeWords(hn::IfThenElseZero(drawn, words0), hn::IfThenElseZero(drawn, words1),
+               hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
 
     const auto texturedLanes = hn::And(hn::GatherIndex(du, in.textured, material), hn::VecFromMask(du, drawn));
     if (hn::AllFalse(du, hn::Ne(texturedLanes, hn::Zero(du)))) continue;
