@@ -277,20 +277,17 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   }
 }
 
-// The tile's `width` x `height` pixels of `values` (TilePixelIndex order) into the image's rows.
-template <class T>
-void CopyTileOut(const TileTarget& tile, const T* values, Plane<T>& image) {
+}  // namespace
+
+void CopyTileOutScalar(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
   for (int y = 0; y < tile.height; ++y) {
-    T* row = image.MutableRow(size_t(tile.y0 + y)) + tile.x0;
-    int x = 0;
-    // Whole block rows as fixed-size copies, which compile to a few moves instead of memmove calls.
-    for (; x + kRasterBlockSize <= tile.width; x += kRasterBlockSize)
-      std::memcpy(row + x, values + TilePixelIndex(x, y), sizeof(T) * kRasterBlockSize);
-    if (x < tile.width) std::copy_n(values + TilePixelIndex(x, y), tile.width - x, row + x);
+    uint8_t* row = firstPixel + size_t(y) * rowBytes;
+    for (int x = 0; x < tile.width; x += kRasterBlockSize) {
+      const size_t count = size_t(std::min(kRasterBlockSize, tile.width - x));
+      std::memcpy(row + size_t(x) * sizeof(uint32_t), values + TilePixelIndex(x, y), count * sizeof(uint32_t));
+    }
   }
 }
-
-}  // namespace
 
 void RasterizeTileScalar(const TileTriangles& batch, TileTarget& tile) {
   ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
@@ -340,6 +337,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
   });
 
   const auto rasterizeTile = kernels == KernelPath::kSimd ? RasterizeTileSimd : RasterizeTileScalar;
+  const auto copyTileOut = kernels == KernelPath::kSimd ? CopyTileOutSimd : CopyTileOutScalar;
   ParallelFor("raster.tiles", size_t(tilesX) * size_t(tilesY), [&](size_t tileIndex) {
     // Filled below with what this output needs: the other arrays are never read.
     auto tile = std::make_unique_for_overwrite<TileTarget>();
@@ -357,8 +355,12 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
                                 writeTriangle, coverageCount != nullptr};
       rasterizeTile(batch, *tile);
     }
-    CopyTileOut(*tile, tile->depth, target.depthKey);
-    if (writeTriangle) CopyTileOut(*tile, tile->triangle, target.triangle);
+    const auto copyOut = [&](const void* values, auto& image) {
+      copyTileOut(*tile, static_cast<const uint32_t*>(values),
+                  reinterpret_cast<uint8_t*>(image.MutableRow(size_t(tile->y0)) + tile->x0), image.bytes_per_row());
+    };
+    copyOut(tile->depth, target.depthKey);
+    if (writeTriangle) copyOut(tile->triangle, target.triangle);
     if (coverageCount) {
       for (int y = 0; y < tile->height; ++y) {
         uint32_t* out = coverageCount->MutableRow(size_t(tile->y0 + y)) + tile->x0;

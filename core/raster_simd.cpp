@@ -11,6 +11,7 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/raster_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/cache_control.h"
 #include "hwy/highway.h"
 
 #include <algorithm>
@@ -206,6 +207,21 @@ void RasterizeTile(const TileTriangles& batch, TileTarget& tile) {
   });
 }
 
+void CopyTileOut(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
+  // Lanes are a block row's pixels (or a part of it): whole aligned vectors, as streaming wants.
+  const hn::CappedTag<uint32_t, kRasterBlockSize> d;
+  const size_t lanes = hn::Lanes(d);
+  for (int y = 0; y < tile.height; ++y) {
+    uint32_t* row = reinterpret_cast<uint32_t*>(firstPixel + size_t(y) * rowBytes);
+    int x = 0;
+    for (; x + kRasterBlockSize <= tile.width; x += kRasterBlockSize) {
+      const uint32_t* block = values + TilePixelIndex(x, y);
+      for (size_t i = 0; i < kRasterBlockSize; i += lanes) hn::Stream(hn::Load(d, block + i), d, row + x + i);
+    }
+    if (x < tile.width) std::memcpy(row + x, values + TilePixelIndex(x, y), size_t(tile.width - x) * sizeof(uint32_t));
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();
@@ -214,6 +230,13 @@ HWY_AFTER_NAMESPACE();
 namespace ssgi {
 
 HWY_EXPORT(RasterizeTile);
+HWY_EXPORT(CopyTileOut);
+
+void CopyTileOutSimd(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
+  HWY_DYNAMIC_DISPATCH(CopyTileOut)(tile, values, firstPixel, rowBytes);
+  // Streamed stores are weakly ordered: fence them before another thread reads the image.
+  hwy::FlushStream();
+}
 
 void RasterizeTileSimd(const TileTriangles& batch, TileTarget& tile) {
   HWY_DYNAMIC_DISPATCH(RasterizeTile)(batch, tile);

@@ -100,4 +100,12 @@ void ForEachTileTriangle(const TileTriangles& batch, const Draw& draw) {
 void RasterizeTileScalar(const TileTriangles& batch, TileTarget& tile);
 void RasterizeTileSimd(const TileTriangles& batch, TileTarget& tile);
 
+// Copies the tile's `width` x `height` 4-byte values (TilePixelIndex order: its depth keys or
+// triangle indices) into the image: `firstPixel` is the tile's first pixel there, rows `rowBytes`
+// apart. The twin streams whole block rows past the caches (non-temporal stores): the image is
+// written once here and read only by a later pass, and a 2048^2 shadow map (16 MiB) is larger than
+// the caches anyway, so the stores need not read the lines they overwrite.
+void CopyTileOutScalar(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes);
+void CopyTileOutSimd(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes);
+
 }  // namespace ssgi
