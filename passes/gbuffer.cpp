@@ -1,5 +1,6 @@
 #include "passes/gbuffer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -77,11 +78,23 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
 
   Stopwatch stopwatch;
   const SceneRasterInput raster(scene, view, true);
-  out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
+  // Buffers of the right size from an earlier frame are reused: the raster and the resolve write
+  // every pixel of the visibility buffer and of words 0-2, so only word 3 needs resetting.
+  const size_t width = size_t(view.width), height = size_t(view.height);
+  if (out.visibility.triangle.xsize() != width || out.visibility.triangle.ysize() != height)
+    out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
   stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility, nullptr, kernels);
   stats.rasterMs = stopwatch.Lap();
 
-  out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
+  if (out.gbuffer.width() == view.width && out.gbuffer.height() == view.height) {
+    out.gbuffer.normalEncoding = params.normalEncoding;
+    Plane<uint32_t>& word3 = out.gbuffer.word[3];
+    ParallelForRowBands("gbuffer.reset_word3", height, [&](size_t, size_t yBegin, size_t yEnd) {
+      for (size_t y = yBegin; y < yEnd; ++y) std::fill_n(word3.MutableRow(y), width, kShadowLit);
+    });
+  } else {
+    out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
+  }
   // Word 0 of a material without colour or metallic textures is the same at every pixel, and so is
   // the roughness byte of word 1 without a roughness texture.
   const size_t materials = scene.materials.size();

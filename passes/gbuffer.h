@@ -24,6 +24,7 @@ struct GBufferInputs {
   const ViewProjection& view;  // perspective camera view of the G-buffer's size
 };
 
+// May hold the buffers of an earlier frame: those of the view's size are overwritten in place.
 struct GBufferOutputs {
   GBuffer gbuffer;             // words 0-2 filled; word 3 set to kShadowLit
   VisibilityBuffer visibility; // the triangle index per pixel (for dumps and tests)
