@@ -137,14 +137,6 @@ class Setup {
     return {RoundHalfAway(sx * double(kSubPixelScale)), RoundHalfAway(sy * double(kSubPixelScale)), v.z * invW};
   }
 
-  static EdgeFunction Edge(const Snapped& from, const Snapped& to) {
-    // E(P) = (to - from) x (P - from), positive inside a triangle with positive area.
-    const int64_t dx = to.x - from.x;
-    const int64_t dy = to.y - from.y;
-    const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
-    return {-dy, dx, dy * from.x - dx * from.y - (topLeft ? 0 : 1)};
-  }
-
   bool Emit(const Snapped& s0, const Snapped& s1, const Snapped& s2, uint32_t triangle, uint8_t flags,
             ChunkBins& bins) const {
     Snapped v[3] = {s0, s1, s2};
@@ -163,17 +155,25 @@ class Setup {
     const int64_t minSy = std::min({v[0].y, v[1].y, v[2].y});
     const int64_t maxSy = std::max({v[0].y, v[1].y, v[2].y});
     // Pixels whose centre sample px * 256 + 128 lies inside the snapped bounds.
-    t.minX = int32_t(std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale)));
-    t.maxX = int32_t(std::min<int64_t>(width_ - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale)));
-    t.minY = int32_t(std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale)));
-    t.maxY = int32_t(std::min<int64_t>(height_ - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale)));
-    if (t.minX > t.maxX || t.minY > t.maxY) return false;
-    t.edge[0] = Edge(v[1], v[2]);
-    t.edge[1] = Edge(v[2], v[0]);
-    t.edge[2] = Edge(v[0], v[1]);
+    const int64_t minX = std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
+    const int64_t maxX = std::min<int64_t>(width_ - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale));
+    const int64_t minY = std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
+    const int64_t maxY = std::min<int64_t>(height_ - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale));
+    if (minX > maxX || minY > maxY) return false;
+    t.minX = int16_t(minX);
+    t.maxX = int16_t(maxX);
+    t.minY = int16_t(minY);
+    t.maxY = int16_t(maxY);
+    // Inside the guard band |x|, |y| < 3 * 16384 * 256 (2^23.6): the vertices fit 32 bits.
+    for (int i = 0; i < 3; ++i) {
+      t.x[i] = int32_t(v[i].x);
+      t.y[i] = int32_t(v[i].y);
+    }
     t.edgesFit32Bits = true;
-    for (const EdgeFunction& e : t.edge)
-      t.edgesFit32Bits = t.edgesFit32Bits && std::abs(e.a) + std::abs(e.b) <= kMaxEdgeSlopeFor32Bits;
+    for (int e = 0; e < 3; ++e) {
+      const EdgeFunction edge = t.Edge(e);
+      t.edgesFit32Bits = t.edgesFit32Bits && std::abs(edge.a) + std::abs(edge.b) <= kMaxEdgeSlopeFor32Bits;
+    }
     // The depth key's plane in pixel units, through the snapped vertices: linear in screen space.
     const double x10 = double(v[1].x - v[0].x) / kSubPixelScale, y10 = double(v[1].y - v[0].y) / kSubPixelScale;
     const double x20 = double(v[2].x - v[0].x) / kSubPixelScale, y20 = double(v[2].y - v[0].y) / kSubPixelScale;
@@ -215,15 +215,16 @@ class Setup {
 
 template <bool kWriteTriangle, bool kCountCoverage>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  const int x0 = std::max(t.minX, tile.x0), x1 = std::min(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max(t.minY, tile.y0), y1 = std::min(t.maxY, tile.y0 + tile.height - 1);
+  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
   if (x0 > x1 || y0 > y1) return;
   const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
   // Depth plane relative to the tile origin keeps the float evaluation's cancellation small.
   const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
   const float keyDx = float(t.keyDx), keyDy = float(t.keyDy);
+  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
   auto edgeAt = [&](int e, int px, int py) {
-    return t.edge[e].a * (px * kSubPixelScale + kHalfPixel) + t.edge[e].b * (py * kSubPixelScale + kHalfPixel) + t.edge[e].c;
+    return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
   };
 
   // Hierarchical test on the tile's 8x8 blocks: an edge's extremes over the samples of a block
@@ -237,8 +238,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       bool reject = false, accept = true;
       for (int e = 0; e < 3; ++e) {
         const int64_t corner = edgeAt(e, sx0, sy0);
-        const int64_t spanX = t.edge[e].a * int64_t(sx1 - sx0) * kSubPixelScale;
-        const int64_t spanY = t.edge[e].b * int64_t(sy1 - sy0) * kSubPixelScale;
+        const int64_t spanX = edge[e].a * int64_t(sx1 - sx0) * kSubPixelScale;
+        const int64_t spanY = edge[e].b * int64_t(sy1 - sy0) * kSubPixelScale;
         const int64_t lo = corner + std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
         const int64_t hi = corner + std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
         reject = reject || hi < 0;
@@ -250,7 +251,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       // (bx + i, by + j)), with their keys.
       uint64_t visible = 0;
       float keys[kRasterBlockSamples];
-      const int64_t s0 = t.edge[0].a * kSubPixelScale, s1 = t.edge[1].a * kSubPixelScale, s2 = t.edge[2].a * kSubPixelScale;
+      const int64_t s0 = edge[0].a * kSubPixelScale, s1 = edge[1].a * kSubPixelScale, s2 = edge[2].a * kSubPixelScale;
       for (int py = sy0; py <= sy1; ++py) {
         int64_t e0 = edgeAt(0, sx0, py), e1 = edgeAt(1, sx0, py), e2 = edgeAt(2, sx0, py);
         const int ly = py - tile.y0;

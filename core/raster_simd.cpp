@@ -51,8 +51,8 @@ constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBl
 // kEdges32: t.edgesFit32Bits, as a template parameter so the sample loop has no branch on it.
 template <bool kWriteTriangle, bool kCountCoverage, bool kEdges32>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  const int x0 = std::max(t.minX, tile.x0), x1 = std::min(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max(t.minY, tile.y0), y1 = std::min(t.maxY, tile.y0 + tile.height - 1);
+  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
   if (x0 > x1 || y0 > y1) return;
   const DS ds;
   const DK dk;
@@ -64,8 +64,9 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   const auto keyDx = hn::Set(dk, float(t.keyDx)), keyDy = hn::Set(dk, float(t.keyDy));
   const auto zero = hn::Zero(ds), minusOne = hn::Set(ds, -1);
   const auto triangleId = hn::Set(dt, t.triangle);
+  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
   auto edgeAt = [&](int e, int px, int py) {
-    return t.edge[e].a * (px * kSubPixelScale + kHalfPixel) + t.edge[e].b * (py * kSubPixelScale + kHalfPixel) + t.edge[e].c;
+    return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
   };
 
   // Per edge: its extremes over a block relative to the block's first sample, and (32-bit edges)
@@ -75,12 +76,12 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   HWY_ALIGN int32_t sampleStep[3][kStepSamples];
   int32_t rowStep[3];
   for (int e = 0; e < 3; ++e) {
-    const int64_t spanX = t.edge[e].a * kBlockSpan, spanY = t.edge[e].b * kBlockSpan;
+    const int64_t spanX = edge[e].a * kBlockSpan, spanY = edge[e].b * kBlockSpan;
     lowest[e] = std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
     highest[e] = std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
     if (!kEdges32) continue;
-    const auto stepX = hn::Set(ds, int32_t(t.edge[e].a * kSubPixelScale));
-    rowStep[e] = int32_t(t.edge[e].b * kSubPixelScale);
+    const auto stepX = hn::Set(ds, int32_t(edge[e].a * kSubPixelScale));
+    rowStep[e] = int32_t(edge[e].b * kSubPixelScale);
     for (size_t k = 0; k < kStepSamples; k += lanes) {
       const auto step = hn::Add(hn::Mul(stepX, hn::Load(ds, kSampleX.data() + k)),
                                 hn::Mul(hn::Set(ds, rowStep[e]), hn::Load(ds, kSampleY.data() + k)));
@@ -94,8 +95,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   int64_t rowCorner[3], blockStepX[3], blockStepY[3];
   for (int e = 0; e < 3; ++e) {
     rowCorner[e] = edgeAt(e, firstBlockX, firstBlockY);
-    blockStepX[e] = t.edge[e].a * kRasterBlockSize * kSubPixelScale;
-    blockStepY[e] = t.edge[e].b * kRasterBlockSize * kSubPixelScale;
+    blockStepX[e] = edge[e].a * kRasterBlockSize * kSubPixelScale;
+    blockStepY[e] = edge[e].b * kRasterBlockSize * kSubPixelScale;
   }
   for (int by = firstBlockY; by <= y1; by += kRasterBlockSize) {
     const int ly = by - tile.y0;
@@ -118,8 +119,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
           cornerValue[crossingCount] = int32_t(corner);
         } else {
           for (int k = 0; k < kRasterBlockSamples; ++k) {
-            const int64_t value = corner + t.edge[e].a * kSampleX[size_t(k)] * kSubPixelScale +
-                                  t.edge[e].b * kSampleY[size_t(k)] * kSubPixelScale;
+            const int64_t value = corner + edge[e].a * kSampleX[size_t(k)] * kSubPixelScale +
+                                  edge[e].b * kSampleY[size_t(k)] * kSubPixelScale;
             outside[crossingCount][k] = value >= 0 ? 0 : -1;
           }
         }

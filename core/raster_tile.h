@@ -34,15 +34,28 @@ struct EdgeFunction {
 inline constexpr int64_t kMaxEdgeSlopeFor32Bits =
     std::numeric_limits<int32_t>::max() / ((kRasterBlockSize - 1) * kSubPixelScale);
 
-struct ScreenTriangle {
-  EdgeFunction edge[3];
-  int32_t minX, minY, maxX, maxY;  // inclusive pixel bounds, clipped to the image
+// A set-up triangle in one cache line: a tile reads each of its triangles with one miss at most,
+// however many triangles the mesh has.
+struct alignas(64) ScreenTriangle {
+  int32_t x[3], y[3];              // snapped vertices (8 sub-pixel bits), ordered for positive area
+  int16_t minX, minY, maxX, maxY;  // inclusive pixel bounds, clipped to the image
   // Depth key at pixel centre (px + 0.5, py + 0.5) is keyAtOrigin + keyDx * px + keyDy * py.
   double keyAtOrigin, keyDx, keyDy;
   uint32_t triangle;
   uint8_t flags;
   bool edgesFit32Bits;  // every edge's |a| + |b| <= kMaxEdgeSlopeFor32Bits
+
+  // Edge e runs from vertex e + 1 to vertex e + 2: E(P) = (to - from) x (P - from), positive
+  // inside; not top-left edges (dy > 0, or dy = 0 and dx < 0) have c one lower, so that a sample on
+  // them is outside.
+  EdgeFunction Edge(int e) const {
+    const int from = (e + 1) % 3, to = (e + 2) % 3;
+    const int64_t dx = int64_t(x[to]) - x[from], dy = int64_t(y[to]) - y[from];
+    const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
+    return {-dy, dx, dy * x[from] - dx * y[from] - (topLeft ? 0 : 1)};
+  }
 };
+static_assert(sizeof(ScreenTriangle) == 64);
 
 // Index of tile pixel (lx, ly) in a TileTarget's arrays: blocks row by row, and inside a block its
 // 64 samples row by row, so a block is 64 consecutive values (one or a few vectors).
