@@ -251,7 +251,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       // (bx + i, by + j)), with their keys.
       uint64_t visible = 0;
       float keys[kRasterBlockSamples];
-      const int64_t s0 = edge[0].a * kSubPixelScale, s1 = edge[1].a * kSubPixelScale, s2 = edge[2].a * kSubPixelScale;
+      const int64_t s0 = edge[0].a * kSubPixelScale, s1 = edge[1].a * kSubPixelScale;
+      const int64_t s2 = edge[2].a * kSubPixelScale;
       for (int py = sy0; py <= sy1; ++py) {
         int64_t e0 = edgeAt(0, sx0, py), e1 = edgeAt(1, sx0, py), e2 = edgeAt(2, sx0, py);
         const int ly = py - tile.y0;
@@ -270,7 +271,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       if (alphaTested && visible != 0) visible = alphaTest.passes(alphaTest.context, t.triangle, bx, by, visible);
       for (; visible != 0; visible &= visible - 1) {
         const int sample = std::countr_zero(visible);
-        const int i = TilePixelIndex(bx - tile.x0 + sample % kRasterBlockSize, by - tile.y0 + sample / kRasterBlockSize);
+        const int i =
+            TilePixelIndex(bx - tile.x0 + sample % kRasterBlockSize, by - tile.y0 + sample / kRasterBlockSize);
         tile.depth[i] = keys[sample];
         if constexpr (kWriteTriangle) tile.triangle[i] = t.triangle;
       }

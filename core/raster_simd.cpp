@@ -2,11 +2,12 @@
 // samples of an 8x8 block (a tile stores its blocks' samples consecutively, so a block is a few
 // whole vectors). Per triangle and block, the edge functions at the block's corners (exact, 64-bit)
 // reject or accept the whole block, as in Abrash's "Rasterization on Larrabee"; in a block that an
-// edge crosses, the edge's values at the samples are the corner's plus a per-sample step that the
-// triangle's set-up computes once per tile, in 32-bit lanes (exact: a crossed block's values are
-// within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge is evaluated per
-// sample in 64 bits). Depth keys are computed, compared and written in vectors with the scalar
-// kernel's operations in its order (no fused multiply-add), so every target gives the scalar bytes
+// edge crosses, the edge's values at a vector's samples are its value at the vector's first sample
+// row plus per-lane steps set up once per triangle and tile, in 32-bit lanes (exact: a crossed
+// block's values are within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge
+// is evaluated per sample in 64 bits). Only the vectors of rows inside the triangle's bounds are
+// visited. Depth keys are computed, compared and written in vectors with the scalar kernel's
+// operations in its order (no fused multiply-add), so every target gives the scalar bytes
 // (tests/core/raster_simd_test.cpp checks each compiled target).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/raster_simd.cpp"
@@ -35,7 +36,8 @@ using DT = hn::Rebind<uint32_t, DS>;
 template <class T>
 constexpr std::array<T, kRasterBlockSamples> SampleOffsets(bool row) {
   std::array<T, kRasterBlockSamples> offsets{};
-  for (int k = 0; k < kRasterBlockSamples; ++k) offsets[size_t(k)] = T(row ? k / kRasterBlockSize : k % kRasterBlockSize);
+  for (int k = 0; k < kRasterBlockSamples; ++k)
+    offsets[size_t(k)] = T(row ? k / kRasterBlockSize : k % kRasterBlockSize);
   return offsets;
 }
 alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleX = SampleOffsets<int32_t>(false);

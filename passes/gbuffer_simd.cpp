@@ -107,7 +107,8 @@ TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* tr
   auto remaining = hn::AndNot(hn::Eq(triangle, hn::Set(du, next)), drawn);
   TriangleData data = BroadcastTriangle(in, next);
   for (int broadcast = 1; !hn::AllFalse(du, remaining); ++broadcast) {
-    if (broadcast == kMaxBroadcastTriangles) return GatherTriangles(in, hn::BitCast(di, hn::IfThenElseZero(drawn, triangle)));
+    if (broadcast == kMaxBroadcastTriangles)
+      return GatherTriangles(in, hn::BitCast(di, hn::IfThenElseZero(drawn, triangle)));
     next = triangles[hn::FindFirstTrue(du, remaining)];
     const auto covers = hn::Eq(triangle, hn::Set(du, next));
     remaining = hn::AndNot(covers, remaining);

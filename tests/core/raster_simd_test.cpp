@@ -22,7 +22,8 @@ struct RasterResult {
 };
 
 bool SameResult(const RasterResult& a, const RasterResult& b) {
-  const bool sameTriangles = a.visibility.triangle.xsize() == 0 || test::SameBytes(a.visibility.triangle, b.visibility.triangle);
+  const bool sameTriangles =
+      a.visibility.triangle.xsize() == 0 || test::SameBytes(a.visibility.triangle, b.visibility.triangle);
   return test::SameBytes(a.visibility.depthKey, b.visibility.depthKey) && sameTriangles &&
          test::SameBytes(a.coverage, b.coverage);
 }
@@ -135,7 +136,8 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
       positions.push_back({pixel.x + 0.5f - 0.5f * float(size.x), 0.5f * float(size.y) - pixel.y - 0.5f, 0.0f});
     }
     const ViewProjection view = MakeOrthographic({0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 1.0f, 0.0f},
-                                                 0.5f * float(size.x), 0.5f * float(size.y), 0.1f, 2.0f, size.x, size.y);
+                                                 0.5f * float(size.x), 0.5f * float(size.y), 0.1f, 2.0f, size.x,
+                                                 size.y);
     const RasterInput input{positions.data(), positions.size(), indices.data(), indices.size() / 3, nullptr, {}};
     const auto run = RunOf(input, view, RasterOutput::kVisibility);
     CAPTURE(size.x, size.y);
