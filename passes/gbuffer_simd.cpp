@@ -54,10 +54,11 @@ Vec3V<DF> GatherVec3(const float* table, hn::Vec<DI> vertex) {
           hn::GatherIndex(df, table + 2, first)};
 }
 
-// What the resolve reads of each lane's triangle: its material, and per vertex the view-space
-// position and the world-space normal.
+// What the resolve reads of each lane's triangle: its material's constant words (word 0, the
+// roughness byte of word 1, whether it is textured), and per vertex the view-space position and the
+// world-space normal.
 struct TriangleData {
-  hn::Vec<DI> material;
+  hn::Vec<DU> word0, roughnessBits, textured;
   Vec3V<DF> position[3], normal[3];
 };
 
@@ -65,7 +66,10 @@ TriangleData GatherTriangles(const GBufferResolveRowInputs& in, hn::Vec<DI> tria
   const DI di;
   const DU du;
   TriangleData data;
-  data.material = hn::BitCast(di, hn::GatherIndex(du, in.materials, triangle));
+  const auto material = hn::BitCast(di, hn::GatherIndex(du, in.materials, triangle));
+  data.word0 = hn::GatherIndex(du, in.constantWord0, material);
+  data.roughnessBits = hn::GatherIndex(du, in.constantRoughnessBits, material);
+  data.textured = hn::GatherIndex(du, in.textured, material);
   const auto firstIndex = hn::Mul(triangle, hn::Set(di, 3));
   for (int v = 0; v < 3; ++v) {
     const auto vertex = hn::BitCast(di, hn::GatherIndex(du, in.indices + v, firstIndex));
@@ -79,9 +83,12 @@ TriangleData GatherTriangles(const GBufferResolveRowInputs& in, hn::Vec<DI> tria
 // and broadcasts are far cheaper than gathers.
 TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
   const DF df;
-  const DI di;
+  const DU du;
   TriangleData data;
-  data.material = hn::Set(di, int32_t(in.materials[triangle]));
+  const uint32_t material = in.materials[triangle];
+  data.word0 = hn::Set(du, in.constantWord0[material]);
+  data.roughnessBits = hn::Set(du, in.constantRoughnessBits[material]);
+  data.textured = hn::Set(du, in.textured[material]);
   for (int v = 0; v < 3; ++v) {
     const size_t vertex = in.indices[3 * size_t(triangle) + size_t(v)];
     const float* position = in.viewPositions + 3 * vertex;
@@ -114,7 +121,9 @@ TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* tr
     remaining = hn::AndNot(covers, remaining);
     const TriangleData more = BroadcastTriangle(in, next);
     const auto lanes = hn::RebindMask(df, covers);
-    data.material = hn::IfThenElse(hn::RebindMask(di, covers), more.material, data.material);
+    data.word0 = hn::IfThenElse(covers, more.word0, data.word0);
+    data.roughnessBits = hn::IfThenElse(covers, more.roughnessBits, data.roughnessBits);
+    data.textured = hn::IfThenElse(covers, more.textured, data.textured);
     for (int v = 0; v < 3; ++v) {
       data.position[v] = IfThenElse3(lanes, more.position[v], data.position[v]);
       data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
@@ -149,7 +158,6 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     }
     covered += hn::CountTrue(du, drawn);
     const TriangleData data = LoadTriangles(in, triangles + x, triangle, drawn);
-    const auto material = data.material;
 
     // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
     // (Moller-Trumbore without the bounds test), clamped into the triangle.
@@ -190,13 +198,13 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
 
     const auto depthKey = LoadRow(df, depthKeys, x, count, 1.0f);
     const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
-    const auto words0 = hn::GatherIndex(du, in.constantWord0, material);
+    const auto words0 = data.word0;
     const auto words1 =
-        hn::Or(EncodeNormalV(df, unit, in.encoding), hn::GatherIndex(du, in.constantRoughnessBits, material));
+        hn::Or(EncodeNormalV(df, unit, in.encoding), data.roughnessBits);
     storeWords(hn::IfThenElseZero(drawn, words0), hn::IfThenElseZero(drawn, words1),
                hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
 
-    const auto texturedLanes = hn::And(hn::GatherIndex(du, in.textured, material), hn::VecFromMask(du, drawn));
+    const auto texturedLanes = hn::And(data.textured, hn::VecFromMask(du, drawn));
     if (hn::AllFalse(du, hn::Ne(texturedLanes, hn::Zero(du)))) continue;
     hn::Store(texturedLanes, du, textured);
     for (size_t lane = 0; lane < lanes && x + lane < count; ++lane) {
