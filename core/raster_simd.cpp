@@ -108,27 +108,34 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       const int lx = bx - tile.x0;
       // The edges that cross the block, with their values at its first sample; the samples of
       // an edge too long for 32 bits as 0 (inside) or -1 (outside).
+      // Without branches on the edges: which way a block goes is data, and mispredicted branches
+      // cost more than the tests.
       int crossing[3], crossingCount = 0;
-      int32_t cornerValue[3];
-      HWY_ALIGN int32_t outside[3][kRasterBlockSamples];
+      int64_t crossingCorner[3];
       bool reject = false;
       for (int e = 0; e < 3; ++e) {
         const int64_t corner = blockCorner[e];
         blockCorner[e] += blockStepX[e];
-        if (corner + highest[e] < 0) reject = true;
-        if (reject || corner + lowest[e] >= 0) continue;
-        if constexpr (kEdges32) {
-          cornerValue[crossingCount] = int32_t(corner);
-        } else {
-          for (int k = 0; k < kRasterBlockSamples; ++k) {
-            const int64_t value = corner + edge[e].a * kSampleX[size_t(k)] * kSubPixelScale +
-                                  edge[e].b * kSampleY[size_t(k)] * kSubPixelScale;
-            outside[crossingCount][k] = value >= 0 ? 0 : -1;
-          }
-        }
-        crossing[crossingCount++] = e;
+        reject |= corner + highest[e] < 0;
+        crossing[crossingCount] = e;
+        crossingCorner[crossingCount] = corner;
+        crossingCount += corner + lowest[e] < 0;
       }
       if (reject) continue;
+      int32_t cornerValue[3];
+      HWY_ALIGN int32_t outside[3][kRasterBlockSamples];
+      for (int c = 0; c < crossingCount; ++c) {
+        if constexpr (kEdges32) {
+          cornerValue[c] = int32_t(crossingCorner[c]);
+        } else {
+          const EdgeFunction& crossed = edge[crossing[c]];
+          for (int k = 0; k < kRasterBlockSamples; ++k) {
+            const int64_t value = crossingCorner[c] + crossed.a * kSampleX[size_t(k)] * kSubPixelScale +
+                                  crossed.b * kSampleY[size_t(k)] * kSubPixelScale;
+            outside[c][k] = value >= 0 ? 0 : -1;
+          }
+        }
+      }
       // Samples past the image's right or bottom edge are not the tile's.
       const bool clipped = lx + kRasterBlockSize > tile.width || ly + kRasterBlockSize > tile.height;
       const auto tileWidth = hn::Set(ds, tile.width - lx), tileHeight = hn::Set(ds, tile.height - ly);
@@ -168,7 +175,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
           const auto count = hn::Load(dt, coverage);
           hn::Store(hn::Sub(count, hn::BitCast(dt, hn::VecFromMask(ds, covered))), dt, coverage);
         }
-        if (hn::AllFalse(ds, covered)) continue;
+        // No test for a vector with nothing covered: it is rare outside the edges' blocks, and there
+        // unpredictable; its store writes back what it loaded.
         const auto key = hn::Add(kWholeBlockRows ? blockKeyOfColumns : keyOfColumns(k),
                                  hn::Mul(keyDy, hn::Add(lyV, hn::Load(dk, kSampleYf.data() + k))));
         const auto stored = hn::Load(dk, depth + k);
