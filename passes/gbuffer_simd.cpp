@@ -1,8 +1,9 @@
-// The Highway twin of GBufferResolveRowScalar (gbuffer.cpp): lanes are the pixels of the row. Per
-// pixel the triangle's vertices are gathered, the view ray's barycentrics on the triangle's plane
-// (SurfaceResolver::At, core/surface.cpp), the interpolated normal, its encoding and the depth are
-// computed with the scalar operations in their order through the core twins (core/*-inl.h), so
-// every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each compiled target).
+// The Highway twin of GBufferResolveRowScalar (gbuffer.cpp): lanes are the pixels of the row. Each
+// triangle of a vector is broadcast into its lanes, then per pixel the view ray's barycentrics on the
+// triangle's plane (SurfaceResolver::At, core/surface.cpp), the interpolated normal, its encoding
+// and the depth are computed with the scalar operations in their order through the core twins
+// (core/*-inl.h), so every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each
+// compiled target).
 // Pixels of textured materials are resolved by GBufferResolvePixelScalar, one at a time.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
@@ -45,15 +46,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace {
 
-// The x, y, z of vertices `vertex` (per lane) of a table of three floats per vertex.
-Vec3V<DF> GatherVec3(const float* table, hn::Vec<DI> vertex) {
-  const DF df;
-  const DI di;
-  const auto first = hn::Mul(vertex, hn::Set(di, 3));
-  return {hn::GatherIndex(df, table, first), hn::GatherIndex(df, table + 1, first),
-          hn::GatherIndex(df, table + 2, first)};
-}
-
 // What the resolve reads of each lane's triangle: its material's constant words (word 0, the
 // roughness byte of word 1, whether it is textured), and per vertex the view-space position and the
 // world-space normal.
@@ -62,25 +54,7 @@ struct TriangleData {
   Vec3V<DF> position[3], normal[3];
 };
 
-TriangleData GatherTriangles(const GBufferResolveRowInputs& in, hn::Vec<DI> triangle) {
-  const DI di;
-  const DU du;
-  TriangleData data;
-  const auto material = hn::BitCast(di, hn::GatherIndex(du, in.materials, triangle));
-  data.word0 = hn::GatherIndex(du, in.constantWord0, material);
-  data.roughnessBits = hn::GatherIndex(du, in.constantRoughnessBits, material);
-  data.textured = hn::GatherIndex(du, in.textured, material);
-  const auto firstIndex = hn::Mul(triangle, hn::Set(di, 3));
-  for (int v = 0; v < 3; ++v) {
-    const auto vertex = hn::BitCast(di, hn::GatherIndex(du, in.indices + v, firstIndex));
-    data.position[v] = GatherVec3(in.viewPositions, vertex);
-    data.normal[v] = GatherVec3(in.normals, vertex);
-  }
-  return data;
-}
-
-// The same for one triangle in every lane: most vectors of a row lie on one triangle, and loads
-// and broadcasts are far cheaper than gathers.
+// The data of one triangle in every lane.
 TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
   const DF df;
   const DU du;
@@ -99,23 +73,19 @@ TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t trian
   return data;
 }
 
-// A vector of a row meets few triangles, mostly one: up to kMaxBroadcastTriangles of them are
-// broadcast, each into the lanes it covers; a vector with more is gathered.
-constexpr int kMaxBroadcastTriangles = 4;
-
 // The triangle data of the lanes of `drawn` (`triangle` per lane, as in `triangles`); the other
-// lanes hold some lane's data, never stored.
+// lanes hold some lane's data, never stored. A vector of a row meets few triangles, mostly one, and
+// each is broadcast into the lanes it covers: even at about a triangle per lane (the 1M-triangle
+// knot) that is no slower than gathering 19 values per lane (BM_GBuffer, 1 thread, back to back with
+// gathers beyond 4, 8 or 16 triangles: 1M 80 / 80 / 69 ms, 100k 20.7 / 17.5 / 16.9 ms).
 TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                            hn::Mask<DU> drawn) {
   const DF df;
-  const DI di;
   const DU du;
   uint32_t next = triangles[hn::FindFirstTrue(du, drawn)];
   auto remaining = hn::AndNot(hn::Eq(triangle, hn::Set(du, next)), drawn);
   TriangleData data = BroadcastTriangle(in, next);
-  for (int broadcast = 1; !hn::AllFalse(du, remaining); ++broadcast) {
-    if (broadcast == kMaxBroadcastTriangles)
-      return GatherTriangles(in, hn::BitCast(di, hn::IfThenElseZero(drawn, triangle)));
+  while (!hn::AllFalse(du, remaining)) {
     next = triangles[hn::FindFirstTrue(du, remaining)];
     const auto covers = hn::Eq(triangle, hn::Set(du, next));
     remaining = hn::AndNot(covers, remaining);
