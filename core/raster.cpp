@@ -17,9 +17,14 @@ namespace ssgi {
 namespace {
 
 constexpr double kGuardBandPixels = 16384.0;
-// Triangles are set up and binned in fixed chunks; a tile reads the chunks' bins in chunk order,
-// which is submission order, whatever thread built each chunk.
-constexpr size_t kChunkTriangles = 8192;
+// Triangles are set up and binned in chunks; a tile reads the chunks' bins in chunk order, which is
+// submission order, whatever thread built each chunk. A chunk has kMaxChunkTriangles, fewer for
+// small meshes so that at least kMinChunks share the set-up between threads (with three chunks, two
+// threads wait on one); not fewer than kMinChunkTriangles, since each tile reads every chunk's
+// bins. The output does not depend on the chunk size.
+constexpr size_t kMaxChunkTriangles = 8192;
+constexpr size_t kMinChunkTriangles = 1024;
+constexpr size_t kMinChunks = 8;
 constexpr size_t kChunkVertices = 16384;
 constexpr int kMaxClippedVertices = 3 + 6;  // one more vertex per clip plane at most
 
@@ -326,11 +331,13 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     }
   });
 
-  std::vector<ChunkBins> chunks((input.triangleCount + kChunkTriangles - 1) / kChunkTriangles);
+  const size_t chunkTriangles =
+      std::clamp((input.triangleCount + kMinChunks - 1) / kMinChunks, kMinChunkTriangles, kMaxChunkTriangles);
+  std::vector<ChunkBins> chunks((input.triangleCount + chunkTriangles - 1) / chunkTriangles);
   ParallelFor("raster.setup_and_bin", chunks.size(), [&](size_t c) {
     ChunkBins& bins = chunks[c];
-    const size_t begin = c * kChunkTriangles;
-    const size_t end = std::min(input.triangleCount, begin + kChunkTriangles);
+    const size_t begin = c * chunkTriangles;
+    const size_t end = std::min(input.triangleCount, begin + chunkTriangles);
     bins.triangles.reserve(end - begin);
     for (size_t i = begin; i < end; ++i) {
       for (int k = 0; k < 3; ++k) SSGI_CHECK_LT(input.indices[3 * i + k], input.vertexCount);
