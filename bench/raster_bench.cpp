@@ -52,13 +52,18 @@ const BenchScene& KnotScene(int64_t triangles) {
   return unknown;
 }
 
+// range(0) of every benchmark here: 1 runs the raster's SIMD tile kernel, 0 its scalar definition.
+KernelPath Kernels(const benchmark::State& state) {
+  return state.range(0) ? KernelPath::kSimd : KernelPath::kScalar;
+}
+
 // Skips the benchmark (and returns false) when its scene or its memory mode is unavailable.
 bool Begin(benchmark::State& state, const BenchScene& bench) {
   if (!bench.error.empty()) {
     state.SkipWithError(bench.error.c_str());
     return false;
   }
-  if (!RetainFreedMemory(state.range(2) == 0)) {
+  if (!RetainFreedMemory(state.range(3) == 0)) {
     state.SkipWithError("cannot set the allocator's page reuse (glibc mallopt)");
     return false;
   }
@@ -76,31 +81,33 @@ void ReportCommon(benchmark::State& state, const Scene& scene) {
 // prepared once, outside the timed loop.
 void RasterizeOnly(benchmark::State& state, const BenchScene& bench) {
   if (!Begin(state, bench)) return;
-  const ThreadLimit threads(int(state.range(1)));
+  const ThreadLimit threads(int(state.range(2)));
   const Scene& scene = bench.scene;
   const ViewProjection view = MakePerspective(scene.camera, kSize, kSize);
   const SceneRasterInput input(scene, view, true);
   size_t binEntries = 0;
   for (auto _ : state) {
     VisibilityBuffer target = MakeVisibilityBuffer(kSize, kSize, RasterOutput::kVisibility);
-    binEntries = Rasterize(input.Get(), view, RasterOutput::kVisibility, target).binEntries;
+    binEntries = Rasterize(input.Get(), view, RasterOutput::kVisibility, target, nullptr, Kernels(state)).binEntries;
     benchmark::DoNotOptimize(target.depthKey.ConstRow(0));
   }
   ReportCommon(state, scene);
   state.counters["binEntries"] = double(binEntries);
 }
 
-// The whole G-buffer pass: RunGBuffer as the frame calls it, raster + resolve + packing.
+// The whole G-buffer pass: RunGBuffer as a renderer keeping its buffers calls it, raster + resolve
+// + packing into the G-buffer and visibility buffer of the previous iteration.
 void GBufferPass(benchmark::State& state, const BenchScene& bench) {
   if (!Begin(state, bench)) return;
-  const ThreadLimit threads(int(state.range(1)));
+  const ThreadLimit threads(int(state.range(2)));
   const Scene& scene = bench.scene;
   const ViewProjection view = MakePerspective(scene.camera, kSize, kSize);
   double rasterMs = 0.0, resolveMs = 0.0;
   size_t covered = 0;
+  GBufferOutputs out;  // kept from frame to frame, as a renderer keeps its G-buffer
   for (auto _ : state) {
-    GBufferOutputs out;
-    const GBufferStats stats = RunGBuffer({scene, view}, GBufferParams{}, out);
+    if (state.range(3) == 1) out = GBufferOutputs{};  // fresh pages: new buffers, as a one-frame run
+    const GBufferStats stats = RunGBuffer({scene, view}, GBufferParams{}, out, Kernels(state));
     rasterMs += stats.rasterMs;
     resolveMs += stats.resolveMs;
     covered = stats.coveredPixels;
@@ -112,10 +119,11 @@ void GBufferPass(benchmark::State& state, const BenchScene& bench) {
   state.counters["covered"] = double(covered) / double(kPixels);
 }
 
-// range(0): the scene (0 = default scene, else the knot's triangle count); range(1): threads
-// (0 = oneTBB's default, all cores); range(2): 1 = fresh pages every frame (UseFreshPages).
+// range(0): the kernel path (Kernels); range(1): the scene (0 = default scene, else the
+// knot's triangle count); range(2): threads (0 = oneTBB's default, all cores); range(3): 1 = fresh
+// pages every frame (UseFreshPages).
 const BenchScene& SceneFor(const benchmark::State& state) {
-  return state.range(0) == 0 ? DefaultBenchScene() : KnotScene(state.range(0));
+  return state.range(1) == 0 ? DefaultBenchScene() : KnotScene(state.range(1));
 }
 
 void BM_Rasterize(benchmark::State& state) { RasterizeOnly(state, SceneFor(state)); }
@@ -123,9 +131,9 @@ void BM_GBuffer(benchmark::State& state) { GBufferPass(state, SceneFor(state)); 
 
 void Configure(benchmark::internal::Benchmark* b) {
   const std::vector<int64_t> scenes = {0, 10000, 100000, 1000000};
-  b->ArgNames({"scene", "threads", "freshPages"})
-      ->ArgsProduct({scenes, {0, 1, 2}, {0}})
-      ->ArgsProduct({scenes, {0}, {1}})
+  b->ArgNames({"simd", "scene", "threads", "freshPages"})
+      ->ArgsProduct({{0, 1}, scenes, {0, 1, 2}, {0}})
+      ->ArgsProduct({{0, 1}, scenes, {0}, {1}})
       ->UseRealTime()
       ->Unit(benchmark::kMillisecond);
 }

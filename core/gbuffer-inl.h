@@ -1,4 +1,4 @@
-// Highway twins of the G-buffer's unpacking (core/gbuffer.h) for the passes' SIMD kernels: the same
+// Highway twins of the G-buffer's normal encoding and unpacking (core/gbuffer.h) for the passes' SIMD kernels: the same
 // operations in the same order as the scalar functions, so every target gives their bits (DESIGN.md
 // §11; tests/core/gbuffer_simd_test.cpp checks every code). Lanes are pixels.
 //
@@ -50,6 +50,39 @@ Vec3V<D> UnpackNormalV(D d, hn::Vec<hn::RebindToUnsigned<D>> word1, NormalEncodi
   }
   const auto length = hn::Sqrt(hn::Add(hn::Add(hn::Mul(n.x, n.x), hn::Mul(n.y, n.y)), hn::Mul(n.z, n.z)));
   return {hn::Div(n.x, length), hn::Div(n.y, length), hn::Div(n.z, length)};
+}
+
+// QuantizeSigned (core/gbuffer.cpp): value clamped to [-1, 1] (NaN to -1), then
+// uint((clamped * 0.5 + 0.5) * maxCode + 0.5).
+template <class D>
+hn::Vec<hn::RebindToUnsigned<D>> QuantizeSignedV(D d, hn::Vec<D> value, float maxCode) {
+  const hn::RebindToSigned<D> di;
+  const hn::RebindToUnsigned<D> du;
+  const auto one = hn::Set(d, 1.0f), minusOne = hn::Set(d, -1.0f), half = hn::Set(d, 0.5f);
+  const auto clamped =
+      hn::IfThenElse(hn::Gt(value, minusOne), hn::IfThenElse(hn::Gt(value, one), one, value), minusOne);
+  const auto scaled = hn::Add(hn::Mul(hn::Add(hn::Mul(clamped, half), half), hn::Set(d, maxCode)), half);
+  return hn::BitCast(du, hn::ConvertTo(di, scaled));
+}
+
+// EncodeNormal(n, encoding): the 24-bit code of a unit normal.
+template <class D>
+hn::Vec<hn::RebindToUnsigned<D>> EncodeNormalV(D d, const Vec3V<D>& n, NormalEncoding encoding) {
+  if (encoding == NormalEncoding::kXyz8) {
+    return hn::Or(hn::Or(QuantizeSignedV(d, n.x, 255.0f), hn::ShiftLeft<8>(QuantizeSignedV(d, n.y, 255.0f))),
+                  hn::ShiftLeft<16>(QuantizeSignedV(d, n.z, 255.0f)));
+  }
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  const auto l1 = hn::Add(hn::Add(hn::Abs(n.x), hn::Abs(n.y)), hn::Abs(n.z));
+  auto u = hn::Div(n.x, l1);
+  auto v = hn::Div(n.y, l1);
+  // The lower hemisphere folds over the diagonals; SignNotZero(t) = t >= 0 ? 1 : -1.
+  const auto foldedU = hn::Mul(hn::Sub(one, hn::Abs(v)), hn::IfThenElse(hn::Ge(u, zero), one, hn::Neg(one)));
+  const auto foldedV = hn::Mul(hn::Sub(one, hn::Abs(u)), hn::IfThenElse(hn::Ge(v, zero), one, hn::Neg(one)));
+  const auto lower = hn::Lt(n.z, zero);
+  u = hn::IfThenElse(lower, foldedU, u);
+  v = hn::IfThenElse(lower, foldedV, v);
+  return hn::Or(QuantizeSignedV(d, u, 4095.0f), hn::ShiftLeft<12>(QuantizeSignedV(d, v, 4095.0f)));
 }
 
 // UnpackAlbedo: the linear value of each 8-bit sRGB code, gathered from `srgbDecodeTable`

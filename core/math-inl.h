@@ -115,6 +115,19 @@ Vec3V<D> Normalize3(D d, const Vec3V<D>& v) {
   return Scale3(v, hn::Div(hn::Set(d, 1.0f), Length3(v)));
 }
 
+// glm::cross(a, b): (a.y b.z - b.y a.z, a.z b.x - b.z a.x, a.x b.y - b.x a.y).
+template <class D>
+Vec3V<D> Cross3(const Vec3V<D>& a, const Vec3V<D>& b) {
+  return {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(b.y, a.z)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(b.z, a.x)),
+          hn::Sub(hn::Mul(a.x, b.y), hn::Mul(b.x, a.y))};
+}
+
+// glm's mat3 * vec3: row r is (m[0][r] v.x + m[1][r] v.y) + m[2][r] v.z.
+template <class D>
+Vec3V<D> MulMat3(D d, const glm::mat3& m, const Vec3V<D>& v) {
+  return Add3(Add3(Scale3(Set3(d, m[0]), v.x), Scale3(Set3(d, m[1]), v.y)), Scale3(Set3(d, m[2]), v.z));
+}
+
 // glm::mix(x, y, a) with a scalar a per pixel.
 template <class D>
 Vec3V<D> Mix3(D d, const Vec3V<D>& x, const Vec3V<D>& y, hn::Vec<D> a) {

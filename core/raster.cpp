@@ -2,40 +2,31 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <memory>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "core/check.h"
 #include "core/parallel.h"
+#include "core/raster_tile.h"
 
 namespace ssgi {
 namespace {
 
-constexpr int kSubPixelBits = 8;
-constexpr int64_t kSubPixelScale = 1 << kSubPixelBits;
-constexpr int64_t kHalfPixel = kSubPixelScale / 2;
 constexpr double kGuardBandPixels = 16384.0;
-constexpr int kBlockSize = 8;
-// Triangles are set up and binned in fixed chunks; a tile reads the chunks' bins in chunk order,
-// which is submission order, whatever thread built each chunk.
-constexpr size_t kChunkTriangles = 8192;
+// Triangles are set up and binned in chunks; a tile reads the chunks' bins in chunk order, which is
+// submission order, whatever thread built each chunk. A chunk has kMaxChunkTriangles, fewer for
+// small meshes so that at least kMinChunks share the set-up between threads (with three chunks, two
+// threads wait on one); not fewer than kMinChunkTriangles, since each tile reads every chunk's
+// bins. The output does not depend on the chunk size.
+constexpr size_t kMaxChunkTriangles = 8192;
+constexpr size_t kMinChunkTriangles = 1024;
+constexpr size_t kMinChunks = 8;
 constexpr size_t kChunkVertices = 16384;
 constexpr int kMaxClippedVertices = 3 + 6;  // one more vertex per clip plane at most
-
-struct EdgeFunction {
-  // E(sx, sy) = a * sx + b * sy + c over fixed-point sample positions; c carries the fill-rule bias,
-  // so a sample is inside exactly when E >= 0.
-  int64_t a, b, c;
-};
-
-struct ScreenTriangle {
-  EdgeFunction edge[3];
-  int32_t minX, minY, maxX, maxY;  // inclusive pixel bounds, clipped to the image
-  // Depth key at pixel centre (px + 0.5, py + 0.5) is keyAtOrigin + keyDx * px + keyDy * py.
-  double keyAtOrigin, keyDx, keyDy;
-  uint32_t triangle;
-  uint8_t flags;
-};
 
 struct ChunkBins {
   std::vector<ScreenTriangle> triangles;
@@ -151,14 +142,6 @@ class Setup {
     return {RoundHalfAway(sx * double(kSubPixelScale)), RoundHalfAway(sy * double(kSubPixelScale)), v.z * invW};
   }
 
-  static EdgeFunction Edge(const Snapped& from, const Snapped& to) {
-    // E(P) = (to - from) x (P - from), positive inside a triangle with positive area.
-    const int64_t dx = to.x - from.x;
-    const int64_t dy = to.y - from.y;
-    const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
-    return {-dy, dx, dy * from.x - dx * from.y - (topLeft ? 0 : 1)};
-  }
-
   bool Emit(const Snapped& s0, const Snapped& s1, const Snapped& s2, uint32_t triangle, uint8_t flags,
             ChunkBins& bins) const {
     Snapped v[3] = {s0, s1, s2};
@@ -177,14 +160,25 @@ class Setup {
     const int64_t minSy = std::min({v[0].y, v[1].y, v[2].y});
     const int64_t maxSy = std::max({v[0].y, v[1].y, v[2].y});
     // Pixels whose centre sample px * 256 + 128 lies inside the snapped bounds.
-    t.minX = int32_t(std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale)));
-    t.maxX = int32_t(std::min<int64_t>(width_ - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale)));
-    t.minY = int32_t(std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale)));
-    t.maxY = int32_t(std::min<int64_t>(height_ - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale)));
-    if (t.minX > t.maxX || t.minY > t.maxY) return false;
-    t.edge[0] = Edge(v[1], v[2]);
-    t.edge[1] = Edge(v[2], v[0]);
-    t.edge[2] = Edge(v[0], v[1]);
+    const int64_t minX = std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
+    const int64_t maxX = std::min<int64_t>(width_ - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale));
+    const int64_t minY = std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
+    const int64_t maxY = std::min<int64_t>(height_ - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale));
+    if (minX > maxX || minY > maxY) return false;
+    t.minX = int16_t(minX);
+    t.maxX = int16_t(maxX);
+    t.minY = int16_t(minY);
+    t.maxY = int16_t(maxY);
+    // Inside the guard band |x|, |y| < 3 * 16384 * 256 (2^23.6): the vertices fit 32 bits.
+    for (int i = 0; i < 3; ++i) {
+      t.x[i] = int32_t(v[i].x);
+      t.y[i] = int32_t(v[i].y);
+    }
+    t.edgesFit32Bits = true;
+    for (int e = 0; e < 3; ++e) {
+      const EdgeFunction edge = t.Edge(e);
+      t.edgesFit32Bits = t.edgesFit32Bits && std::abs(edge.a) + std::abs(edge.b) <= kMaxEdgeSlopeFor32Bits;
+    }
     // The depth key's plane in pixel units, through the snapped vertices: linear in screen space.
     const double x10 = double(v[1].x - v[0].x) / kSubPixelScale, y10 = double(v[1].y - v[0].y) / kSubPixelScale;
     const double x20 = double(v[2].x - v[0].x) / kSubPixelScale, y20 = double(v[2].y - v[0].y) / kSubPixelScale;
@@ -224,65 +218,90 @@ class Setup {
   }
 };
 
-struct TileTarget {
-  int x0, y0, width, height;  // the tile's pixels in the image
-  float depth[kRasterTileSize * kRasterTileSize];
-  uint32_t triangle[kRasterTileSize * kRasterTileSize];
-  uint32_t coverage[kRasterTileSize * kRasterTileSize];
-};
-
 template <bool kWriteTriangle, bool kCountCoverage>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  const int x0 = std::max(t.minX, tile.x0), x1 = std::min(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max(t.minY, tile.y0), y1 = std::min(t.maxY, tile.y0 + tile.height - 1);
+  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
   if (x0 > x1 || y0 > y1) return;
   const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
   // Depth plane relative to the tile origin keeps the float evaluation's cancellation small.
   const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
   const float keyDx = float(t.keyDx), keyDy = float(t.keyDy);
-
+  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
   auto edgeAt = [&](int e, int px, int py) {
-    return t.edge[e].a * (px * kSubPixelScale + kHalfPixel) + t.edge[e].b * (py * kSubPixelScale + kHalfPixel) + t.edge[e].c;
-  };
-  auto shadeSpan = [&](int px0, int px1, int py, bool inside) {
-    int64_t e0 = edgeAt(0, px0, py), e1 = edgeAt(1, px0, py), e2 = edgeAt(2, px0, py);
-    const int64_t s0 = t.edge[0].a * kSubPixelScale, s1 = t.edge[1].a * kSubPixelScale, s2 = t.edge[2].a * kSubPixelScale;
-    const int ly = py - tile.y0;
-    for (int px = px0; px <= px1; ++px, e0 += s0, e1 += s1, e2 += s2) {
-      if (!inside && (e0 | e1 | e2) < 0) continue;
-      const int lx = px - tile.x0;
-      const int i = ly * kRasterTileSize + lx;
-      if constexpr (kCountCoverage) ++tile.coverage[i];
-      const float key = keyBase + keyDx * float(lx) + keyDy * float(ly);
-      if (!(key > tile.depth[i])) continue;
-      if (alphaTested && !alphaTest.passes(alphaTest.context, t.triangle, px, py)) continue;
-      tile.depth[i] = key;
-      if constexpr (kWriteTriangle) tile.triangle[i] = t.triangle;
-    }
+    return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
   };
 
-  // Hierarchical test on 8x8 blocks: an edge's extremes over a block are at two of its corners.
-  for (int by = y0; by <= y1; by += kBlockSize - (by - tile.y0) % kBlockSize) {
-    const int byEnd = std::min(y1, by - (by - tile.y0) % kBlockSize + kBlockSize - 1);
-    for (int bx = x0; bx <= x1; bx += kBlockSize - (bx - tile.x0) % kBlockSize) {
-      const int bxEnd = std::min(x1, bx - (bx - tile.x0) % kBlockSize + kBlockSize - 1);
+  // Hierarchical test on the tile's 8x8 blocks: an edge's extremes over the samples of a block
+  // inside the bounds [x0, x1] x [y0, y1] are at two of their corners.
+  const int firstBlockX = tile.x0 + (x0 - tile.x0) / kRasterBlockSize * kRasterBlockSize;
+  const int firstBlockY = tile.y0 + (y0 - tile.y0) / kRasterBlockSize * kRasterBlockSize;
+  for (int by = firstBlockY; by <= y1; by += kRasterBlockSize) {
+    const int sy0 = std::max(by, y0), sy1 = std::min(by + kRasterBlockSize - 1, y1);
+    for (int bx = firstBlockX; bx <= x1; bx += kRasterBlockSize) {
+      const int sx0 = std::max(bx, x0), sx1 = std::min(bx + kRasterBlockSize - 1, x1);
       bool reject = false, accept = true;
       for (int e = 0; e < 3; ++e) {
-        const int64_t corner = edgeAt(e, bx, by);
-        const int64_t spanX = t.edge[e].a * int64_t(bxEnd - bx) * kSubPixelScale;
-        const int64_t spanY = t.edge[e].b * int64_t(byEnd - by) * kSubPixelScale;
+        const int64_t corner = edgeAt(e, sx0, sy0);
+        const int64_t spanX = edge[e].a * int64_t(sx1 - sx0) * kSubPixelScale;
+        const int64_t spanY = edge[e].b * int64_t(sy1 - sy0) * kSubPixelScale;
         const int64_t lo = corner + std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
         const int64_t hi = corner + std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
         reject = reject || hi < 0;
         accept = accept && lo >= 0;
       }
       if (reject) continue;
-      for (int py = by; py <= byEnd; ++py) shadeSpan(bx, bxEnd, py, accept);
+
+      // The block's samples that are covered and pass the depth test (bit 8 j + i: pixel
+      // (bx + i, by + j)), with their keys.
+      uint64_t visible = 0;
+      float keys[kRasterBlockSamples];
+      const int64_t s0 = edge[0].a * kSubPixelScale, s1 = edge[1].a * kSubPixelScale;
+      const int64_t s2 = edge[2].a * kSubPixelScale;
+      for (int py = sy0; py <= sy1; ++py) {
+        int64_t e0 = edgeAt(0, sx0, py), e1 = edgeAt(1, sx0, py), e2 = edgeAt(2, sx0, py);
+        const int ly = py - tile.y0;
+        for (int px = sx0; px <= sx1; ++px, e0 += s0, e1 += s1, e2 += s2) {
+          if (!accept && (e0 | e1 | e2) < 0) continue;
+          const int lx = px - tile.x0;
+          const int i = TilePixelIndex(lx, ly);
+          if constexpr (kCountCoverage) ++tile.coverage[i];
+          const float key = keyBase + keyDx * float(lx) + keyDy * float(ly);
+          if (!(key > tile.depth[i])) continue;
+          const int sample = (py - by) * kRasterBlockSize + (px - bx);
+          visible |= uint64_t(1) << sample;
+          keys[sample] = key;
+        }
+      }
+      if (alphaTested && visible != 0) visible = alphaTest.passes(alphaTest.context, t.triangle, bx, by, visible);
+      for (; visible != 0; visible &= visible - 1) {
+        const int sample = std::countr_zero(visible);
+        const int i =
+            TilePixelIndex(bx - tile.x0 + sample % kRasterBlockSize, by - tile.y0 + sample / kRasterBlockSize);
+        tile.depth[i] = keys[sample];
+        if constexpr (kWriteTriangle) tile.triangle[i] = t.triangle;
+      }
     }
   }
 }
 
 }  // namespace
+
+void CopyTileOutScalar(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
+  for (int y = 0; y < tile.height; ++y) {
+    uint8_t* row = firstPixel + size_t(y) * rowBytes;
+    for (int x = 0; x < tile.width; x += kRasterBlockSize) {
+      const size_t count = size_t(std::min(kRasterBlockSize, tile.width - x));
+      std::memcpy(row + size_t(x) * sizeof(uint32_t), values + TilePixelIndex(x, y), count * sizeof(uint32_t));
+    }
+  }
+}
+
+void RasterizeTileScalar(const TileTriangles& batch, TileTarget& tile) {
+  ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
+    RasterizeInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile);
+  });
+}
 
 VisibilityBuffer MakeVisibilityBuffer(int width, int height, RasterOutput output) {
   VisibilityBuffer buffer;
@@ -292,7 +311,7 @@ VisibilityBuffer MakeVisibilityBuffer(int width, int height, RasterOutput output
 }
 
 RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, RasterOutput output,
-                      VisibilityBuffer& target, Plane<uint32_t>* coverageCount) {
+                      VisibilityBuffer& target, Plane<uint32_t>* coverageCount, KernelPath kernels) {
   SSGI_CHECK_EQ(int(target.depthKey.xsize()), view.width);
   SSGI_CHECK_EQ(int(target.depthKey.ysize()), view.height);
   const bool writeTriangle = output == RasterOutput::kVisibility;
@@ -301,8 +320,9 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
   const int tilesX = (view.width + kRasterTileSize - 1) / kRasterTileSize;
   const int tilesY = (view.height + kRasterTileSize - 1) / kRasterTileSize;
   const Setup setup(view, tilesX, tilesY);
-  std::vector<glm::vec4> clip(input.vertexCount);
-  std::vector<ProjectedVertex> projected(input.vertexCount);
+  // Written in full below: not zeroed first (24 MB a frame for a million-triangle mesh).
+  const auto clip = std::make_unique_for_overwrite<glm::vec4[]>(input.vertexCount);
+  const auto projected = std::make_unique_for_overwrite<ProjectedVertex[]>(input.vertexCount);
   ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
     const size_t end = std::min(input.vertexCount, (chunk + 1) * kChunkVertices);
     for (size_t i = chunk * kChunkVertices; i < end; ++i) {
@@ -311,49 +331,51 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     }
   });
 
-  std::vector<ChunkBins> chunks((input.triangleCount + kChunkTriangles - 1) / kChunkTriangles);
+  const size_t chunkTriangles =
+      std::clamp((input.triangleCount + kMinChunks - 1) / kMinChunks, kMinChunkTriangles, kMaxChunkTriangles);
+  std::vector<ChunkBins> chunks((input.triangleCount + chunkTriangles - 1) / chunkTriangles);
   ParallelFor("raster.setup_and_bin", chunks.size(), [&](size_t c) {
     ChunkBins& bins = chunks[c];
-    const size_t begin = c * kChunkTriangles;
-    const size_t end = std::min(input.triangleCount, begin + kChunkTriangles);
+    const size_t begin = c * chunkTriangles;
+    const size_t end = std::min(input.triangleCount, begin + chunkTriangles);
     bins.triangles.reserve(end - begin);
     for (size_t i = begin; i < end; ++i) {
       for (int k = 0; k < 3; ++k) SSGI_CHECK_LT(input.indices[3 * i + k], input.vertexCount);
       const uint8_t flags = input.triangleFlags ? input.triangleFlags[i] : uint8_t(0);
-      setup.Triangle(clip.data(), projected.data(), input.indices + 3 * i, uint32_t(i), flags, bins);
+      setup.Triangle(clip.get(), projected.get(), input.indices + 3 * i, uint32_t(i), flags, bins);
     }
     setup.Bin(bins);
   });
 
+  const auto rasterizeTile = kernels == KernelPath::kSimd ? RasterizeTileSimd : RasterizeTileScalar;
+  const auto copyTileOut = kernels == KernelPath::kSimd ? CopyTileOutSimd : CopyTileOutScalar;
   ParallelFor("raster.tiles", size_t(tilesX) * size_t(tilesY), [&](size_t tileIndex) {
-    auto tile = std::make_unique<TileTarget>();
+    // Filled below with what this output needs: the other arrays are never read.
+    auto tile = std::make_unique_for_overwrite<TileTarget>();
     tile->x0 = int(tileIndex % tilesX) * kRasterTileSize;
     tile->y0 = int(tileIndex / tilesX) * kRasterTileSize;
     tile->width = std::min(kRasterTileSize, view.width - tile->x0);
     tile->height = std::min(kRasterTileSize, view.height - tile->y0);
     std::fill(std::begin(tile->depth), std::end(tile->depth), 0.0f);
-    std::fill(std::begin(tile->triangle), std::end(tile->triangle), kNoTriangle);
-    std::fill(std::begin(tile->coverage), std::end(tile->coverage), 0u);
+    if (writeTriangle) std::fill(std::begin(tile->triangle), std::end(tile->triangle), kNoTriangle);
+    if (coverageCount) std::fill(std::begin(tile->coverage), std::end(tile->coverage), 0u);
     for (const ChunkBins& bins : chunks) {
-      for (uint32_t e = bins.tileStart[tileIndex]; e < bins.tileStart[tileIndex + 1]; ++e) {
-        const ScreenTriangle& t = bins.triangles[bins.entries[e]];
-        if (coverageCount) {
-          RasterizeInTile<true, true>(t, input.alphaTest, *tile);
-        } else if (writeTriangle) {
-          RasterizeInTile<true, false>(t, input.alphaTest, *tile);
-        } else {
-          RasterizeInTile<false, false>(t, input.alphaTest, *tile);
-        }
-      }
+      const uint32_t begin = bins.tileStart[tileIndex], end = bins.tileStart[tileIndex + 1];
+      if (begin == end) continue;
+      const TileTriangles batch{bins.triangles.data(), bins.entries.data() + begin, end - begin, &input.alphaTest,
+                                writeTriangle, coverageCount != nullptr};
+      rasterizeTile(batch, *tile);
     }
-    for (int y = 0; y < tile->height; ++y) {
-      const int row = tile->y0 + y;
-      std::copy_n(tile->depth + y * kRasterTileSize, tile->width, target.depthKey.MutableRow(row) + tile->x0);
-      if (writeTriangle)
-        std::copy_n(tile->triangle + y * kRasterTileSize, tile->width, target.triangle.MutableRow(row) + tile->x0);
-      if (coverageCount) {
-        uint32_t* out = coverageCount->MutableRow(row) + tile->x0;
-        for (int x = 0; x < tile->width; ++x) out[x] += tile->coverage[y * kRasterTileSize + x];
+    const auto copyOut = [&](const void* values, auto& image) {
+      copyTileOut(*tile, static_cast<const uint32_t*>(values),
+                  reinterpret_cast<uint8_t*>(image.MutableRow(size_t(tile->y0)) + tile->x0), image.bytes_per_row());
+    };
+    copyOut(tile->depth, target.depthKey);
+    if (writeTriangle) copyOut(tile->triangle, target.triangle);
+    if (coverageCount) {
+      for (int y = 0; y < tile->height; ++y) {
+        uint32_t* out = coverageCount->MutableRow(size_t(tile->y0 + y)) + tile->x0;
+        for (int x = 0; x < tile->width; ++x) out[x] += tile->coverage[TilePixelIndex(x, y)];
       }
     }
   });

@@ -17,7 +17,8 @@
 //  - the depth key z_clip / w is interpolated linearly in screen space (exact for both projections)
 //    and tested with GREATER against a buffer cleared to 0; ties keep the earlier triangle;
 //  - triangles are binned into 64x64 tiles; each tile is rasterized by one thread in submission
-//    order, so the output does not depend on the thread count.
+//    order, so the output does not depend on the thread count; inside a tile, 8x8 blocks are
+//    trivially rejected or accepted before samples are tested.
 #pragma once
 
 #include <cstddef>
@@ -26,22 +27,26 @@
 #include <glm/glm.hpp>
 
 #include "core/camera.h"
+#include "core/kernel_path.h"
 #include "core/plane.h"
 
 namespace ssgi {
 
 inline constexpr uint32_t kNoTriangle = 0xFFFFFFFFu;
 inline constexpr int kRasterTileSize = 64;
+inline constexpr int kRasterBlockSize = 8;  // tiles are tested in blocks of 8x8 samples
 
 enum TriangleFlags : uint8_t {
   kTriangleCullBackFace = 1u << 0,
   kTriangleAlphaTested = 1u << 1,  // the alpha test is asked before a sample is written
 };
 
-// Asked for each sample of an alpha-tested triangle that passes the depth test: false discards it.
-// (px, py) is the pixel; `context` is AlphaTest::context.
+// Asked once per block of an alpha-tested triangle, for the block's samples that the triangle covers
+// and that pass the depth test: bit kRasterBlockSize j + i of `samples` is pixel (x0 + i, y0 + j). Returns
+// the subset that passes the alpha test; the others are discarded. `context` is AlphaTest::context.
+// One call per block rather than per sample keeps the function pointer out of the sample loop.
 struct AlphaTest {
-  bool (*passes)(const void* context, uint32_t triangle, int px, int py) = nullptr;
+  uint64_t (*passes)(const void* context, uint32_t triangle, int x0, int y0, uint64_t samples) = nullptr;
   const void* context = nullptr;
 };
 
@@ -74,10 +79,13 @@ enum class RasterOutput {
 
 VisibilityBuffer MakeVisibilityBuffer(int width, int height, RasterOutput output);
 
-// Rasterizes every triangle into `target`, which must be cleared by MakeVisibilityBuffer and have
-// the size of `view`. If `coverageCount` is not null (same size, zeroed), every covered sample adds
-// one to it before the depth test: a watertight mesh tiling the screen gives 1 everywhere.
+// Rasterizes every triangle into `target` (made by MakeVisibilityBuffer with the size of `view` and
+// `output`), overwriting every pixel: a target kept from an earlier frame needs no clearing. If
+// `coverageCount` is not null (same size, zeroed), every covered sample adds one to it before the
+// depth test: a watertight mesh tiling the screen gives 1 everywhere. `kernels` picks the tile
+// kernel (core/raster_tile.h); both give the same bytes.
 RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, RasterOutput output,
-                      VisibilityBuffer& target, Plane<uint32_t>* coverageCount = nullptr);
+                      VisibilityBuffer& target, Plane<uint32_t>* coverageCount = nullptr,
+                      KernelPath kernels = KernelPath::kSimd);
 
 }  // namespace ssgi

@@ -1,5 +1,6 @@
 #include "core/scene_raster_input.h"
 
+#include <bit>
 #include <vector>
 
 #include "core/texture.h"
@@ -17,12 +18,20 @@ struct AlphaTestContext {
   const SurfaceResolver* resolver;
 };
 
-bool PassesAlphaTest(const void* context, uint32_t triangle, int px, int py) {
+// AlphaTest::passes: the samples of the block whose alpha reaches the material's cut-off.
+uint64_t PassesAlphaTest(const void* context, uint32_t triangle, int x0, int y0, uint64_t samples) {
   const auto& ctx = *static_cast<const AlphaTestContext*>(context);
   const Material& material = ctx.scene->materials[ctx.scene->mesh.materials[triangle]];
   const Texture& texture = ctx.scene->textures[material.alphaTexture];
-  const SurfacePoint s = ctx.resolver->At(triangle, px, py, true);
-  return AlphaChannel(texture, SampleTexture(texture, s.uv, s.uvFootprint)) >= material.alphaCutoff;
+  uint64_t passed = 0;
+  for (uint64_t rest = samples; rest != 0; rest &= rest - 1) {
+    const int sample = std::countr_zero(rest);
+    const SurfacePoint s =
+        ctx.resolver->At(triangle, x0 + sample % kRasterBlockSize, y0 + sample / kRasterBlockSize, true);
+    if (AlphaChannel(texture, SampleTexture(texture, s.uv, s.uvFootprint)) >= material.alphaCutoff)
+      passed |= rest & -rest;
+  }
+  return passed;
 }
 
 }  // namespace

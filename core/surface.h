@@ -29,6 +29,7 @@ class SurfaceResolver {
   SurfaceResolver(const Scene& scene, const ViewProjection& view);
 
   const glm::vec3& ViewPosition(uint32_t vertex) const { return viewPositions_[vertex]; }
+  const glm::vec3* ViewPositions() const { return viewPositions_.data(); }
 
   // The surface point of `triangle` under the centre of pixel (px, py), which the triangle covers.
   // uvFootprint is 0 unless `withFootprint` (texture lookups need it, untextured shading does not).

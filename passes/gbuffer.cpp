@@ -1,64 +1,76 @@
 #include "passes/gbuffer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "core/check.h"
+#include "core/color.h"
 #include "core/parallel.h"
 #include "core/scene_raster_input.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {
 
+void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
+                               uint32_t& word0, uint32_t& word1, uint32_t& word2) {
+  const Scene& scene = context.scene;
+  const SurfaceResolver& resolver = context.resolver;
+  const uint32_t materialIndex = scene.mesh.materials[triangle];
+  const Material& material = scene.materials[materialIndex];
+  const SurfacePoint s = resolver.At(triangle, x, y, context.textured[materialIndex] != 0);
+  const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
+  const std::vector<glm::vec3>& normals = scene.mesh.normals;
+  glm::vec3 normal = context.normalToView * (normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y +
+                                             normals[idx[2]] * s.weights.z);
+  const float length = glm::length(normal);
+  const glm::vec3& p0 = resolver.ViewPosition(idx[0]);
+  const glm::vec3 faceNormal = glm::cross(resolver.ViewPosition(idx[1]) - p0, resolver.ViewPosition(idx[2]) - p0);
+  normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::normalize(faceNormal);
+  // A two-sided surface seen from behind shades with the side that faces the camera.
+  const glm::vec3 toPoint = context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
+  if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
+
+  if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
+    word0 = context.constantWord0[materialIndex];
+  } else {
+    glm::vec3 albedo = material.baseColor;
+    float metallic = material.metallic;
+    if (material.baseColorTexture != kNoTexture)
+      albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
+    if (material.metallicTexture != kNoTexture)
+      metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
+    word0 = PackAlbedoMetallic(albedo, metallic);
+  }
+  if (material.roughnessTexture == kNoTexture) {
+    word1 = EncodeNormal(normal, context.normalEncoding) | context.constantRoughnessBits[materialIndex];
+  } else {
+    const float roughness =
+        material.roughness * SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
+    word1 = PackNormalRoughness(normal, roughness, context.normalEncoding);
+  }
+  word2 = PackDepth(context.view.DepthFromKey(depthKey));
+}
+
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
                                uint32_t* word2) {
-  const Scene& scene = context.scene;
-  const SurfaceResolver& resolver = context.resolver;
   size_t covered = 0;
   for (int x = 0; x < width; ++x) {
-    const uint32_t triangle = triangles[x];
-    if (triangle == kNoTriangle) continue;
-    ++covered;
-    const uint32_t materialIndex = scene.mesh.materials[triangle];
-    const Material& material = scene.materials[materialIndex];
-    const bool textured = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
-                          material.roughnessTexture != kNoTexture;
-    const SurfacePoint s = resolver.At(triangle, x, y, textured);
-    const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
-    const std::vector<glm::vec3>& normals = scene.mesh.normals;
-    glm::vec3 normal = context.normalToView * (normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y +
-                                               normals[idx[2]] * s.weights.z);
-    const float length = glm::length(normal);
-    const glm::vec3& p0 = resolver.ViewPosition(idx[0]);
-    const glm::vec3 faceNormal = glm::cross(resolver.ViewPosition(idx[1]) - p0, resolver.ViewPosition(idx[2]) - p0);
-    normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::normalize(faceNormal);
-    // A two-sided surface seen from behind shades with the side that faces the camera.
-    const glm::vec3 toPoint = context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
-    if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
-
-    if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
-      word0[x] = context.constantWord0[materialIndex];
-    } else {
-      glm::vec3 albedo = material.baseColor;
-      float metallic = material.metallic;
-      if (material.baseColorTexture != kNoTexture)
-        albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
-      if (material.metallicTexture != kNoTexture)
-        metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
-      word0[x] = PackAlbedoMetallic(albedo, metallic);
+    if (triangles[x] == kNoTriangle) {
+      word0[x] = 0u;
+      word1[x] = 0u;
+      word2[x] = PackDepth(kBackgroundDepth);
+      continue;
     }
-    float roughness = material.roughness;
-    if (material.roughnessTexture != kNoTexture)
-      roughness *= SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
-
-    word1[x] = PackNormalRoughness(normal, roughness, context.normalEncoding);
-    word2[x] = PackDepth(context.view.DepthFromKey(depthKeys[x]));
+    ++covered;
+    GBufferResolvePixelScalar(context, triangles[x], depthKeys[x], x, y, word0[x], word1[x], word2[x]);
   }
   return covered;
 }
 
-GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out) {
+GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out,
+                        KernelPath kernels) {
   const Scene& scene = in.scene;
   const ViewProjection& view = in.view;
   SSGI_CHECK(!view.orthographic);
@@ -66,24 +78,45 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
 
   Stopwatch stopwatch;
   const SceneRasterInput raster(scene, view, true);
-  out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
-  stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility);
+  // Buffers of the right size from an earlier frame are reused: the raster and the resolve write
+  // every pixel of the visibility buffer and of words 0-2, so only word 3 needs resetting.
+  const size_t width = size_t(view.width), height = size_t(view.height);
+  if (out.visibility.triangle.xsize() != width || out.visibility.triangle.ysize() != height)
+    out.visibility = MakeVisibilityBuffer(view.width, view.height, RasterOutput::kVisibility);
+  stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility, nullptr, kernels);
   stats.rasterMs = stopwatch.Lap();
 
-  out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
-  // Word 0 of a material without colour or metallic textures is the same at every pixel.
-  std::vector<uint32_t> constantWord0(scene.materials.size());
-  for (size_t m = 0; m < scene.materials.size(); ++m)
-    constantWord0[m] = PackAlbedoMetallic(scene.materials[m].baseColor, scene.materials[m].metallic);
+  if (out.gbuffer.width() == view.width && out.gbuffer.height() == view.height) {
+    out.gbuffer.normalEncoding = params.normalEncoding;
+    Plane<uint32_t>& word3 = out.gbuffer.word[3];
+    ParallelForRowBands("gbuffer.reset_word3", height, [&](size_t, size_t yBegin, size_t yEnd) {
+      for (size_t y = yBegin; y < yEnd; ++y) std::fill_n(word3.MutableRow(y), width, kShadowLit);
+    });
+  } else {
+    out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
+  }
+  // Word 0 of a material without colour or metallic textures is the same at every pixel, and so is
+  // the roughness byte of word 1 without a roughness texture.
+  const size_t materials = scene.materials.size();
+  std::vector<uint32_t> constantWord0(materials), constantRoughnessBits(materials);
+  std::vector<uint32_t> textured(materials);
+  for (size_t m = 0; m < materials; ++m) {
+    const Material& material = scene.materials[m];
+    constantWord0[m] = PackAlbedoMetallic(material.baseColor, material.metallic);
+    constantRoughnessBits[m] = uint32_t(UnormCode8(material.roughness)) << 24;
+    textured[m] = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
+                  material.roughnessTexture != kNoTexture;
+  }
   const GBufferResolveContext context{
-      scene, view, raster.Resolver(), constantWord0.data(),
+      scene, view, raster.Resolver(), constantWord0.data(), constantRoughnessBits.data(), textured.data(),
       glm::mat3(view.view),  // lookAt is a rotation plus a translation
       params.normalEncoding,
   };
+  const auto resolveRow = kernels == KernelPath::kSimd ? GBufferResolveRowSimd : GBufferResolveRowScalar;
   std::vector<size_t> coveredPerBand(RowBandCount(size_t(view.height)), 0);
   ParallelForRowBands("gbuffer.resolve", size_t(view.height), [&](size_t band, size_t yBegin, size_t yEnd) {
     for (int y = int(yBegin); y < int(yEnd); ++y) {
-      coveredPerBand[band] += GBufferResolveRowScalar(
+      coveredPerBand[band] += resolveRow(
           context, out.visibility.triangle.ConstRow(y), out.visibility.depthKey.ConstRow(y), y, view.width,
           out.gbuffer.word[0].MutableRow(y), out.gbuffer.word[1].MutableRow(y), out.gbuffer.word[2].MutableRow(y));
     }

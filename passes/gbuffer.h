@@ -8,6 +8,7 @@
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
+#include "core/kernel_path.h"
 #include "core/raster.h"
 #include "core/scene.h"
 #include "core/surface.h"
@@ -23,6 +24,7 @@ struct GBufferInputs {
   const ViewProjection& view;  // perspective camera view of the G-buffer's size
 };
 
+// May hold the buffers of an earlier frame: those of the view's size are overwritten in place.
 struct GBufferOutputs {
   GBuffer gbuffer;             // words 0-2 filled; word 3 set to kShadowLit
   VisibilityBuffer visibility; // the triangle index per pixel (for dumps and tests)
@@ -35,7 +37,10 @@ struct GBufferStats {
   size_t coveredPixels = 0;
 };
 
-GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out);
+// `kernels` picks the raster's tile kernel and the resolve's row kernel; both paths give the same
+// bytes.
+GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GBufferOutputs& out,
+                        KernelPath kernels = KernelPath::kSimd);
 
 // What the resolve of every row shares: the frame's constants.
 struct GBufferResolveContext {
@@ -43,16 +48,29 @@ struct GBufferResolveContext {
   const ViewProjection& view;
   const SurfaceResolver& resolver;  // the scene's surface seen from `view` (SceneRasterInput::Resolver)
   const uint32_t* constantWord0;    // per material: its word 0 when it has no colour or metallic texture
+  // Per material: bits 24-31 of word 1 (the roughness code) when it has no roughness texture, and
+  // whether any texture feeds word 0 or 1 (the SIMD kernel resolves those pixels with
+  // GBufferResolvePixelScalar).
+  const uint32_t* constantRoughnessBits;
+  const uint32_t* textured;  // 1 or 0
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
   NormalEncoding normalEncoding;
 };
 
-// The resolve's scalar row kernel, the definition a SIMD twin (passes/gbuffer_simd.cpp) must equal
+// The resolve of one pixel (x, y) covered by `triangle` with depth key `depthKey`: its G-buffer
+// words 0-2.
+void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
+                               uint32_t& word0, uint32_t& word1, uint32_t& word2);
+
+// The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)
-// into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) are left untouched.
+// into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) get the background's
+// (0, 0, +inf), so every pixel is written and the twin's vector stores need not read the row first.
 // Returns how many pixels it resolved.
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
                                uint32_t* word2);
+size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
+                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2);
 
 }  // namespace ssgi

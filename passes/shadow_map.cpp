@@ -336,8 +336,14 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   }
   stats.fitMs = stopwatch.Lap();
 
-  out.shadowMap = MakeVisibilityBuffer(params.resolution, params.resolution, RasterOutput::kDepthOnly);
+  // The rasterizer overwrites every texel, so a map of the right size from an earlier frame is
+  // reused as it is: a new 16 MiB map (2048^2) costs a fill and, on fresh pages, 4096 page faults.
+  const size_t resolution = size_t(params.resolution);
+  const bool reused = out.shadowMap.depthKey.xsize() == resolution && out.shadowMap.depthKey.ysize() == resolution;
+  if (!reused) out.shadowMap = MakeVisibilityBuffer(params.resolution, params.resolution, RasterOutput::kDepthOnly);
   if (stats.pixels == 0) {
+    if (reused)
+      for (size_t y = 0; y < resolution; ++y) std::fill_n(out.shadowMap.depthKey.MutableRow(y), resolution, 0.0f);
     for (int y = 0; y < height; ++y) std::fill_n(shadowTerm.MutableRow(y), width, kShadowLit);
     return stats;
   }
@@ -346,7 +352,7 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   // holes) must cast from either side, and the normal offset plus the receiver-plane test, not
   // front-face culling, keep lit surfaces free of acne. Cut-outs (map_d) cast through their holes.
   const SceneRasterInput raster(scene, out.lightView, false);
-  stats.raster = Rasterize(raster.Get(), out.lightView, RasterOutput::kDepthOnly, out.shadowMap);
+  stats.raster = Rasterize(raster.Get(), out.lightView, RasterOutput::kDepthOnly, out.shadowMap, nullptr, kernels);
   stats.triangles = raster.Get().triangleCount;
   stats.rasterMs = stopwatch.Lap();
 

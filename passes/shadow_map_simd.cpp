@@ -59,12 +59,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace {
 
-// glm's mat3 * vec3: row r is (m[0][r] v.x + m[1][r] v.y) + m[2][r] v.z.
-Vec3V<DF> MulMat3(const glm::mat3& m, const Vec3V<DF>& v) {
-  const DF df;
-  return Add3(Add3(Scale3(Set3(df, m[0]), v.x), Scale3(Set3(df, m[1]), v.y)), Scale3(Set3(df, m[2]), v.z));
-}
-
 // How far, as an index into the map, the pixel kPrefetchRows rows below taps from where this one
 // does, roughly: from the receiver at light-view position p, at x = fx and view depth `depth`,
 // without the normal offset.
@@ -104,7 +98,7 @@ hn::Vec<DU> SearchBlockersV(const BlockerSearchRowInputs& in, hn::Vec<DU> word1,
   if (hn::AllFalse(df, receiver)) return hn::Zero(du);
   const Vec3V<DF> p =
       Add3(Set3(df, in.origin), Scale3(Add3(Set3(df, in.first), Scale3(Set3(df, in.step), fx)), depth));
-  const Vec3V<DF> n = MulMat3(in.normalToLight, UnpackNormalV(df, word1, in.encoding));
+  const Vec3V<DF> n = MulMat3(df, in.normalToLight, UnpackNormalV(df, word1, in.encoding));
 
   const VF lightDepth = hn::Neg(p.z);
   receiver = hn::And(receiver, hn::Gt(lightDepth, nearPlane));

@@ -1,13 +1,17 @@
 // The G-buffer pass on its own: what the resolve writes at each pixel of a plane seen in
 // perspective, against the plane's analytic depth and normal, the material's packed words, and the
-// coverage of the plane's edges; background and encoding.
+// coverage of the plane's edges; background and encoding. The SIMD kernels (raster tile, resolve row)
+// against their scalar definitions on every compiled target.
 #include "passes/gbuffer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <catch2/catch.hpp>
 
+#include "core/texture.h"
 #include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -73,6 +77,73 @@ TEST_CASE("g-buffer: every pixel of a ground plane has its analytic depth and no
     CHECK(stats.coveredPixels == covered);
     CHECK(stats.raster.trianglesIn == 2);
   }
+}
+
+// Both kernel paths of RunGBuffer on `scene` at each test size and normal encoding: every word of
+// the G-buffer and the visibility buffer the same bytes on every target.
+void CheckKernelPathsAgree(const Scene& scene) {
+  for (const glm::ivec2 size : {glm::ivec2(1024, 1024), glm::ivec2(1, 1), glm::ivec2(67, 45), glm::ivec2(1023, 769)}) {
+    const ViewProjection view = MakePerspective(scene.camera, size.x, size.y);
+    for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+      const auto run = [&](KernelPath kernels) {
+        GBufferOutputs out;
+        RunGBuffer({scene, view}, {encoding}, out, kernels);
+        return out;
+      };
+      const auto same = [](const GBufferOutputs& a, const GBufferOutputs& b) {
+        for (int w = 0; w < 4; ++w)
+          if (!test::SameBytes(a.gbuffer.word[w], b.gbuffer.word[w])) return false;
+        return test::SameBytes(a.visibility.triangle, b.visibility.triangle) &&
+               test::SameBytes(a.visibility.depthKey, b.visibility.depthKey);
+      };
+      CAPTURE(size.x, size.y, int(encoding));
+      CHECK(test::TargetsWhereKernelPathsDiffer(run, same) == "");
+    }
+  }
+}
+
+TEST_CASE("g-buffer: outputs kept from an earlier frame give the bytes of new ones", "[gbuffer]") {
+  const Scene scene = test::LoadDefaultScene().scene;
+  const ViewProjection view = MakePerspective(scene.camera, 67, 45);
+  GBufferOutputs fresh, reused;
+  RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, fresh);
+  // An earlier frame from elsewhere, its word 3 as a shadow pass leaves it.
+  CameraDesc elsewhere = scene.camera;
+  elsewhere.position = {3.0f, 0.5f, -2.0f};
+  RunGBuffer({scene, MakePerspective(elsewhere, 67, 45)}, {NormalEncoding::kOct24}, reused);
+  for (size_t y = 0; y < 45; ++y) std::fill_n(reused.gbuffer.word[3].MutableRow(y), 67, 0x80000001u);
+  RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, reused);
+  CHECK(reused.gbuffer.normalEncoding == NormalEncoding::kXyz8);
+  for (int w = 0; w < 4; ++w) CHECK(test::SameBytes(reused.gbuffer.word[w], fresh.gbuffer.word[w]));
+  CHECK(test::SameBytes(reused.visibility.triangle, fresh.visibility.triangle));
+  CHECK(test::SameBytes(reused.visibility.depthKey, fresh.visibility.depthKey));
+}
+
+TEST_CASE("g-buffer: the SIMD kernels give the scalar bytes on every target, default scene", "[gbuffer][simd]") {
+  CheckKernelPathsAgree(test::LoadDefaultScene().scene);
+}
+
+TEST_CASE("g-buffer: the SIMD kernels give the scalar bytes on every target, textured materials",
+          "[gbuffer][simd]") {
+  // The default scene with every other material textured (colour, metallic, roughness in turn) by
+  // an 8x8 texture of random texels over UVs from the world position.
+  Scene scene = test::LoadDefaultScene().scene;
+  std::mt19937 rng(5);
+  std::vector<uint8_t> rgba(8 * 8 * 4);
+  for (uint8_t& texel : rgba) texel = uint8_t(rng());
+  scene.textures.push_back(MakeTexture(8, 8, rgba, TextureEncoding::kSrgb));
+  scene.textures.push_back(MakeTexture(8, 8, std::move(rgba), TextureEncoding::kLinear));
+  for (size_t m = 0; m < scene.materials.size(); m += 2) {
+    Material& material = scene.materials[m];
+    if (m % 3 == 0) material.baseColorTexture = 0;
+    if (m % 3 == 1) material.metallicTexture = 1;
+    if (m % 3 == 2) material.roughnessTexture = 1;
+  }
+  for (size_t i = 0; i < scene.mesh.positions.size(); ++i) {
+    const glm::vec3 p = scene.mesh.positions[i];
+    scene.mesh.uvs[i] = {0.7f * p.x, 0.7f * (p.z + p.y)};
+  }
+  CheckKernelPathsAgree(scene);
 }
 
 }  // namespace

@@ -1,0 +1,257 @@
+// The Highway twin of RasterizeTileScalar (core/raster.cpp, core/raster_tile.h): lanes are the 64
+// samples of an 8x8 block (a tile stores its blocks' samples consecutively, so a block is a few
+// whole vectors). Per triangle and block, the edge functions at the block's corners (exact, 64-bit)
+// reject or accept the whole block, as in Abrash's "Rasterization on Larrabee"; in a block that an
+// edge crosses, the edge's values at a vector's samples are its value at the vector's first sample
+// row plus per-lane steps set up once per triangle and tile, in 32-bit lanes (exact: a crossed
+// block's values are within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge
+// is evaluated per sample in 64 bits). Only the vectors of rows inside the triangle's bounds are
+// visited. Depth keys are computed, compared and written in vectors with the scalar kernel's
+// operations in its order (no fused multiply-add), so every target gives the scalar bytes
+// (tests/core/raster_simd_test.cpp checks each compiled target).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/raster_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/cache_control.h"
+#include "hwy/highway.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
+
+#include "core/raster_tile.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Lanes are samples of one block, at most a block per vector.
+using DS = hn::CappedTag<int32_t, kRasterBlockSamples>;
+using DK = hn::Rebind<float, DS>;
+using DT = hn::Rebind<uint32_t, DS>;
+
+// Sample k of a block is its pixel (k % 8, k / 8).
+template <class T>
+constexpr std::array<T, kRasterBlockSamples> SampleOffsets(bool row) {
+  std::array<T, kRasterBlockSamples> offsets{};
+  for (int k = 0; k < kRasterBlockSamples; ++k)
+    offsets[size_t(k)] = T(row ? k / kRasterBlockSize : k % kRasterBlockSize);
+  return offsets;
+}
+alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleX = SampleOffsets<int32_t>(false);
+alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleY = SampleOffsets<int32_t>(true);
+alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleXf = SampleOffsets<float>(false);
+alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleYf = SampleOffsets<float>(true);
+// A vector of at least a block row holds the same columns in every vector of a block.
+constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
+// Vector k / lanes of a block starts at sample row k / 8, column k % 8: its samples' edge values are
+// the row's first plus those of samples k % 8 ... k % 8 + lanes - 1 of the block's first rows.
+constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBlockSize;
+
+// kEdges32: t.edgesFit32Bits, as a template parameter so the sample loop has no branch on it.
+template <bool kWriteTriangle, bool kCountCoverage, bool kEdges32>
+void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
+  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
+  if (x0 > x1 || y0 > y1) return;
+  const DS ds;
+  const DK dk;
+  const DT dt;
+  const size_t lanes = hn::Lanes(ds);
+  const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
+  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const auto keyBaseV = hn::Set(dk, keyBase);
+  const auto keyDx = hn::Set(dk, float(t.keyDx)), keyDy = hn::Set(dk, float(t.keyDy));
+  const auto zero = hn::Zero(ds), minusOne = hn::Set(ds, -1);
+  const auto triangleId = hn::Set(dt, t.triangle);
+  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
+  auto edgeAt = [&](int e, int px, int py) {
+    return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
+  };
+
+  // Per edge: its extremes over a block relative to the block's first sample, and (32-bit edges)
+  // its change from there to the first kStepSamples samples, and per sample row.
+  constexpr int64_t kBlockSpan = (kRasterBlockSize - 1) * kSubPixelScale;
+  int64_t lowest[3], highest[3];
+  HWY_ALIGN int32_t sampleStep[3][kStepSamples];
+  int32_t rowStep[3];
+  for (int e = 0; e < 3; ++e) {
+    const int64_t spanX = edge[e].a * kBlockSpan, spanY = edge[e].b * kBlockSpan;
+    lowest[e] = std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
+    highest[e] = std::max<int64_t>(spanX, 0) + std::max<int64_t>(spanY, 0);
+    if (!kEdges32) continue;
+    const auto stepX = hn::Set(ds, int32_t(edge[e].a * kSubPixelScale));
+    rowStep[e] = int32_t(edge[e].b * kSubPixelScale);
+    for (size_t k = 0; k < kStepSamples; k += lanes) {
+      const auto step = hn::Add(hn::Mul(stepX, hn::Load(ds, kSampleX.data() + k)),
+                                hn::Mul(hn::Set(ds, rowStep[e]), hn::Load(ds, kSampleY.data() + k)));
+      hn::Store(step, ds, sampleStep[e] + k);
+    }
+  }
+
+  const int firstBlockX = tile.x0 + (x0 - tile.x0) / kRasterBlockSize * kRasterBlockSize;
+  const int firstBlockY = tile.y0 + (y0 - tile.y0) / kRasterBlockSize * kRasterBlockSize;
+  // Edge values at the first sample of each block, stepped from block to block (exact integers).
+  int64_t rowCorner[3], blockStepX[3], blockStepY[3];
+  for (int e = 0; e < 3; ++e) {
+    rowCorner[e] = edgeAt(e, firstBlockX, firstBlockY);
+    blockStepX[e] = edge[e].a * kRasterBlockSize * kSubPixelScale;
+    blockStepY[e] = edge[e].b * kRasterBlockSize * kSubPixelScale;
+  }
+  for (int by = firstBlockY; by <= y1; by += kRasterBlockSize) {
+    const int ly = by - tile.y0;
+    int64_t blockCorner[3] = {rowCorner[0], rowCorner[1], rowCorner[2]};
+    for (int e = 0; e < 3; ++e) rowCorner[e] += blockStepY[e];
+    for (int bx = firstBlockX; bx <= x1; bx += kRasterBlockSize) {
+      const int lx = bx - tile.x0;
+      // The edges that cross the block, with their values at its first sample; the samples of
+      // an edge too long for 32 bits as 0 (inside) or -1 (outside).
+      // Without branches on the edges: which way a block goes is data, and mispredicted branches
+      // cost more than the tests.
+      int crossing[3], crossingCount = 0;
+      int64_t crossingCorner[3];
+      bool reject = false;
+      for (int e = 0; e < 3; ++e) {
+        const int64_t corner = blockCorner[e];
+        blockCorner[e] += blockStepX[e];
+        reject |= corner + highest[e] < 0;
+        crossing[crossingCount] = e;
+        crossingCorner[crossingCount] = corner;
+        crossingCount += corner + lowest[e] < 0;
+      }
+      if (reject) continue;
+      int32_t cornerValue[3];
+      HWY_ALIGN int32_t outside[3][kRasterBlockSamples];
+      for (int c = 0; c < crossingCount; ++c) {
+        if constexpr (kEdges32) {
+          cornerValue[c] = int32_t(crossingCorner[c]);
+        } else {
+          const EdgeFunction& crossed = edge[crossing[c]];
+          for (int k = 0; k < kRasterBlockSamples; ++k) {
+            const int64_t value = crossingCorner[c] + crossed.a * kSampleX[size_t(k)] * kSubPixelScale +
+                                  crossed.b * kSampleY[size_t(k)] * kSubPixelScale;
+            outside[c][k] = value >= 0 ? 0 : -1;
+          }
+        }
+      }
+      // Samples past the image's right or bottom edge are not the tile's.
+      const bool clipped = lx + kRasterBlockSize > tile.width || ly + kRasterBlockSize > tile.height;
+      const auto tileWidth = hn::Set(ds, tile.width - lx), tileHeight = hn::Set(ds, tile.height - ly);
+      const auto lxV = hn::Set(dk, float(lx)), lyV = hn::Set(dk, float(ly));
+      const size_t blockIndex = size_t(TilePixelIndex(lx, ly));
+      float* depth = tile.depth + blockIndex;
+      // The key keyBase + keyDx * float(lx) + keyDy * float(ly) in the scalar kernel's order; its
+      // first sum depends only on the sample's column (k % 8).
+      auto keyOfColumns = [&](size_t k) {
+        return hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lxV, hn::Load(dk, kSampleXf.data() + k % kRasterBlockSize))));
+      };
+      const auto blockKeyOfColumns = keyOfColumns(0);
+
+      // The vectors holding the block's sample rows inside the triangle's bounds: the others cover
+      // nothing.
+      const size_t firstSample = size_t(std::max(y0, by) - by) * kRasterBlockSize / lanes * lanes;
+      const size_t endSample = size_t(std::min(y1, by + kRasterBlockSize - 1) - by + 1) * kRasterBlockSize;
+      uint64_t visible = 0;  // alpha-tested triangles: samples covered and nearer, for the test
+      HWY_ALIGN float keys[kRasterBlockSamples];
+      for (size_t k = firstSample; k < endSample; k += lanes) {
+        const size_t row = k / kRasterBlockSize, column = k % kRasterBlockSize;
+        // Inside: the OR of the crossing edges' values is >= 0, i.e. > -1.
+        auto inside = zero;
+        for (int c = 0; c < crossingCount; ++c) {
+          const int e = crossing[c];
+          inside = hn::Or(inside, kEdges32 ? hn::Add(hn::Set(ds, cornerValue[c] + rowStep[e] * int32_t(row)),
+                                                     hn::Load(ds, sampleStep[e] + column))
+                                           : hn::Load(ds, outside[c] + k));
+        }
+        auto covered = hn::Gt(inside, minusOne);
+        if (clipped) {
+          covered = hn::And(covered, hn::And(hn::Lt(hn::Load(ds, kSampleX.data() + k), tileWidth),
+                                             hn::Lt(hn::Load(ds, kSampleY.data() + k), tileHeight)));
+        }
+        if constexpr (kCountCoverage) {
+          uint32_t* coverage = tile.coverage + blockIndex + k;
+          const auto count = hn::Load(dt, coverage);
+          hn::Store(hn::Sub(count, hn::BitCast(dt, hn::VecFromMask(ds, covered))), dt, coverage);
+        }
+        // No test for a vector with nothing covered: it is rare outside the edges' blocks, and there
+        // unpredictable; its store writes back what it loaded.
+        const auto key = hn::Add(kWholeBlockRows ? blockKeyOfColumns : keyOfColumns(k),
+                                 hn::Mul(keyDy, hn::Add(lyV, hn::Load(dk, kSampleYf.data() + k))));
+        const auto stored = hn::Load(dk, depth + k);
+        const auto nearer = hn::And(hn::RebindMask(dk, covered), hn::Gt(key, stored));
+        if (alphaTested) {
+          hn::Store(key, dk, keys + k);
+          uint8_t bits[8] = {};
+          hn::StoreMaskBits(dk, nearer, bits);
+          uint64_t laneBits;
+          std::memcpy(&laneBits, bits, sizeof(laneBits));
+          if (lanes < 64) laneBits &= (uint64_t(1) << lanes) - 1;
+          visible |= laneBits << k;
+          continue;
+        }
+        hn::Store(hn::IfThenElse(nearer, key, stored), dk, depth + k);
+        if constexpr (kWriteTriangle) {
+          uint32_t* triangle = tile.triangle + blockIndex + k;
+          hn::Store(hn::IfThenElse(hn::RebindMask(dt, nearer), triangleId, hn::Load(dt, triangle)), dt, triangle);
+        }
+      }
+      if (visible == 0) continue;
+      visible = alphaTest.passes(alphaTest.context, t.triangle, bx, by, visible);
+      for (; visible != 0; visible &= visible - 1) {
+        const int sample = std::countr_zero(visible);
+        depth[sample] = keys[sample];
+        if constexpr (kWriteTriangle) tile.triangle[blockIndex + size_t(sample)] = t.triangle;
+      }
+    }
+  }
+}
+
+void RasterizeTile(const TileTriangles& batch, TileTarget& tile) {
+  ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
+    if (t.edgesFit32Bits) {
+      RasterizeInTile<writeTriangle, countCoverage, true>(t, *batch.alphaTest, tile);
+    } else {
+      RasterizeInTile<writeTriangle, countCoverage, false>(t, *batch.alphaTest, tile);
+    }
+  });
+}
+
+void CopyTileOut(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
+  // Lanes are a block row's pixels (or a part of it): whole aligned vectors, as streaming wants.
+  const hn::CappedTag<uint32_t, kRasterBlockSize> d;
+  const size_t lanes = hn::Lanes(d);
+  for (int y = 0; y < tile.height; ++y) {
+    uint32_t* row = reinterpret_cast<uint32_t*>(firstPixel + size_t(y) * rowBytes);
+    int x = 0;
+    for (; x + kRasterBlockSize <= tile.width; x += kRasterBlockSize) {
+      const uint32_t* block = values + TilePixelIndex(x, y);
+      for (size_t i = 0; i < kRasterBlockSize; i += lanes) hn::Stream(hn::Load(d, block + i), d, row + x + i);
+    }
+    if (x < tile.width) std::memcpy(row + x, values + TilePixelIndex(x, y), size_t(tile.width - x) * sizeof(uint32_t));
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace ssgi {
+
+HWY_EXPORT(RasterizeTile);
+HWY_EXPORT(CopyTileOut);
+
+void CopyTileOutSimd(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
+  HWY_DYNAMIC_DISPATCH(CopyTileOut)(tile, values, firstPixel, rowBytes);
+  // Streamed stores are weakly ordered: fence them before another thread reads the image.
+  hwy::FlushStream();
+}
+
+void RasterizeTileSimd(const TileTriangles& batch, TileTarget& tile) {
+  HWY_DYNAMIC_DISPATCH(RasterizeTile)(batch, tile);
+}
+
+}  // namespace ssgi
+#endif

@@ -1,0 +1,124 @@
+// The tile kernel of the rasterizer (core/raster.h, docs/pipeline.md §Rasterizer): the set-up
+// triangles, the tile they are drawn into, and the kernel's two definitions, the scalar one
+// (core/raster.cpp, the readable definition) and its Highway twin (core/raster_simd.cpp), which
+// must give the same depth keys, triangle indices and coverage counts bit for bit on every target.
+// Internal to the rasterizer and its tests.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+#include "core/raster.h"
+#include "hwy/cache_control.h"
+
+namespace ssgi {
+
+inline constexpr int kSubPixelBits = 8;
+inline constexpr int64_t kSubPixelScale = 1 << kSubPixelBits;
+inline constexpr int64_t kHalfPixel = kSubPixelScale / 2;
+// A block's 64 samples are one 64-bit mask.
+inline constexpr int kRasterBlockSamples = kRasterBlockSize * kRasterBlockSize;
+inline constexpr int kRasterTileBlocks = kRasterTileSize / kRasterBlockSize;
+inline constexpr int kRasterTilePixels = kRasterTileSize * kRasterTileSize;
+
+struct EdgeFunction {
+  // E(sx, sy) = a * sx + b * sy + c over fixed-point sample positions; c carries the fill-rule bias,
+  // so a sample is inside exactly when E >= 0.
+  int64_t a, b, c;
+};
+
+// Above this |a| + |b|, an edge's values over one 8x8 block no longer fit in 32 bits: they span
+// (kRasterBlockSize - 1) * kSubPixelScale * (|a| + |b|), and a block the edge crosses holds 0.
+inline constexpr int64_t kMaxEdgeSlopeFor32Bits =
+    std::numeric_limits<int32_t>::max() / ((kRasterBlockSize - 1) * kSubPixelScale);
+
+// A set-up triangle in one cache line: a tile reads each of its triangles with one miss at most,
+// however many triangles the mesh has.
+struct alignas(64) ScreenTriangle {
+  int32_t x[3], y[3];              // snapped vertices (8 sub-pixel bits), ordered for positive area
+  int16_t minX, minY, maxX, maxY;  // inclusive pixel bounds, clipped to the image
+  // Depth key at pixel centre (px + 0.5, py + 0.5) is keyAtOrigin + keyDx * px + keyDy * py.
+  double keyAtOrigin, keyDx, keyDy;
+  uint32_t triangle;
+  uint8_t flags;
+  bool edgesFit32Bits;  // every edge's |a| + |b| <= kMaxEdgeSlopeFor32Bits
+
+  // Edge e runs from vertex e + 1 to vertex e + 2: E(P) = (to - from) x (P - from), positive
+  // inside; not top-left edges (dy > 0, or dy = 0 and dx < 0) have c one lower, so that a sample on
+  // them is outside.
+  EdgeFunction Edge(int e) const {
+    const int from = (e + 1) % 3, to = (e + 2) % 3;
+    const int64_t dx = int64_t(x[to]) - x[from], dy = int64_t(y[to]) - y[from];
+    const bool topLeft = dy < 0 || (dy == 0 && dx > 0);
+    return {-dy, dx, dy * x[from] - dx * y[from] - (topLeft ? 0 : 1)};
+  }
+};
+static_assert(sizeof(ScreenTriangle) == 64);
+
+// Index of tile pixel (lx, ly) in a TileTarget's arrays: blocks row by row, and inside a block its
+// 64 samples row by row, so a block is 64 consecutive values (one or a few vectors).
+constexpr int TilePixelIndex(int lx, int ly) {
+  return ((ly / kRasterBlockSize) * kRasterTileBlocks + lx / kRasterBlockSize) * kRasterBlockSamples +
+         (ly % kRasterBlockSize) * kRasterBlockSize + lx % kRasterBlockSize;
+}
+
+struct TileTarget {
+  int x0, y0, width, height;  // the tile's pixels in the image
+  alignas(64) float depth[kRasterTilePixels];
+  alignas(64) uint32_t triangle[kRasterTilePixels];  // written when TileTriangles::writeTriangle
+  alignas(64) uint32_t coverage[kRasterTilePixels];  // counted when TileTriangles::countCoverage
+};
+
+// The triangles of one set-up chunk that overlap a tile, in submission order, and what to write.
+struct TileTriangles {
+  const ScreenTriangle* triangles;  // the chunk's set-up triangles
+  const uint32_t* entries;          // indices into `triangles` of those binned to the tile
+  size_t count;
+  const AlphaTest* alphaTest;
+  bool writeTriangle;  // TileTarget::triangle (visibility) or depth only
+  bool countCoverage;  // TileTarget::coverage: +1 per covered sample, before the depth test
+};
+
+// Calls draw(triangle, writeTriangle, countCoverage) for the batch's triangles in order, the two
+// flags as std::bool_constant, so a kernel's inner loops are compiled once per output.
+template <class Draw>
+void ForEachTileTriangle(const TileTriangles& batch, const Draw& draw) {
+  // With many small triangles the set-up triangles are far more than the caches hold, and a tile's
+  // are scattered through its chunk: each is fetched kPrefetchTriangles ahead of its turn.
+  constexpr size_t kPrefetchTriangles = 4;
+  for (size_t k = 0; k < batch.count; ++k) {
+    if (k + kPrefetchTriangles < batch.count) {
+      const char* ahead = reinterpret_cast<const char*>(&batch.triangles[batch.entries[k + kPrefetchTriangles]]);
+      hwy::Prefetch(ahead);
+      hwy::Prefetch(ahead + sizeof(ScreenTriangle) - 1);
+    }
+    const ScreenTriangle& t = batch.triangles[batch.entries[k]];
+    if (batch.countCoverage) {
+      draw(t, std::true_type{}, std::true_type{});
+    } else if (batch.writeTriangle) {
+      draw(t, std::true_type{}, std::false_type{});
+    } else {
+      draw(t, std::false_type{}, std::false_type{});
+    }
+  }
+}
+
+// Draws the triangles into the tile (docs/pipeline.md §Rasterizer steps 4-7): for each triangle,
+// each 8x8 block of the tile its bounds overlap is trivially rejected or accepted on the edge
+// functions at the block's corners, then each covered sample's depth key is compared with the
+// tile's (GREATER wins), the alpha test asked once per block for the samples that passed, and the
+// survivors written.
+void RasterizeTileScalar(const TileTriangles& batch, TileTarget& tile);
+void RasterizeTileSimd(const TileTriangles& batch, TileTarget& tile);
+
+// Copies the tile's `width` x `height` 4-byte values (TilePixelIndex order: its depth keys or
+// triangle indices) into the image: `firstPixel` is the tile's first pixel there, rows `rowBytes`
+// apart. The twin streams whole block rows past the caches (non-temporal stores): the image is
+// written once here and read only by a later pass, and a 2048^2 shadow map (16 MiB) is larger than
+// the caches anyway, so the stores need not read the lines they overwrite.
+void CopyTileOutScalar(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes);
+void CopyTileOutSimd(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes);
+
+}  // namespace ssgi

@@ -1,0 +1,219 @@
+// The Highway twin of GBufferResolveRowScalar (gbuffer.cpp): lanes are the pixels of the row. Each
+// triangle of a vector is broadcast into its lanes, then per pixel the view ray's barycentrics on the
+// triangle's plane (SurfaceResolver::At, core/surface.cpp), the interpolated normal, its encoding
+// and the depth are computed with the scalar operations in their order through the core twins
+// (core/*-inl.h), so every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each
+// compiled target).
+// Pixels of textured materials are resolved by GBufferResolvePixelScalar, one at a time.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+#include "core/camera-inl.h"
+#include "core/gbuffer-inl.h"
+#include "core/math-inl.h"
+#include "core/row-inl.h"
+#include "passes/gbuffer.h"
+
+#ifndef SSGI_PASSES_GBUFFER_SIMD_ONCE
+#define SSGI_PASSES_GBUFFER_SIMD_ONCE
+namespace ssgi {
+namespace {
+
+// What the resolve of one row reads, flattened into plain pointers for the dispatch boundary.
+struct GBufferResolveRowInputs {
+  const GBufferResolveContext* context;  // for the pixels of textured materials
+  const ViewProjection* view;
+  const uint32_t* indices;         // three per triangle
+  const float* viewPositions;      // x, y, z per vertex, in the view
+  const float* normals;            // x, y, z per vertex, world space
+  const uint32_t* materials;       // per triangle
+  const uint32_t* constantWord0;   // per material (GBufferResolveContext)
+  const uint32_t* constantRoughnessBits;
+  const uint32_t* textured;
+  glm::mat3 normalToView;
+  NormalEncoding encoding;
+};
+
+}  // namespace
+}  // namespace ssgi
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+namespace {
+
+// What the resolve reads of each lane's triangle: its material's constant words (word 0, the
+// roughness byte of word 1, whether it is textured), and per vertex the view-space position and the
+// world-space normal.
+struct TriangleData {
+  hn::Vec<DU> word0, roughnessBits, textured;
+  Vec3V<DF> position[3], normal[3];
+};
+
+// The data of one triangle in every lane.
+TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
+  const DF df;
+  const DU du;
+  TriangleData data;
+  const uint32_t material = in.materials[triangle];
+  data.word0 = hn::Set(du, in.constantWord0[material]);
+  data.roughnessBits = hn::Set(du, in.constantRoughnessBits[material]);
+  data.textured = hn::Set(du, in.textured[material]);
+  for (int v = 0; v < 3; ++v) {
+    const size_t vertex = in.indices[3 * size_t(triangle) + size_t(v)];
+    const float* position = in.viewPositions + 3 * vertex;
+    const float* normal = in.normals + 3 * vertex;
+    data.position[v] = Set3(df, glm::vec3(position[0], position[1], position[2]));
+    data.normal[v] = Set3(df, glm::vec3(normal[0], normal[1], normal[2]));
+  }
+  return data;
+}
+
+// The triangle data of the lanes of `drawn` (`triangle` per lane, as in `triangles`); the other
+// lanes hold some lane's data, never stored. A vector of a row meets few triangles, mostly one, and
+// each is broadcast into the lanes it covers: even at about a triangle per lane (the 1M-triangle
+// knot) that is no slower than gathering 19 values per lane (BM_GBuffer, 1 thread, back to back with
+// gathers beyond 4, 8 or 16 triangles: 1M 80 / 80 / 69 ms, 100k 20.7 / 17.5 / 16.9 ms).
+TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+                           hn::Mask<DU> drawn) {
+  const DF df;
+  const DU du;
+  uint32_t next = triangles[hn::FindFirstTrue(du, drawn)];
+  auto remaining = hn::AndNot(hn::Eq(triangle, hn::Set(du, next)), drawn);
+  TriangleData data = BroadcastTriangle(in, next);
+  while (!hn::AllFalse(du, remaining)) {
+    next = triangles[hn::FindFirstTrue(du, remaining)];
+    const auto covers = hn::Eq(triangle, hn::Set(du, next));
+    remaining = hn::AndNot(covers, remaining);
+    const TriangleData more = BroadcastTriangle(in, next);
+    const auto lanes = hn::RebindMask(df, covers);
+    data.word0 = hn::IfThenElse(covers, more.word0, data.word0);
+    data.roughnessBits = hn::IfThenElse(covers, more.roughnessBits, data.roughnessBits);
+    data.textured = hn::IfThenElse(covers, more.textured, data.textured);
+    for (int v = 0; v < 3; ++v) {
+      data.position[v] = IfThenElse3(lanes, more.position[v], data.position[v]);
+      data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
+    }
+  }
+  return data;
+}
+
+size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
+                         int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const size_t lanes = hn::Lanes(df);
+  const size_t count = size_t(width);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+  const float py = float(y) + 0.5f;
+  const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
+  size_t covered = 0;
+  HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
+  for (size_t x = 0; x < count; x += lanes) {
+    const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
+    const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
+    const auto storeWords = [&](hn::Vec<DU> w0, hn::Vec<DU> w1, hn::Vec<DU> w2) {
+      StoreRow(w0, du, word0, x, count);
+      StoreRow(w1, du, word1, x, count);
+      StoreRow(w2, du, word2, x, count);
+    };
+    if (hn::AllFalse(du, drawn)) {
+      storeWords(hn::Zero(du), hn::Zero(du), background);
+      continue;
+    }
+    covered += hn::CountTrue(du, drawn);
+    const TriangleData data = LoadTriangles(in, triangles + x, triangle, drawn);
+
+    // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
+    // (Moller-Trumbore without the bounds test), clamped into the triangle.
+    const Vec3V<DF>& p0 = data.position[0];
+    const Vec3V<DF> e1 = Sub3(data.position[1], p0);
+    const Vec3V<DF> e2 = Sub3(data.position[2], p0);
+    const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
+    const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
+    const Vec3V<DF> p = Cross3(ray.direction, e2);
+    const VF det = Dot3(e1, p);
+    const auto hit = hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f));
+    const VF invDet = hn::Div(one, det);
+    const Vec3V<DF> s = Sub3(ray.origin, p0);
+    const Vec3V<DF> q = Cross3(s, e1);
+    const VF third = hn::Set(df, 1.0f / 3.0f);
+    VF b1 = hn::IfThenElse(hit, hn::Mul(Dot3(s, p), invDet), third);
+    VF b2 = hn::IfThenElse(hit, hn::Mul(Dot3(ray.direction, q), invDet), third);
+    b1 = MinStd(MaxStd(b1, zero), one);  // glm::clamp(b, 0, 1)
+    b2 = MinStd(MaxStd(b2, zero), one);
+    const VF sum = hn::Add(b1, b2);
+    const auto beyond = hn::Gt(sum, one);
+    if (!hn::AllFalse(df, beyond)) {  // rare: only rounding puts a covered pixel beyond an edge
+      b1 = hn::IfThenElse(beyond, hn::Div(b1, sum), b1);
+      b2 = hn::IfThenElse(beyond, hn::Div(b2, sum), b2);
+    }
+    const VF b0 = hn::Sub(hn::Sub(one, b1), b2);
+
+    // The interpolated normal in the view, the face's where it vanishes, turned towards the camera.
+    const Vec3V<DF> interpolated = Add3(Add3(Scale3(data.normal[0], b0), Scale3(data.normal[1], b1)),
+                                        Scale3(data.normal[2], b2));
+    const Vec3V<DF> normal = MulMat3(df, in.normalToView, interpolated);
+    const VF length = Length3(normal);
+    const Vec3V<DF> faceNormal = Cross3(e1, e2);
+    const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
+    Vec3V<DF> unit = Div3(normal, length);
+    if (!hn::AllTrue(df, usable)) unit = IfThenElse3(usable, unit, Normalize3(df, faceNormal));
+    unit = IfThenElse3(hn::Gt(Dot3(faceNormal, ray.direction), zero), Neg3(unit), unit);
+
+    const auto depthKey = LoadRow(df, depthKeys, x, count, 1.0f);
+    const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
+    const auto words0 = data.word0;
+    const auto words1 =
+        hn::Or(EncodeNormalV(df, unit, in.encoding), data.roughnessBits);
+    storeWords(hn::IfThenElseZero(drawn, words0), hn::IfThenElseZero(drawn, words1),
+               hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
+
+    const auto texturedLanes = hn::And(data.textured, hn::VecFromMask(du, drawn));
+    if (hn::AllFalse(du, hn::Ne(texturedLanes, hn::Zero(du)))) continue;
+    hn::Store(texturedLanes, du, textured);
+    for (size_t lane = 0; lane < lanes && x + lane < count; ++lane) {
+      const size_t i = x + lane;
+      if (textured[lane] != 0)
+        GBufferResolvePixelScalar(*in.context, triangles[i], depthKeys[i], int(i), y, word0[i], word1[i], word2[i]);
+    }
+  }
+  return covered;
+}
+
+}  // namespace
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace ssgi {
+
+HWY_EXPORT(GBufferResolveRow);
+
+size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
+                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+  const Mesh& mesh = context.scene.mesh;
+  const GBufferResolveRowInputs in{
+      &context,
+      &context.view,
+      mesh.indices.data(),
+      reinterpret_cast<const float*>(context.resolver.ViewPositions()),
+      reinterpret_cast<const float*>(mesh.normals.data()),
+      mesh.materials.data(),
+      context.constantWord0,
+      context.constantRoughnessBits,
+      context.textured,
+      context.normalToView,
+      context.normalEncoding,
+  };
+  return HWY_DYNAMIC_DISPATCH(GBufferResolveRow)(in, triangles, depthKeys, y, width, word0, word1, word2);
+}
+
+}  // namespace ssgi
+#endif
