@@ -83,19 +83,19 @@ void main() {
 }
 )";
 
-// The packing of core/gbuffer.cpp (docs/pipeline.md §G-buffer), per fragment.
+// The packing of core/gbuffer.cpp (docs/pipeline.md §G-buffer), per fragment. Word 0 comes packed
+// per material, as ssgi's resolve takes it (GBufferResolveContext::constantWord0) for a material
+// without textures.
 constexpr const char* kGBufferFragmentShader = R"(#version 450 core
 in vec3 viewNormal;
 in float viewDepth;
-uniform vec3 albedo;  // linear
-uniform float metallic;
+uniform uint materialWord0;
 uniform float roughness;
 layout(location = 0) out uint word0;
 layout(location = 1) out uint word1;
 layout(location = 2) out uint word2;
 layout(location = 3) out uint word3;
 uint Unorm(float x, float scale) { return uint(clamp(x, 0.0, 1.0) * scale + 0.5); }
-float LinearToSrgb(float x) { return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
 uint Oct24(vec3 n) {
   vec2 uv = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
   if (n.z < 0.0) {
@@ -105,8 +105,7 @@ uint Oct24(vec3 n) {
   return Unorm(uv.x * 0.5 + 0.5, 4095.0) | (Unorm(uv.y * 0.5 + 0.5, 4095.0) << 12);
 }
 void main() {
-  word0 = Unorm(LinearToSrgb(albedo.r), 255.0) | (Unorm(LinearToSrgb(albedo.g), 255.0) << 8) |
-          (Unorm(LinearToSrgb(albedo.b), 255.0) << 16) | (Unorm(metallic, 255.0) << 24);
+  word0 = materialWord0;
   word1 = Oct24(normalize(gl_FrontFacing ? viewNormal : -viewNormal)) | (Unorm(roughness, 255.0) << 24);
   word2 = floatBitsToUint(viewDepth);
   word3 = 0u;
@@ -215,8 +214,7 @@ GlGBufferPass::GlGBufferPass(int width, int height)
 void GlGBufferPass::Draw(const GlMesh& mesh, const ViewProjection& view, const Material& material) const {
   glUseProgram(program());
   glUniformMatrix4fv(glGetUniformLocation(program(), "view"), 1, GL_FALSE, glm::value_ptr(view.view));
-  glUniform3fv(glGetUniformLocation(program(), "albedo"), 1, glm::value_ptr(material.baseColor));
-  glUniform1f(glGetUniformLocation(program(), "metallic"), material.metallic);
+  glUniform1ui(glGetUniformLocation(program(), "materialWord0"), PackAlbedoMetallic(material.baseColor, material.metallic));
   glUniform1f(glGetUniformLocation(program(), "roughness"), material.roughness);
   if (material.twoSided) {
     glDisable(GL_CULL_FACE);

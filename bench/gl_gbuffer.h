@@ -72,10 +72,11 @@ class GlPass {
   unsigned program_ = 0;
 };
 
-// ssgi's G-buffer (core/gbuffer.h, docs/pipeline.md §G-buffer) for one material, packed per fragment:
-// word 0 the material's albedo as 8-bit sRGB codes and metallic, word 1 the interpolated view-space
-// normal in oct24 and roughness, word 2 the view depth as float32 (+inf in the background), word 3 0
-// (kShadowLit, as RunGBuffer leaves it). Back faces are culled unless the material is two-sided.
+// ssgi's G-buffer (core/gbuffer.h, docs/pipeline.md §G-buffer) for one material without textures:
+// word 0 the material's albedo and metallic (PackAlbedoMetallic, once per draw), and per fragment
+// word 1 the interpolated view-space normal in oct24 and roughness, word 2 the view depth as float32
+// (+inf in the background), word 3 0 (kShadowLit, as RunGBuffer leaves it). Back faces are culled
+// unless the material is two-sided.
 class GlGBufferPass : public GlPass {
  public:
   GlGBufferPass(int width, int height);
