@@ -21,7 +21,10 @@ SSGI_COLOUR, PEER_COLOUR = "#d62728", "#1f77b4"
 
 
 def run_benchmarks(binary, json_path):
+    # Random interleaving runs the repetitions of all benchmarks in a shuffled order, so that load from
+    # other jobs on a shared machine falls on ssgi and llvmpipe alike instead of on whichever ran then.
     subprocess.run([binary, "--benchmark_filter=" + BENCH_FILTER, "--benchmark_repetitions=3",
+                    "--benchmark_enable_random_interleaving=true",
                     "--benchmark_report_aggregates_only=true", "--benchmark_min_time=0.3",
                     "--benchmark_out_format=json", "--benchmark_out=" + json_path], check=True)
 
