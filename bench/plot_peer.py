@@ -97,7 +97,7 @@ def number(value):
     return "{:,}".format(int(value)) if value >= 1 else "%g" % value
 
 
-def svg_plot(path, title, x_label, series, x_ticks, x_tick_labels):
+def svg_plot(path, title, note, x_label, series, x_ticks, x_tick_labels):
     """A log-log line plot: series is [(label, colour, [(x, y), ...])]."""
     width, height = 640, 420
     left, right, top, bottom = 70, 20, 40, 60
@@ -110,7 +110,8 @@ def svg_plot(path, title, x_label, series, x_ticks, x_tick_labels):
     out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" viewBox="0 0 %d %d" '
            'font-family="sans-serif" font-size="12">' % (width, height, width, height),
            '<rect width="100%" height="100%" fill="white"/>',
-           '<text x="%d" y="24" text-anchor="middle" font-size="14">%s</text>' % (width // 2, title)]
+           '<text x="%d" y="20" text-anchor="middle" font-size="14">%s</text>' % (width // 2, title),
+           '<text x="%d" y="34" text-anchor="middle" font-size="10" fill="#555">%s</text>' % (width // 2, note)]
     for y in log_ticks(y_low, y_high):
         out.append('<line x1="%d" x2="%d" y1="%.1f" y2="%.1f" stroke="#ddd"/>' % (left, width - right, py(y), py(y)))
         out.append('<text x="%d" y="%.1f" text-anchor="end">%s</text>' % (left - 6, py(y) + 4, number(y)))
@@ -140,7 +141,9 @@ def svg_plot(path, title, x_label, series, x_ticks, x_tick_labels):
 
 
 def plots(medians, context, folder):
-    machine = "%d cores, %s, 2 threads" % (context["num_cpus"], context["date"][:10])
+    machine = "%d cores, 2 threads" % context["num_cpus"]
+    # On a shared machine the load says how far to trust the absolute times (ratios suffer less).
+    note = "run of %s, load average %.1f at its start" % (context["date"][:16].replace("T", " "), context["load_avg"][0])
     sweeps = [("gbuffer_vs_triangles.svg", "G-buffer at 1024x1024 (%s)" % machine, "triangles (torus knot, log scale)",
                "scene", (10000, 30000, 100000, 300000, 1000000), {"size": 1024}),
               ("gbuffer_vs_resolution.svg", "G-buffer, 100k triangles (%s)" % machine, "image side, pixels (log scale)",
@@ -159,7 +162,7 @@ def plots(medians, context, folder):
         if not series:
             sys.exit("plot_peer.py: error: the run has no %s rows" % swept)
         labels = ["%dk" % (v // 1000) if v < 1000000 else "1M" for v in values] if swept == "scene" else [str(v) for v in values]
-        svg_plot(os.path.join(folder, file), title, x_label, series, values, labels)
+        svg_plot(os.path.join(folder, file), title, note, x_label, series, values, labels)
         print("wrote %s" % os.path.join(folder, file))
 
 
