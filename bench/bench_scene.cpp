@@ -90,7 +90,9 @@ const FillrateScene& FillrateTriangles(int areaPixels) {
       corners[1] = origin + leg * along;
       corners[2] = origin + leg * across;  // counter-clockwise
       inside = true;
-      for (const glm::vec2& corner : corners) inside = inside && std::abs(corner.x) <= kHalf && std::abs(corner.y) <= kHalf;
+      for (const glm::vec2& corner : corners) {
+        inside = inside && std::abs(corner.x) <= kHalf && std::abs(corner.y) <= kHalf;
+      }
     }
     for (const glm::vec2& corner : corners) scene.positions.emplace_back(corner.x, corner.y, -depth);
   }

@@ -39,7 +39,8 @@ std::unique_ptr<LlvmpipeContext> LlvmpipeContext::Open(int rasterThreads, std::s
     return nullptr;
   }
   if (!HasExtension(eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS), "EGL_MESA_platform_surfaceless")) {
-    error = "EGL has no surfaceless platform (EGL_MESA_platform_surfaceless): Mesa's EGL (libegl-mesa0) is not installed";
+    error = "EGL has no surfaceless platform (EGL_MESA_platform_surfaceless): "
+            "Mesa's EGL (libegl-mesa0) is not installed";
     return nullptr;
   }
   // Surfaceless EGL picks a GPU's render node when there is one; these make it Mesa's software

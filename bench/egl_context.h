@@ -24,7 +24,8 @@ class LlvmpipeContext {
   LlvmpipeContext& operator=(const LlvmpipeContext&) = delete;
 
   int rasterThreads() const { return rasterThreads_; }
-  std::string renderer() const;  // GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6"
+  // GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6".
+  std::string renderer() const;
 
  private:
   LlvmpipeContext(void* display, void* context, int rasterThreads)

@@ -214,7 +214,8 @@ GlGBufferPass::GlGBufferPass(int width, int height)
 void GlGBufferPass::Draw(const GlMesh& mesh, const ViewProjection& view, const Material& material) const {
   glUseProgram(program());
   glUniformMatrix4fv(glGetUniformLocation(program(), "view"), 1, GL_FALSE, glm::value_ptr(view.view));
-  glUniform1ui(glGetUniformLocation(program(), "materialWord0"), PackAlbedoMetallic(material.baseColor, material.metallic));
+  glUniform1ui(glGetUniformLocation(program(), "materialWord0"),
+               PackAlbedoMetallic(material.baseColor, material.metallic));
   glUniform1f(glGetUniformLocation(program(), "roughness"), material.roughness);
   if (material.twoSided) {
     glDisable(GL_CULL_FACE);
