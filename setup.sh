@@ -8,8 +8,11 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
+# The last four are the llvmpipe peer (bench/llvmpipe_bench.cpp): EGL and OpenGL headers and
+# libraries, Mesa's EGL, and Mesa's software drivers (llvmpipe). The build and the tests run without them.
 packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libopenimageio-dev
-          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev)
+          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev
+          libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

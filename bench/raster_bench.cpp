@@ -3,9 +3,7 @@
 // records results.
 #include <cstdint>
 #include <exception>
-#include <iterator>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -14,7 +12,6 @@
 #include "core/camera.h"
 #include "core/parallel.h"
 #include "core/plane.h"
-#include "core/procedural_mesh.h"
 #include "core/raster.h"
 #include "core/scene.h"
 #include "core/scene_raster_input.h"
@@ -25,32 +22,6 @@ namespace {
 
 constexpr int kSize = 1024;
 constexpr int64_t kPixels = int64_t(kSize) * kSize;
-
-// Torus knots of exactly 10k, 100k and 1M triangles, the sizes DESIGN.md §13 gives for llvmpipe,
-// seen along their symmetry axis so they fill most of the square image.
-const BenchScene& KnotScene(int64_t triangles) {
-  struct Segments {
-    int64_t triangles;
-    int tubular, radial;
-  };
-  static constexpr Segments kSegments[] = {{10000, 200, 25}, {100000, 625, 80}, {1000000, 2000, 250}};
-  static BenchScene scenes[std::size(kSegments)];
-  for (size_t i = 0; i < std::size(kSegments); ++i) {
-    if (kSegments[i].triangles != triangles) continue;
-    if (scenes[i].scene.mesh.TriangleCount() == 0) {
-      Scene scene;
-      scene.mesh = MakeTorusKnot(kSegments[i].tubular, kSegments[i].radial);
-      scene.materials.push_back(Material{});
-      scene.camera.position = {0.0f, -0.6f, 4.0f};
-      scene.camera.target = {0.0f, 0.0f, 0.0f};
-      scene.camera.fovYDegrees = 45.0f;
-      scenes[i] = BenchScene{std::move(scene), {}, {}};
-    }
-    return scenes[i];
-  }
-  static const BenchScene unknown{{}, {}, "no torus knot with that triangle count"};
-  return unknown;
-}
 
 // range(0) of every benchmark here: 1 runs the raster's SIMD tile kernel, 0 its scalar definition.
 KernelPath Kernels(const benchmark::State& state) {
