@@ -34,7 +34,8 @@
 #include "core/scene.h"
 #include "passes/frame_config.h"
 #include "passes/frame_dump.h"
-#include "tests/port/gl_context.h"
+#include "bench/egl_context.h"
+#include "core/parallel.h"
 #include "tests/port/port_shaders.h"
 
 namespace ssgi::port {
@@ -464,12 +465,13 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const size_t pixels = size_t(frame.width) * size_t(frame.height);
 
   std::string error;
-  const auto context = GlContext::Open(error);
+  // llvmpipe rasterizes nothing here, but its compute dispatches use LP_NUM_THREADS threads too.
+  const auto context = LlvmpipeContext::Open(HardwareThreads(), error);
   if (!context) {
     std::fprintf(stderr, "ssgi_gl_port: skipped: %s\n", error.c_str());
     return kExitNoGl;
   }
-  std::printf("ssgi_gl_port: %s\n", context->Renderer().c_str());
+  std::printf("ssgi_gl_port: %s\n", context->renderer().c_str());
 
   std::vector<Buffer> words;
   const size_t width = size_t(frame.width), height = size_t(frame.height);
