@@ -8,8 +8,10 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-# The last four are the llvmpipe peer (bench/llvmpipe_bench.cpp): EGL and OpenGL headers and
-# libraries, Mesa's EGL, and Mesa's software drivers (llvmpipe). The build and the tests run without them.
+# The last four are Mesa's OpenGL on the CPU, for the llvmpipe peer (bench/llvmpipe_bench.cpp) and
+# the GLSL port the tests check against the oracle (tests/port/): EGL and OpenGL headers and
+# libraries, Mesa's EGL, and Mesa's software drivers (llvmpipe). The build and the tests run
+# without them (the peer is left out, the port's test skips).
 packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libopenimageio-dev
           libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev
           libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri)
