@@ -149,20 +149,20 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
     if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
   }
   const SsrConeContext context{in.pyramid, SharedConeTanTable(), params.maxSamples};
-  std::vector<size_t> rowSamples(height, 0), rowPixels(height, 0);
-  const auto coneRow = kernels == KernelPath::kSimd ? SsrConeRowSimd : SsrConeRowScalar;
-  ParallelFor("ssr_cone", height, [&](size_t y) {
-    const SsrConeCounts counts = coneRow(
-        context, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y), in.trace.hitY.ConstRow(y),
-        in.trace.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
-        out.reflected.c[2].MutableRow(y));
-    rowSamples[y] = counts.samples;
-    rowPixels[y] = counts.pixels;
+  std::vector<SsrConeCounts> rowCounts(height);
+  ParallelForRowBands("ssr_cone", height, [&](size_t, size_t yBegin, size_t yEnd) {
+    if (kernels == KernelPath::kSimd) return SsrConeRowsSimd(context, in, yBegin, yEnd, out, rowCounts.data());
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      rowCounts[y] = SsrConeRowScalar(context, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y),
+                                      in.trace.hitY.ConstRow(y), in.trace.confidence.ConstRow(y), y, width,
+                                      out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
+                                      out.reflected.c[2].MutableRow(y));
+    }
   });
   SsrConeStats stats;
-  for (size_t y = 0; y < height; ++y) {
-    stats.samples += rowSamples[y];
-    stats.pixels += rowPixels[y];
+  for (const SsrConeCounts& counts : rowCounts) {
+    stats.samples += counts.samples;
+    stats.pixels += counts.pixels;
   }
   stats.ms = stopwatch.Milliseconds();
   return stats;

@@ -86,5 +86,10 @@ SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* wo
 SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
                              const float* hitY, const float* confidence, size_t y, size_t width, float* red,
                              float* green, float* blue);
+// The twin over rows [yBegin, yEnd) of the pass's inputs into out's planes (already of the
+// G-buffer's size), reading the pyramid's layout once for all of them; row y's counts into
+// rowCounts[y].
+void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, size_t yBegin, size_t yEnd,
+                     SsrConeOutputs& out, SsrConeCounts* rowCounts);
 
 }  // namespace ssgi

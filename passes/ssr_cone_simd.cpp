@@ -243,9 +243,9 @@ namespace ssgi {
 
 HWY_EXPORT(ConeRow);
 
-SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
-                             const float* hitY, const float* confidence, size_t y, size_t width, float* red,
-                             float* green, float* blue) {
+namespace {
+
+SsrConeFrame FlattenContext(const SsrConeContext& context) {
   const std::vector<Plane3<float>>& levels = context.pyramid.levels;
   SsrConeFrame frame;
   frame.width = int(levels[0].c[0].xsize());
@@ -264,8 +264,28 @@ SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word
   }
   frame.coneTan = context.coneTan.data();
   frame.maxSamples = context.maxSamples;
-  return HWY_DYNAMIC_DISPATCH(ConeRow)(frame, word1, hitX, hitY, confidence, y, width, red, green, blue);
+  return frame;
 }
+
+}  // namespace
+
+SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
+                             const float* hitY, const float* confidence, size_t y, size_t width, float* red,
+                             float* green, float* blue) {
+  return HWY_DYNAMIC_DISPATCH(ConeRow)(FlattenContext(context), word1, hitX, hitY, confidence, y, width, red, green,
+                                       blue);
+}
+
+void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, size_t yBegin, size_t yEnd,
+                     SsrConeOutputs& out, SsrConeCounts* rowCounts) {
+  const SsrConeFrame frame = FlattenContext(context);
+  const size_t width = size_t(frame.width);
+  for (size_t y = yBegin; y < yEnd; ++y) {
+    rowCounts[y] = HWY_DYNAMIC_DISPATCH(ConeRow)(
+        frame, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y), in.trace.hitY.ConstRow(y),
+        in.trace.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
+        out.reflected.c[2].MutableRow(y));
+  }}
 
 }  // namespace ssgi
 #endif
