@@ -71,21 +71,26 @@ Scene StripFloor(int smooth, float sunDegrees = 2.0f) {
   return scene;
 }
 
-// Arguments: smooth strips (0 .. kStrips), reflections (1 auto, 0 off), threads. Reports the share
-// of the image's pixels that need reflections, as the frame plan counts them.
-void BM_FrameReflectionShare(benchmark::State& state) {
+// Times one frame of the scene rendered again and again, at kSize x kSize on range(2) threads, its
+// buffers kept as a running renderer keeps them; `effect` is set to automatic when range(1) is 1,
+// else switched off. Returns the frame, for its plan and stats.
+Frame TimeKeptFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect) {
   const ThreadLimit threads(int(state.range(2)));
-  const Scene scene = StripFloor(int(state.range(0)));
   FrameConfig config;
   config.width = config.height = kSize;
-  config.reflections = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
-  // One frame rendered again and again: its buffers kept, as a running renderer keeps them.
+  config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
   Frame frame;
   RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
   for (auto _ : state) RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
-  const double share = double(frame.plan.reflections.pixels) / double(frame.plan.pixels);
-  state.counters["reflectionShare"] = share;
   state.SetItemsProcessed(int64_t(state.iterations()) * kSize * kSize);
+  return frame;
+}
+
+// Arguments: smooth strips (0 .. kStrips), reflections (1 auto, 0 off), threads. Reports the share
+// of the image's pixels that need reflections, as the frame plan counts them.
+void BM_FrameReflectionShare(benchmark::State& state) {
+  const Frame frame = TimeKeptFrame(state, StripFloor(int(state.range(0))), &FrameConfig::reflections);
+  state.counters["reflectionShare"] = double(frame.plan.reflections.pixels) / double(frame.plan.pixels);
 }
 
 void RegisterShares(benchmark::internal::Benchmark* b) {
@@ -101,18 +106,10 @@ BENCHMARK(BM_FrameReflectionShare)->Apply(RegisterShares);
 // runs on grows with the penumbrae. Arguments: the sun's angular diameter in tenths of a degree,
 // shadows (1 auto, 0 off), threads. Reports the share of 16x16 tiles the blur ran on.
 void BM_FramePenumbraShare(benchmark::State& state) {
-  const ThreadLimit threads(int(state.range(2)));
-  const Scene scene = StripFloor(0, float(state.range(0)) / 10.0f);
-  FrameConfig config;
-  config.width = config.height = kSize;
-  config.shadows = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
-  Frame frame;
-  RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
-  for (auto _ : state) RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+  const Frame frame = TimeKeptFrame(state, StripFloor(0, float(state.range(0)) / 10.0f), &FrameConfig::shadows);
   const auto& filter = frame.stats.shadowFilter;
-  const double share = filter && filter->tiles > 0 ? double(filter->tilesBlurred) / double(filter->tiles) : 0.0;
-  state.counters["penumbraShare"] = share;
-  state.SetItemsProcessed(int64_t(state.iterations()) * kSize * kSize);
+  state.counters["penumbraShare"] =
+      filter && filter->tiles > 0 ? double(filter->tilesBlurred) / double(filter->tiles) : 0.0;
 }
 
 void RegisterPenumbrae(benchmark::internal::Benchmark* b) {
