@@ -161,7 +161,7 @@ std::vector<FrameSetting> BuildFrameSettings() {
                                  16, kMaxImageSize, {"512", "1024", "4096"},
                                  [](auto& c) -> auto& { return c.shadowMap.resolution; }));
   table.push_back(IntegerSetting("blocker_taps", "--blocker-taps", "PCSS blocker-search taps per pixel.", 1,
-                                 kMaxBlockerSearchTaps, {"4", "8", "32"},
+                                 kMaxBlockerSearchTaps, {"4", "16", "32"},
                                  [](auto& c) -> auto& { return c.shadowMap.blockerSearchTaps; }));
   table.push_back(IntegerSetting("blur_radius", "--blur-radius", "Shadow blur radius clamp in pixels.", 0, 256,
                                  {"8", "48"}, [](auto& c) -> auto& { return c.shadowFilter.maxRadiusPixels; }));
@@ -209,7 +209,7 @@ const std::vector<QualityPreset>& QualityPresets() {
         {"blur_radius", "16"},
         {"blur_taps", "2"},
         {"ssr_iterations", "16"}}},
-      {"medium", {{"blocker_taps", "8"}, {"blur_taps", "4"}, {"ssr_iterations", "32"}}},
+      {"medium", {{"blur_taps", "4"}, {"ssr_iterations", "32"}}},
       {"high", {}},
       {"ultra", {{"shadow_map_size", "4096"}, {"ssr_iterations", "128"}}},
   };
