@@ -67,7 +67,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
   frame.shadows = frame.plan.shadows.run && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
   const size_t shadowLight = frame.plan.shadowLight.value_or(0);  // meaningful where frame.shadows
   if (frame.shadows && runs(FramePass::kShadowMap)) {
-    frame.shadowMap.emplace();
+    if (!frame.shadowMap) frame.shadowMap.emplace();  // a kept frame's map is redrawn in place
     stats.shadowMap =
         RunShadowMap({scene, frame.view, gbuffer, shadowLight}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
   }

@@ -67,5 +67,16 @@ TEST_CASE("a frame that frees each buffer after its last reader gives the same i
   CHECK(freed.gbuffer.visibility.triangle.xsize() == 0);
 }
 
+TEST_CASE("a frame rendered again into its kept buffers gives the same image", "[frame]") {
+  const test::TestScene scene = BoxOnGlossyGround(64, 48);
+  const FrameConfig config = test::ConfigOf(scene);
+  const Frame fresh = RenderFrame(scene, config);
+  Frame kept;
+  for (int i = 0; i < 2; ++i) RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, kept);
+  REQUIRE(kept.shadowMap);
+  CHECK(kept.display.rgb == fresh.display.rgb);
+  CHECK(test::SameBytes(kept.gbuffer.gbuffer.word[3], fresh.gbuffer.gbuffer.word[3]));
+}
+
 }  // namespace
 }  // namespace ssgi
