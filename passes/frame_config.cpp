@@ -203,12 +203,7 @@ std::vector<FrameSetting> BuildFrameSettings() {
 
 const std::vector<QualityPreset>& QualityPresets() {
   static const std::vector<QualityPreset> presets = {
-      {"low",
-       {{"shadow_map_size", "1024"},
-        {"blocker_taps", "4"},
-        {"blur_radius", "16"},
-        {"blur_taps", "2"},
-        {"ssr_iterations", "16"}}},
+      {"low", {{"blocker_taps", "4"}, {"blur_taps", "2"}, {"ssr_iterations", "8"}}},
       {"medium", {{"blur_taps", "4"}, {"ssr_iterations", "32"}}},
       {"high", {}},
       {"ultra", {{"shadow_map_size", "4096"}, {"ssr_iterations", "128"}}},

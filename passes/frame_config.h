@@ -94,9 +94,10 @@ FrameConfig FrameConfigFromSceneFile(const SceneFile& file);
 // Quality presets (README "Accuracy and time"), chosen from the sweep's measured Pareto fronts on
 // the default scene and Sponza: each knob is cut where the time it saves costs least error. "high"
 // is the defaults (the paper's settings, but for one cone sample instead of Uludag's 7 and 8
-// blocker-search taps instead of 16, which the sweep measured less accurate); "ultra" adds what still lowered the error (the shadow
-// map's resolution above all); knobs that bought nothing measurable stay at the defaults. Setting
-// "quality" sets every knob any preset names, to the preset's value or the default.
+// blocker-search taps instead of 16, which the sweep measured less accurate); "ultra" adds what
+// still lowered the error (the shadow map's resolution above all); knobs that bought nothing
+// measurable stay at the defaults. Setting "quality" sets every knob any preset names, to the
+// preset's value or the default.
 struct QualityPreset {
   std::string_view name;
   std::vector<std::pair<std::string_view, std::string_view>> knobs;  // setting name, value

@@ -40,7 +40,7 @@ TEST_CASE("quality presets: high is the defaults and every knob grows from low t
     CHECK(a.ssrTrace.maxIterations <= b.ssrTrace.maxIterations);
     CHECK(a.ssrCone.maxSamples <= b.ssrCone.maxSamples);
   }
-  CHECK(Preset("low").shadowMap.resolution == 1024);
+  CHECK(Preset("low").ssrTrace.maxIterations == 8);
   CHECK(Preset("ultra").ssrTrace.maxIterations == 128);
   // A preset resets every knob any preset sets, so a later "high" undoes an earlier "low".
   FrameConfig config = Preset("low");
@@ -132,7 +132,7 @@ TEST_CASE("a scene file's render block sets the frame configuration", "[frame_co
   CHECK(config.shadows == EffectMode::kOff);
   CHECK(config.reflections == EffectMode::kOn);
   CHECK(config.shadowFilter.filter == ShadowFilter::kHard);
-  CHECK(config.shadowMap.resolution == 1024);  // the preset
+  CHECK(config.shadowMap.blockerSearchTaps == 4);  // the preset
   CHECK(config.ssrTrace.maxIterations == 20);  // the knob over the preset, whatever the key order
   // No render block: the defaults.
   const FrameConfig defaults = ConfigFor(dir, "{}");
