@@ -87,6 +87,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
   }
   free(frame.shadowVisibility);
+  free(frame.gbuffer.gbuffer.word[3]);  // the shadow term: read by the filter only
 
   frame.reflections = frame.plan.reflections.run;
   if (frame.reflections) {
@@ -95,12 +96,12 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     if (runs(FramePass::kSsrTrace))
       stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
     free(frame.hiz);
+    free(frame.ssrTrace.iterations);  // for dumps only
     if (runs(FramePass::kSsrCone))
       stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
     free(frame.colorPyramid);
     free(frame.ssrTrace.hitX);
     free(frame.ssrTrace.hitY);
-    free(frame.ssrTrace.iterations);
     if (runs(FramePass::kComposite))
       stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
                                       frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},

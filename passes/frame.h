@@ -109,7 +109,7 @@ struct Frame {
 enum class BufferLifetime {
   kKeepAll,          // to the frame's end: for dumps, tests and the benchmarks of single passes
   // Each buffer freed once its last reader has run (passes/frame_memory.h gives the schedule): only
-  // the G-buffer words, the final image (Result) and the display image outlive the frame's passes.
+  // G-buffer words 0-2, the final image (Result) and the display image outlive the frame's passes.
   kUntilLastReader,
 };
 

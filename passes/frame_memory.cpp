@@ -37,7 +37,8 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   };
   const size_t floatPlane = PlaneBytes<float>(w, h);
   const size_t setUp = kRasterBytesPerTriangle * scene.mesh.TriangleCount();
-  add("g-buffer words 0-3", 4 * floatPlane, P::kGBuffer, P::kTonemap);
+  add("g-buffer words 0-2", 3 * floatPlane, P::kGBuffer, P::kTonemap);
+  add("g-buffer word 3", floatPlane, P::kGBuffer, P::kShadowFilter);
   add("visibility buffer", 2 * floatPlane, P::kGBuffer, P::kGBuffer);
   add("g-buffer raster set-up", setUp, P::kGBuffer, P::kGBuffer);
   if (config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty()) {
@@ -56,7 +57,8 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
     }
     add("hi-z", hiz, P::kHiZ, P::kSsrTrace);
     add("colour pyramid", pyramid, P::kColorPyramid, P::kSsrCone);
-    add("ssr hits and steps", 3 * floatPlane, P::kSsrTrace, P::kSsrCone);
+    add("ssr hits", 2 * floatPlane, P::kSsrTrace, P::kSsrCone);
+    add("ssr steps", floatPlane, P::kSsrTrace, P::kSsrTrace);
     add("ssr confidence", floatPlane, P::kSsrTrace, P::kComposite);
     add("cone trace", 3 * floatPlane, P::kSsrCone, P::kComposite);
     add("indirect", 3 * floatPlane, P::kComposite, P::kComposite);

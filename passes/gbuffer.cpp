@@ -86,7 +86,9 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility, nullptr, kernels);
   stats.rasterMs = stopwatch.Lap();
 
-  if (out.gbuffer.width() == view.width && out.gbuffer.height() == view.height) {
+  // (A frame that freed its buffers after their last readers has no word 3 left: made anew.)
+  if (out.gbuffer.width() == view.width && out.gbuffer.height() == view.height &&
+      out.gbuffer.word[3].xsize() == width) {
     out.gbuffer.normalEncoding = params.normalEncoding;
     Plane<uint32_t>& word3 = out.gbuffer.word[3];
     ParallelForRowBands("gbuffer.reset_word3", height, [&](size_t, size_t yBegin, size_t yEnd) {
