@@ -429,28 +429,6 @@ struct PassesOptions {
   bool stats = false;
 };
 
-// The scene a dump was rendered from (--scene, else the dump's "ssgi:scene"), with its configuration
-// as the dump records it and the dump's image size.
-SceneAndConfig SceneOfDump(const ssgi::ExrFile& dump, const fs::path& dumpPath, const std::string& sceneOption) {
-  std::string scene = sceneOption;
-  if (scene.empty()) {
-    const auto named = dump.metadata.find("ssgi:scene");
-    if (named == dump.metadata.end())
-      throw ssgi::InputError(dumpPath, "names no scene (no ssgi:scene metadata): give --scene");
-    scene = named->second;
-  }
-  ssgi::SceneFile file = ssgi::LoadSceneFile(scene);
-  ssgi::FrameConfig config = ssgi::FrameConfigFromSceneFile(file);
-  ssgi::ApplyDumpSettings(dump, dumpPath, config);
-  const ssgi::ExrLayer* words = dump.Find(ssgi::DumpPartName(ssgi::DumpPart::kImage, 0), "gbuffer.word2");
-  if (words == nullptr) words = dump.Find("", "gbuffer.word2");
-  if (words != nullptr) {
-    config.width = words->width;
-    config.height = words->height;
-  }
-  return {std::move(file.scene), config};
-}
-
 // Runs passes --from .. --to of the frame on the buffers of a dump (the oracle's, or a port's in
 // the dump's layer names) and writes the frame's buffers as a dump.
 int Passes(const PassesOptions& options) {
@@ -462,7 +440,7 @@ int Passes(const PassesOptions& options) {
   if (to < from)
     throw ssgi::InputError("--to " + options.to + " comes before --from " + options.from + " in the pipeline");
   const ssgi::ExrFile dump = ssgi::ReadExrFile(options.input);
-  const auto [scene, config] = SceneOfDump(dump, options.input, options.scene);
+  const auto [scene, config] = ssgi::LoadDumpScene(dump, options.input, options.scene);
   ssgi::Frame frame;
   ssgi::LoadFrameDump(dump, options.input, scene, config, from, to, frame);
   ssgi::RunFramePasses(scene, config, from, to, frame);
@@ -503,10 +481,10 @@ int Diff(const DiffOptions& options) {
   const fs::path thresholdsPath = options.thresholds.empty() ? DataFilePath("diff_thresholds.json") : fs::path(options.thresholds);
   const ssgi::DiffThresholds thresholds = ssgi::LoadDiffThresholds(thresholdsPath);
   // The scene's geometry judges coverage differences; without a scene they are compared as values.
-  std::optional<SceneAndConfig> scene;
+  std::optional<ssgi::DumpScene> scene;
   std::optional<ssgi::ViewProjection> view;
   if (!options.scene.empty() || oracle.metadata.count("ssgi:scene")) {
-    scene = SceneOfDump(oracle, options.oracle, options.scene);
+    scene = ssgi::LoadDumpScene(oracle, options.oracle, options.scene);
     view = ssgi::MakePerspective(scene->scene.camera, scene->config.width, scene->config.height);
   }
   std::optional<ssgi::CoverageGeometry> geometry;

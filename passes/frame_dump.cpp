@@ -218,6 +218,26 @@ void ApplyDumpSettings(const ExrFile& dump, const std::filesystem::path& file, F
   }
 }
 
+DumpScene LoadDumpScene(const ExrFile& dump, const std::filesystem::path& file,
+                        const std::filesystem::path& sceneFile) {
+  std::filesystem::path scenePath = sceneFile;
+  if (scenePath.empty()) {
+    const auto named = dump.metadata.find("ssgi:scene");
+    if (named == dump.metadata.end()) throw InputError(file, "names no scene (no ssgi:scene metadata): give --scene");
+    scenePath = named->second;
+  }
+  SceneFile loaded = LoadSceneFile(scenePath);
+  FrameConfig config = FrameConfigFromSceneFile(loaded);
+  ApplyDumpSettings(dump, file, config);
+  const ExrLayer* words = dump.Find(DumpPartName(DumpPart::kImage, 0), "gbuffer.word2");
+  if (words == nullptr) words = dump.Find("", "gbuffer.word2");
+  if (words != nullptr) {
+    config.width = words->width;
+    config.height = words->height;
+  }
+  return {std::move(loaded.scene), config};
+}
+
 void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
                     const std::map<std::string, std::string>& metadata) {
   const GBuffer& g = frame.gbuffer.gbuffer;

@@ -50,6 +50,17 @@ std::map<std::string, std::string> DumpMetadata(const std::string& scene, const 
 // Applies a dump's "ssgi:settings" to config. Throws InputError naming `file` for a bad line.
 void ApplyDumpSettings(const ExrFile& dump, const std::filesystem::path& file, FrameConfig& config);
 
+// The scene a dump was rendered from and its frame configuration as the dump records it: the scene
+// file `sceneFile`, or the one the dump names ("" for that), its render block, the dump's settings,
+// and the image size of the dump's G-buffer words where it has them. Throws InputError naming
+// `file` when it names no scene and none is given.
+struct DumpScene {
+  Scene scene;
+  FrameConfig config;
+};
+DumpScene LoadDumpScene(const ExrFile& dump, const std::filesystem::path& file,
+                        const std::filesystem::path& sceneFile);
+
 // Writes every buffer the frame holds (the passes that ran) as the catalogue's layers.
 void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
                     const std::map<std::string, std::string>& metadata);

@@ -446,15 +446,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const ExrLayer* word0 = dump.Find(main, "gbuffer.word0");
   if (word0 == nullptr) throw InputError(input, "has no layer gbuffer.word0 in a part 'frame'");
   // The scene and settings the dump was rendered with, as `ssgi passes` takes them.
-  std::filesystem::path sceneFile = scenePath;
-  if (sceneFile.empty()) {
-    const auto named = dump.metadata.find("ssgi:scene");
-    if (named == dump.metadata.end()) throw InputError(input, "names no scene (no ssgi:scene metadata): give --scene");
-    sceneFile = named->second;
-  }
-  const SceneFile scene = LoadSceneFile(sceneFile);
-  FrameConfig config = FrameConfigFromSceneFile(scene);
-  ApplyDumpSettings(dump, input, config);
+  const DumpScene scene = LoadDumpScene(dump, input, scenePath);
+  const FrameConfig& config = scene.config;
   FrameConstants frame;
   frame.width = word0->width;
   frame.height = word0->height;
