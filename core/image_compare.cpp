@@ -213,13 +213,14 @@ std::vector<uint8_t> ErrorHeatmap(const FloatImage& a, const FloatImage& b, doub
   }
   if (scale <= 0.0) scale = maxError > 0.0 ? maxError : 1.0;
   std::vector<uint8_t> rgb(n * 3);
-  for (size_t i = 0; i < n; ++i) {
-    // Black -> red -> yellow -> white in three equal thirds of the scale.
-    const double t = std::clamp(error[i] / scale, 0.0, 1.0) * 3.0;
-    const double channel[3] = {std::min(t, 1.0), std::clamp(t - 1.0, 0.0, 1.0), std::clamp(t - 2.0, 0.0, 1.0)};
-    for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = uint8_t(channel[c] * 255.0 + 0.5);
-  }
+  for (size_t i = 0; i < n; ++i) HeatmapColour(error[i] / scale, &rgb[i * 3]);
   return rgb;
+}
+
+void HeatmapColour(double t, uint8_t* rgb) {
+  const double level = std::clamp(t, 0.0, 1.0) * 3.0;
+  const double channel[3] = {std::min(level, 1.0), std::clamp(level - 1.0, 0.0, 1.0), std::clamp(level - 2.0, 0.0, 1.0)};
+  for (int c = 0; c < 3; ++c) rgb[c] = uint8_t(channel[c] * 255.0 + 0.5);
 }
 
 }  // namespace ssgi

@@ -2,6 +2,7 @@
 // and a reference, on linear HDR values, plus a perceptual score.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -49,6 +50,10 @@ struct ImageDifference {
 // luminance (Rec. 709 weights of the first three channels, or the single channel) after
 // x / (1 + x) tonemapping, so HDR values compare on a bounded, perceptually ordered scale.
 ImageDifference CompareImages(const FloatImage& a, const FloatImage& b);
+
+// The heat maps' colour of t in [0, 1] (clamped): black (0) through red and yellow to white (1), in
+// three equal thirds; 8-bit RGB into rgb[0..2].
+void HeatmapColour(double t, uint8_t* rgb);
 
 // Per-pixel error |a - b| (Euclidean over channels) as an 8-bit RGB heat map, black (0) through red
 // and yellow to white (>= scale); scale <= 0 uses the maximum error.

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/image_compare.h"
 #include "core/raster.h"
 #include "passes/frame_dump.h"
 
@@ -335,12 +336,9 @@ std::vector<uint8_t> LayerDiffHeatmap(const ExrFile& oracle, const ExrFile& port
   }
   std::vector<uint8_t> rgb(difference.size() * 3);
   for (size_t i = 0; i < difference.size(); ++i) {
-    // Black -> red -> yellow -> white, as ErrorHeatmap (core/image_compare.h); non-finite is white.
+    // Scaled to the largest finite difference; a non-finite one is white.
     const double t = difference[i] == 0.0 ? 0.0 : std::isfinite(difference[i]) && largest > 0.0 ? difference[i] / largest : 1.0;
-    const double level = std::clamp(t, 0.0, 1.0) * 3.0;
-    rgb[i * 3 + 0] = uint8_t(std::clamp(level, 0.0, 1.0) * 255.0 + 0.5);
-    rgb[i * 3 + 1] = uint8_t(std::clamp(level - 1.0, 0.0, 1.0) * 255.0 + 0.5);
-    rgb[i * 3 + 2] = uint8_t(std::clamp(level - 2.0, 0.0, 1.0) * 255.0 + 0.5);
+    HeatmapColour(t, &rgb[i * 3]);
   }
   return rgb;
 }
