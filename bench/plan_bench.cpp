@@ -1,13 +1,10 @@
 // Cost that follows need (issue 14, DESIGN.md §9): whole frames of a floor whose smooth share grows
 // strip by strip, against the same frame with reflections switched off. bench/README.md records
 // results; bench/plot_cost_share.py draws them.
-#include <array>
-#include <string>
-
 #include <benchmark/benchmark.h>
 
 #include "core/parallel.h"
-#include "core/plane.h"
+#include "core/procedural_mesh.h"
 #include "passes/frame.h"
 
 namespace ssgi {
@@ -15,27 +12,6 @@ namespace {
 
 constexpr int kStrips = 32;
 constexpr int kSize = 1024;
-
-void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material) {
-  const uint32_t base = uint32_t(mesh.positions.size());
-  const glm::vec3 normal = glm::normalize(glm::cross(u, v));
-  for (const glm::vec3& p : {o, o + u, o + u + v, o + v}) {
-    mesh.positions.push_back(p);
-    mesh.normals.push_back(normal);
-    mesh.uvs.emplace_back(0.0f);
-  }
-  for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + i);
-  mesh.materials.insert(mesh.materials.end(), 2, material);
-}
-
-void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t material) {
-  const glm::vec3 d = hi - lo;
-  AddQuad(mesh, {lo.x, lo.y, hi.z}, {d.x, 0, 0}, {0, d.y, 0}, material);   // front (+z)
-  AddQuad(mesh, {hi.x, lo.y, lo.z}, {-d.x, 0, 0}, {0, d.y, 0}, material);  // back
-  AddQuad(mesh, {lo.x, lo.y, lo.z}, {0, 0, d.z}, {0, d.y, 0}, material);   // left (-x)
-  AddQuad(mesh, {hi.x, lo.y, hi.z}, {0, 0, -d.z}, {0, d.y, 0}, material);  // right
-  AddQuad(mesh, {lo.x, hi.y, hi.z}, {d.x, 0, 0}, {0, 0, -d.z}, material);  // top
-}
 
 // A floor of kStrips strips running away from the camera, the first `smooth` of them (from the left)
 // smooth enough to reflect, the others rough; grey posts stand on it; a sun of that angular

@@ -65,4 +65,27 @@ Mesh MakeTorusKnot(int tubularSegments, int radialSegments, const TorusKnotDesc&
   return mesh;
 }
 
+void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material) {
+  const uint32_t base = uint32_t(mesh.positions.size());
+  const glm::vec3 normal = glm::normalize(glm::cross(u, v));
+  for (const glm::vec3& p : {o, o + u, o + u + v, o + v}) {
+    mesh.positions.push_back(p);
+    mesh.normals.push_back(normal);
+    mesh.uvs.push_back(glm::vec2(0.0f));
+  }
+  mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  mesh.materials.insert(mesh.materials.end(), {material, material});
+}
+
+void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t material) {
+  const glm::vec3 d = hi - lo;
+  const glm::vec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
+  AddQuad(mesh, lo, x, z, material);      // bottom, -y
+  AddQuad(mesh, lo + y, z, x, material);  // top, +y
+  AddQuad(mesh, lo, y, x, material);      // back, -z
+  AddQuad(mesh, lo + z, x, y, material);  // front, +z
+  AddQuad(mesh, lo, z, y, material);      // left, -x
+  AddQuad(mesh, lo + x, y, z, material);  // right, +x
+}
+
 }  // namespace ssgi

@@ -3,6 +3,10 @@
 // shipping large model files.
 #pragma once
 
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
 #include "core/mesh.h"
 
 namespace ssgi {
@@ -27,5 +31,12 @@ struct TorusKnotDesc {
 //  - Deterministic: no randomness; the only libm calls are sin/cos/sqrt in double precision.
 // Requires tubularSegments >= 3, radialSegments >= 3 and 2 * tubularSegments * radialSegments < 2^31.
 Mesh MakeTorusKnot(int tubularSegments, int radialSegments, const TorusKnotDesc& desc = {});
+
+// A quad o, o + u, o + u + v, o + v, counter-clockwise seen from the side cross(u, v) points to,
+// with flat normals, UVs 0 and the material `material`.
+void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v, uint32_t material = 0);
+
+// An axis-aligned box with outward faces and flat normals, all of the material `material`.
+void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, uint32_t material = 0);
 
 }  // namespace ssgi

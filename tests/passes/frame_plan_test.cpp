@@ -29,9 +29,7 @@ void AddBoxOfRoughness(test::TestScene& scene, glm::vec3 lo, glm::vec3 hi, float
   Material smooth = scene.materials[0];
   smooth.roughness = roughness;
   scene.materials.push_back(smooth);
-  const size_t before = scene.mesh.TriangleCount();
-  test::AddBox(scene.mesh, lo, hi);
-  for (size_t t = before; t < scene.mesh.TriangleCount(); ++t) scene.mesh.materials[t] = uint32_t(scene.materials.size() - 1);
+  test::AddBox(scene.mesh, lo, hi, uint32_t(scene.materials.size() - 1));
 }
 
 Frame Render(const test::TestScene& scene, EffectMode shadows, EffectMode reflections) {

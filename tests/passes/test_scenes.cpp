@@ -6,29 +6,6 @@
 
 namespace ssgi::test {
 
-void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v) {
-  const uint32_t base = uint32_t(mesh.positions.size());
-  const glm::vec3 normal = glm::normalize(glm::cross(u, v));
-  for (const glm::vec3& p : {o, o + u, o + u + v, o + v}) {
-    mesh.positions.push_back(p);
-    mesh.normals.push_back(normal);
-    mesh.uvs.push_back(glm::vec2(0.0f));
-  }
-  mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-  mesh.materials.insert(mesh.materials.end(), {0u, 0u});
-}
-
-void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi) {
-  const glm::vec3 d = hi - lo;
-  const glm::vec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
-  AddQuad(mesh, lo, x, z);      // bottom, -y
-  AddQuad(mesh, lo + y, z, x);  // top, +y
-  AddQuad(mesh, lo, y, x);      // back, -z
-  AddQuad(mesh, lo + z, x, y);  // front, +z
-  AddQuad(mesh, lo, z, y);      // left, -x
-  AddQuad(mesh, lo + x, y, z);  // right, +x
-}
-
 void AddGround(Mesh& mesh, float half) { AddQuad(mesh, {-half, 0, -half}, {0, 0, 2 * half}, {2 * half, 0, 0}); }
 
 glm::vec3 LightDirection(float fromNormalDeg, float azimuthDeg) {

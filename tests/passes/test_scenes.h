@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "core/gbuffer.h"
 #include "core/mesh.h"
+#include "core/procedural_mesh.h"
 #include "core/plane.h"
 #include "core/scene.h"
 #include "passes/frame.h"
@@ -19,12 +20,9 @@
 
 namespace ssgi::test {
 
-// A quad o, o + u, o + u + v, o + v, counter-clockwise seen from the side cross(u, v) points to,
-// with flat normals and material 0.
-void AddQuad(Mesh& mesh, glm::vec3 o, glm::vec3 u, glm::vec3 v);
-
-// An axis-aligned box with outward faces and flat normals.
-void AddBox(Mesh& mesh, glm::vec3 lo, glm::vec3 hi);
+// Quads and boxes (core/procedural_mesh.h), material 0 unless given.
+using ::ssgi::AddBox;
+using ::ssgi::AddQuad;
 
 // The plane y = 0, `half` metres each way from the origin, facing up.
 void AddGround(Mesh& mesh, float half);
