@@ -150,9 +150,8 @@ HWY_INLINE VF ClosestInverseDepth(const SsrTraceFrame& frame, const MarchLanes& 
 }
 
 // Step `step` (1-based) of MarchHiZ's loop for the live lanes of m: a lane stops where MarchHiZ
-// returns. Adds the lanes that stepped to `iterations`.
-HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& params, int step, MarchLanes& m,
-                          uint64_t& iterations) {
+// returns; the lanes that step count it in m.steps.
+HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& params, int step, MarchLanes& m) {
   const DF df;
   const DI di;
   const VF zero = hn::Zero(df);
@@ -160,8 +159,7 @@ HWY_INLINE void StepMarch(const SsrTraceFrame& frame, const SsrTraceParams& para
   const VI imageWidth = hn::Set(di, frame.width);
   const VI imageHeight = hn::Set(di, frame.height);
   const VF never = hn::Set(df, kHiZNever);
-  iterations += hn::CountTrue(df, m.live);
-  m.steps = hn::Add(m.steps, hn::IfThenElseZero(hn::RebindMask(di, m.live), hn::Set(di, 1)));
+  m.steps = hn::Add(m.steps, hn::IfThenElseZero(hn::RebindMask(di, m.live), one));
   // CellIndex. Positions are never NaN (StartMarch), so hn::Min / hn::Max clamp as std::clamp does;
   // level k has max(1, size >> k) cells (PyramidHalvedSize).
   const VF maxCoordinate = hn::Set(df, kHiZMaxCoordinate);
@@ -358,8 +356,9 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
     MarchLanes march = StartMarch(frame, rays.traced, rays.originX, hn::Set(df, py), rays.originZ, rays.end);
     counts.rays += hn::CountTrue(df, rays.traced);
     for (int step = 1; step <= params.maxIterations && !hn::AllFalse(df, march.live); ++step) {
-      StepMarch(frame, params, step, march, counts.iterations);
+      StepMarch(frame, params, step, march);
     }
+    counts.iterations += uint64_t(hn::GetLane(hn::SumOfLanes(DI(), march.steps)));
     FinishRays(frame, params, rays, march, x0, end, hitX, hitY, confidence, iterations);
   }
 }
