@@ -43,7 +43,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
                     BufferLifetime lifetime) {
   // Frees a buffer whose last reader has run (BufferLifetime::kUntilLastReader).
   const bool release = lifetime == BufferLifetime::kUntilLastReader;
-  const auto free = [release](auto& buffer) {
+  const auto drop = [release](auto& buffer) {
     if (release) buffer = std::remove_reference_t<decltype(buffer)>();
   };
   FrameStats& stats = frame.stats;
@@ -56,7 +56,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
 
   if (runs(FramePass::kGBuffer))
     stats.gbuffer = RunGBuffer({scene, frame.view}, {config.normalEncoding}, frame.gbuffer);
-  free(frame.gbuffer.visibility);
+  drop(frame.gbuffer.visibility);
   GBuffer& gbuffer = frame.gbuffer.gbuffer;
 
   // Only the effects the visible pixels need (DESIGN.md §9). G-buffer word 3 has room for one
@@ -71,7 +71,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     stats.shadowMap =
         RunShadowMap({scene, frame.view, gbuffer, shadowLight}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
   }
-  free(frame.shadowMap);
+  drop(frame.shadowMap);
   if (frame.shadows && runs(FramePass::kShadowFilter)) {
     const std::vector<PreparedLight> viewLights = PrepareLights(scene, frame.view.view);
     stats.shadowFilter = RunShadowFilter({gbuffer, frame.view, viewLights[shadowLight]}, config.shadowFilter,
@@ -86,8 +86,8 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     }
     stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
   }
-  free(frame.shadowVisibility);
-  free(frame.gbuffer.gbuffer.word[3]);  // the shadow term: read by the filter only
+  drop(frame.shadowVisibility);
+  drop(frame.gbuffer.gbuffer.word[3]);  // the shadow term: read by the filter only
 
   frame.reflections = frame.plan.reflections.run;
   if (frame.reflections) {
@@ -95,21 +95,21 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     if (runs(FramePass::kColorPyramid)) stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
     if (runs(FramePass::kSsrTrace))
       stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
-    free(frame.hiz);
-    free(frame.ssrTrace.iterations);  // for dumps only
+    drop(frame.hiz);
+    drop(frame.ssrTrace.iterations);  // for dumps only
     if (runs(FramePass::kSsrCone))
       stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
-    free(frame.colorPyramid);
-    free(frame.ssrTrace.hitX);
-    free(frame.ssrTrace.hitY);
+    drop(frame.colorPyramid);
+    drop(frame.ssrTrace.hitX);
+    drop(frame.ssrTrace.hitY);
     if (runs(FramePass::kComposite))
       stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
                                       frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
                                      frame.composite);
-    free(frame.ssrCone);
-    free(frame.ssrTrace.confidence);
-    free(frame.composite.indirect);
-    free(frame.direct);
+    drop(frame.ssrCone);
+    drop(frame.ssrTrace.confidence);
+    drop(frame.composite.indirect);
+    drop(frame.direct);
   }
 
   if (runs(FramePass::kTonemap)) stats.tonemap = RunTonemap(frame.Result(), config.tonemap, frame.display);
