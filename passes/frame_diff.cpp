@@ -19,13 +19,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-// A single-part port file may leave its part unnamed; it is the image part.
-const ExrLayer* FindPartLayer(const ExrFile& file, const std::string& part, const std::string& name) {
-  if (const ExrLayer* layer = file.Find(part, name)) return layer;
-  if (part == DumpPartName(DumpPart::kImage, 0)) return file.Find("", name);
-  return nullptr;
-}
-
 std::string LayerId(const std::string& part, const std::string& name) {
   return part == DumpPartName(DumpPart::kImage, 0) || part.empty() ? name : part + ":" + name;
 }
@@ -267,17 +260,17 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   const std::string image = DumpPartName(DumpPart::kImage, 0);
   std::optional<EdgePixels> edges;
   if (geometry) {
-    if (const ExrLayer* triangles = FindPartLayer(oracle, image, "raster.triangle"))
-      edges.emplace(*geometry, *triangles, FindPartLayer(port, image, "raster.triangle"));
+    if (const ExrLayer* triangles = FindDumpLayer(oracle, image, "raster.triangle"))
+      edges.emplace(*geometry, *triangles, FindDumpLayer(port, image, "raster.triangle"));
   }
   std::set<std::pair<std::string, std::string>> seen;
   const auto compare = [&](const std::string& part, const std::string& name, FramePass pass) {
-    const ExrLayer* a = FindPartLayer(oracle, part, name);
+    const ExrLayer* a = FindDumpLayer(oracle, part, name);
     if (a == nullptr) return false;
     seen.insert({a->part, name});
     const std::string id = LayerId(part, name);
     report.layers.push_back(
-        CompareLayer(id, pass, *a, FindPartLayer(port, part, name), thresholds.For(id), edges ? &*edges : nullptr));
+        CompareLayer(id, pass, *a, FindDumpLayer(port, part, name), thresholds.For(id), edges ? &*edges : nullptr));
     return true;
   };
   const std::vector<DumpLayer>& catalogue = DumpLayers();
@@ -321,8 +314,8 @@ std::vector<uint8_t> LayerDiffHeatmap(const ExrFile& oracle, const ExrFile& port
   const size_t colon = layerId.find(':');
   const std::string part = colon == std::string::npos ? DumpPartName(DumpPart::kImage, 0) : layerId.substr(0, colon);
   const std::string name = colon == std::string::npos ? layerId : layerId.substr(colon + 1);
-  const ExrLayer* a = FindPartLayer(port, part, name);
-  const ExrLayer* b = FindPartLayer(oracle, part, name);
+  const ExrLayer* a = FindDumpLayer(port, part, name);
+  const ExrLayer* b = FindDumpLayer(oracle, part, name);
   if (a == nullptr || b == nullptr || a->width != b->width || a->height != b->height || a->isUint != b->isUint) return {};
   width = a->width;
   height = a->height;

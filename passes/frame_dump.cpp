@@ -218,6 +218,12 @@ void ApplyDumpSettings(const ExrFile& dump, const std::filesystem::path& file, F
   }
 }
 
+const ExrLayer* FindDumpLayer(const ExrFile& dump, const std::string& part, const std::string& name) {
+  if (const ExrLayer* layer = dump.Find(part, name)) return layer;
+  if (part == DumpPartName(DumpPart::kImage, 0)) return dump.Find("", name);
+  return nullptr;
+}
+
 DumpScene LoadDumpScene(const ExrFile& dump, const std::filesystem::path& file,
                         const std::filesystem::path& sceneFile) {
   std::filesystem::path scenePath = sceneFile;
@@ -229,9 +235,7 @@ DumpScene LoadDumpScene(const ExrFile& dump, const std::filesystem::path& file,
   SceneFile loaded = LoadSceneFile(scenePath);
   FrameConfig config = FrameConfigFromSceneFile(loaded);
   ApplyDumpSettings(dump, file, config);
-  const ExrLayer* words = dump.Find(DumpPartName(DumpPart::kImage, 0), "gbuffer.word2");
-  if (words == nullptr) words = dump.Find("", "gbuffer.word2");
-  if (words != nullptr) {
+  if (const ExrLayer* words = FindDumpLayer(dump, DumpPartName(DumpPart::kImage, 0), "gbuffer.word2")) {
     config.width = words->width;
     config.height = words->height;
   }

@@ -43,6 +43,10 @@ const std::vector<DumpLayer>& DumpLayers();
 // The name of the part holding `layer` at `level` (levels: 0 .. for the pyramids, ignored else).
 std::string DumpPartName(DumpPart part, int level);
 
+// The layer `name` of part `part` of a dump, or null. A port's single-part file may leave its part
+// unnamed: that part is the image part "frame".
+const ExrLayer* FindDumpLayer(const ExrFile& dump, const std::string& part, const std::string& name);
+
 // Metadata a dump carries so that `ssgi passes` can rebuild the frame's configuration without the
 // command line that made it: "ssgi:scene" (the scene file's absolute path) and "ssgi:settings"
 // (every setting the table stores, "name=value" lines).
