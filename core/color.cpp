@@ -3,37 +3,50 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
-#include <limits>
 #include <vector>
 
 namespace ssgi {
 namespace {
 
-// Positive floats below 1 have bit patterns below 0x3F800000; their top 17 bits (exponent and 8
-// mantissa bits) pick a bucket no wider than 1/256 of its value, which holds at most two code
-// boundaries. The bucket's table entry is the code of its smallest value; a lookup then steps over
-// the thresholds inside the bucket. Exact, and with at most two data-dependent steps.
-constexpr int kBucketShift = kSrgbBucketShift;
-constexpr uint32_t kOneBits = 0x3F800000u;
+// Positive floats order like their bit patterns. From 2^-13 (below the first code boundary, about
+// 1.5e-4) to 1, buckets of 2^16 consecutive floats are narrower than the gap between two
+// neighbouring boundaries, so each holds at most one (checked as the table is built); its entry
+// gives the code of its smallest float and where inside it the boundary lies. One lookup and one
+// compare, exact.
+constexpr int32_t kBucketFloats = int32_t(1) << kSrgbEncodeShift;
+constexpr int32_t kNoBoundary = kBucketFloats;  // an offset no float inside the bucket reaches
+
+int32_t FloatBits(float x) {
+  int32_t bits;
+  std::memcpy(&bits, &x, 4);
+  return bits;
+}
 
 struct SrgbTables {
   std::array<float, 256> codeToLinear;
-  std::array<float, 256> thresholds;  // thresholds[k]: linear value where code k rounds up to k + 1; [255] = inf
-  std::vector<int32_t> bucketCode;  // 32-bit so SIMD kernels can gather it
-  SrgbEncodeTables forKernels;
+  std::array<float, 255> thresholds;  // thresholds[k]: the linear value where code k rounds up to k + 1
+  std::vector<int32_t> encode;  // 32-bit so SIMD kernels can gather it
 
-  SrgbTables() : bucketCode(kOneBits >> kBucketShift) {
+  SrgbTables() : encode(size_t((kSrgbEncodeHighBits - kSrgbEncodeLowBits) >> kSrgbEncodeShift) + 1) {
     for (int k = 0; k < 256; ++k) codeToLinear[k] = SrgbToLinear(float(k) / 255.0f);
     for (int k = 0; k < 255; ++k) thresholds[k] = SrgbToLinear((float(k) + 0.5f) / 255.0f);
-    thresholds[255] = std::numeric_limits<float>::infinity();
-    for (uint32_t b = 0; b < bucketCode.size(); ++b) {
+    for (size_t b = 0; b < encode.size(); ++b) {
+      const int32_t first = kSrgbEncodeLowBits + int32_t(b) * kBucketFloats;
       float lowest;
-      const uint32_t bits = b << kBucketShift;
-      std::memcpy(&lowest, &bits, 4);
-      bucketCode[b] = int32_t(std::upper_bound(thresholds.begin(), thresholds.end() - 1, lowest) - thresholds.begin());
+      std::memcpy(&lowest, &first, 4);
+      const auto above = std::upper_bound(thresholds.begin(), thresholds.end(), lowest);
+      int32_t offset = kNoBoundary;
+      if (above != thresholds.end() && FloatBits(*above) - first < kBucketFloats) {
+        offset = FloatBits(*above) - first;
+        // A second boundary in the same bucket would need a second compare.
+        if (above + 1 != thresholds.end() && FloatBits(above[1]) - first < kBucketFloats) std::abort();
+      }
+      encode[b] = offset << 8 | int32_t(above - thresholds.begin());
     }
-    forKernels = {bucketCode.data(), thresholds.data()};
+    // Everything below the first bucket must encode to 0.
+    if (FloatBits(thresholds[0]) <= kSrgbEncodeLowBits) std::abort();
   }
 };
 
@@ -53,7 +66,7 @@ float LinearToSrgb(float linear) {
   return linear <= 0.0031308f ? linear * 12.92f : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
-const SrgbEncodeTables& SrgbEncodeTablesForKernels() { return Tables().forKernels; }
+const int32_t* SrgbEncodeTableForKernels() { return Tables().encode.data(); }
 
 float SrgbCodeToLinear(uint8_t code) { return Tables().codeToLinear[code]; }
 
@@ -61,14 +74,9 @@ const float* SrgbDecodeTableForKernels() { return Tables().codeToLinear.data(); 
 
 uint8_t LinearToSrgbCode(float linear) {
   if (!(linear > 0.0f)) return 0;
-  if (linear >= 1.0f) return 255;
-  const SrgbTables& tables = Tables();
-  uint32_t bits;
-  std::memcpy(&bits, &linear, 4);
-  unsigned code = unsigned(tables.bucketCode[bits >> kBucketShift]);
-  code += linear >= tables.thresholds[code];
-  code += linear >= tables.thresholds[code];
-  return uint8_t(code);
+  const int32_t bits = std::min(std::max(FloatBits(linear), kSrgbEncodeLowBits), kSrgbEncodeHighBits);
+  const int32_t entry = Tables().encode[size_t((bits - kSrgbEncodeLowBits) >> kSrgbEncodeShift)];
+  return uint8_t((entry & 0xFF) + ((bits & kSrgbEncodeOffsetMask) >= (entry >> 8)));
 }
 
 uint8_t UnormCode8(float value) {

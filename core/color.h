@@ -18,19 +18,23 @@ float SrgbCodeToLinear(uint8_t code);
 const float* SrgbDecodeTableForKernels();
 
 // The 8-bit sRGB code nearest in encoded space to a linear value: round(LinearToSrgb(x) * 255),
-// found by bisection over the 255 thresholds, so the result does not depend on pow's rounding.
+// the number of the 255 code boundaries at or below x, so the result does not depend on pow's
+// rounding.
 // Values below 0 (and NaN) give 0, above 1 give 255.
 uint8_t LinearToSrgbCode(float linear);
 
-// The tables behind LinearToSrgbCode, for SIMD kernels that must give the same codes: for
-// 0 < x < 1, code = bucketCode[bits(x) >> kSrgbBucketShift], then twice code += (x >= thresholds[code])
-// (a bucket holds at most two code boundaries; thresholds[255] is +inf).
-inline constexpr int kSrgbBucketShift = 15;
-struct SrgbEncodeTables {
-  const int32_t* bucketCode;  // 0x3F800000 >> kSrgbBucketShift entries
-  const float* thresholds;    // 256 entries
-};
-const SrgbEncodeTables& SrgbEncodeTablesForKernels();
+// The table behind LinearToSrgbCode, for SIMD kernels that must give the same codes with one
+// gather. With b = clamp(bits(x), kSrgbEncodeLowBits, kSrgbEncodeHighBits) and
+// e = entries[(b - kSrgbEncodeLowBits) >> kSrgbEncodeShift]:
+//   code = (e & 0xFF) + ((b & kSrgbEncodeOffsetMask) >= (e >> 8)).
+// A bucket (2^kSrgbEncodeShift consecutive floats) holds at most one code boundary; the entry packs
+// the code of the bucket's smallest float and the boundary's position inside the bucket
+// (2^kSrgbEncodeShift, never reached, when there is none). Valid for x >= 0 and not NaN.
+inline constexpr int kSrgbEncodeShift = 16;
+inline constexpr int32_t kSrgbEncodeLowBits = 0x39000000;   // 2^-13, below the first boundary
+inline constexpr int32_t kSrgbEncodeHighBits = 0x3F7FFFFF;  // the largest float below 1
+inline constexpr int32_t kSrgbEncodeOffsetMask = (1 << kSrgbEncodeShift) - 1;
+const int32_t* SrgbEncodeTableForKernels();
 
 // Unsigned normalised 8-bit code of a value in [0, 1], round half up; out-of-range values clamp,
 // NaN gives 0.

@@ -9,12 +9,14 @@
 
 namespace ssgi {
 
-void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes) {
+void TonemapRowScalar(const float* const radiance[3], size_t count, float scale, Tonemap curve, uint8_t* rgb) {
   for (size_t i = 0; i < count; ++i) {
-    float x = radiance[i] * scale;
-    x = std::isnan(x) ? 0.0f : std::min(std::max(x, 0.0f), kTonemapMaxInput);
-    if (curve == Tonemap::kAces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
-    codes[i] = LinearToSrgbCode(std::min(x, 1.0f));
+    for (int c = 0; c < 3; ++c) {
+      float x = radiance[c][i] * scale;
+      x = std::isnan(x) ? 0.0f : std::min(std::max(x, 0.0f), kTonemapMaxInput);
+      if (curve == Tonemap::kAces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
+      rgb[3 * i + c] = LinearToSrgbCode(std::min(x, 1.0f));
+    }
   }
 }
 
@@ -27,13 +29,9 @@ TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& para
   out.rgb.resize(width * height * 3);
   const auto tonemapRow = kernels == KernelPath::kSimd ? TonemapRowSimd : TonemapRowScalar;
   ParallelForRowBands("tonemap", height, [&](size_t, size_t yBegin, size_t yEnd) {
-    std::vector<uint8_t> codes(width * 3);
     for (size_t y = yBegin; y < yEnd; ++y) {
-      for (int c = 0; c < 3; ++c)
-        tonemapRow(radiance.c[c].ConstRow(y), width, scale, params.curve, codes.data() + c * width);
-      uint8_t* row = out.rgb.data() + y * width * 3;
-      for (size_t x = 0; x < width; ++x)
-        for (int c = 0; c < 3; ++c) row[3 * x + c] = codes[c * width + x];
+      const float* const rows[3] = {radiance.c[0].ConstRow(y), radiance.c[1].ConstRow(y), radiance.c[2].ConstRow(y)};
+      tonemapRow(rows, width, scale, params.curve, out.rgb.data() + y * width * 3);
     }
   });
   return {stopwatch.Lap(), width * height};

@@ -38,8 +38,8 @@ struct TonemapStats {
 TonemapStats RunTonemap(const Plane3<float>& radiance, const TonemapParams& params, TonemapOutputs& out,
                         KernelPath kernels = KernelPath::kSimd);
 
-// One channel of one row: codes[i] = sRGB code of the tonemapped radiance[i] * scale.
-void TonemapRowScalar(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes);
-void TonemapRowSimd(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes);
+// One row: rgb[3 i + c] = sRGB code of the tonemapped radiance[c][i] * scale.
+void TonemapRowScalar(const float* const radiance[3], size_t count, float scale, Tonemap curve, uint8_t* rgb);
+void TonemapRowSimd(const float* const radiance[3], size_t count, float scale, Tonemap curve, uint8_t* rgb);
 
 }  // namespace ssgi

@@ -14,40 +14,47 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-void TonemapRow(const float* radiance, size_t count, float scale, bool aces, uint8_t* codes) {
-  const hn::ScalableTag<float> df;
-  const hn::RebindToSigned<decltype(df)> di;
-  const hn::Rebind<uint8_t, decltype(df)> du8;
-  const SrgbEncodeTables& tables = SrgbEncodeTablesForKernels();
-  const size_t lanes = hn::Lanes(df);
+// The sRGB codes of one channel of a vector of pixels, as 8-bit lanes.
+template <class DF, class VF = hn::Vec<DF>>
+hn::Vec<hn::Rebind<uint8_t, DF>> TonemapCodes(DF df, VF x, VF scale, bool aces, const int32_t* encodeTable) {
+  const hn::RebindToSigned<DF> di;
   const auto zero = hn::Zero(df);
-  const auto one = hn::Set(df, 1.0f);
-  const auto largestBelowOne = hn::Set(df, 0.99999994f);
+  x = hn::Mul(x, scale);
+  x = hn::IfThenElse(hn::Eq(x, x), x, zero);  // NaN -> 0
+  x = hn::Min(hn::Max(x, zero), hn::Set(df, kTonemapMaxInput));
+  if (aces) {
+    const auto numerator = hn::Mul(x, hn::Add(hn::Mul(hn::Set(df, 2.51f), x), hn::Set(df, 0.03f)));
+    const auto denominator =
+        hn::Add(hn::Mul(x, hn::Add(hn::Mul(hn::Set(df, 2.43f), x), hn::Set(df, 0.59f))), hn::Set(df, 0.14f));
+    x = hn::Div(numerator, denominator);
+  }
+  // LinearToSrgbCode for x >= 0: clamping the bits to the table's range also maps 0 to 0 and
+  // values >= 1 to 255.
+  const auto bits = hn::Min(hn::Max(hn::BitCast(di, x), hn::Set(di, kSrgbEncodeLowBits)),
+                            hn::Set(di, kSrgbEncodeHighBits));
+  const auto bucket = hn::ShiftRight<kSrgbEncodeShift>(hn::Sub(bits, hn::Set(di, kSrgbEncodeLowBits)));
+  const auto entry = hn::GatherIndex(di, encodeTable, bucket);
+  const auto boundary = hn::ShiftRight<8>(entry);
+  const auto pastBoundary = hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kSrgbEncodeOffsetMask)), boundary));
+  const auto code = hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
+  return hn::DemoteTo(hn::Rebind<uint8_t, DF>(), code);
+}
+
+void TonemapRow(const float* const radiance[3], size_t count, float scale, bool aces, uint8_t* rgb) {
+  const hn::ScalableTag<float> df;
+  const hn::Rebind<uint8_t, decltype(df)> du8;
+  const int32_t* encodeTable = SrgbEncodeTableForKernels();
+  const size_t lanes = hn::Lanes(df);
+  const auto scaleV = hn::Set(df, scale);
   size_t i = 0;
   for (; i + lanes <= count; i += lanes) {
-    auto x = hn::Mul(hn::LoadU(df, radiance + i), hn::Set(df, scale));
-    x = hn::IfThenElse(hn::Eq(x, x), x, zero);  // NaN -> 0
-    x = hn::Min(hn::Max(x, zero), hn::Set(df, kTonemapMaxInput));
-    if (aces) {
-      const auto numerator = hn::Mul(x, hn::Add(hn::Mul(hn::Set(df, 2.51f), x), hn::Set(df, 0.03f)));
-      const auto denominator =
-          hn::Add(hn::Mul(x, hn::Add(hn::Mul(hn::Set(df, 2.43f), x), hn::Set(df, 0.59f))), hn::Set(df, 0.14f));
-      x = hn::Div(numerator, denominator);
-    }
-    // LinearToSrgbCode: the bucket of x (clamped below 1 so the index stays in the table), two
-    // threshold steps, then 0 for x <= 0 and 255 for x >= 1.
-    const auto inTable = hn::Min(x, largestBelowOne);
-    const auto bucket = hn::ShiftRight<kSrgbBucketShift>(hn::BitCast(di, inTable));
-    auto code = hn::GatherIndex(di, tables.bucketCode, bucket);
-    for (int step = 0; step < 2; ++step) {
-      const auto threshold = hn::GatherIndex(df, tables.thresholds, code);
-      code = hn::Sub(code, hn::VecFromMask(di, hn::RebindMask(di, hn::Ge(x, threshold))));
-    }
-    code = hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(x, zero)), code);
-    code = hn::IfThenElse(hn::RebindMask(di, hn::Ge(x, one)), hn::Set(di, 255), code);
-    hn::StoreU(hn::DemoteTo(du8, code), du8, codes + i);
+    const auto r = TonemapCodes(df, hn::LoadU(df, radiance[0] + i), scaleV, aces, encodeTable);
+    const auto g = TonemapCodes(df, hn::LoadU(df, radiance[1] + i), scaleV, aces, encodeTable);
+    const auto b = TonemapCodes(df, hn::LoadU(df, radiance[2] + i), scaleV, aces, encodeTable);
+    hn::StoreInterleaved3(r, g, b, du8, rgb + 3 * i);
   }
-  TonemapRowScalar(radiance + i, count - i, scale, aces ? Tonemap::kAces : Tonemap::kClamp, codes + i);
+  const float* const tail[3] = {radiance[0] + i, radiance[1] + i, radiance[2] + i};
+  TonemapRowScalar(tail, count - i, scale, aces ? Tonemap::kAces : Tonemap::kClamp, rgb + 3 * i);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -59,8 +66,8 @@ namespace ssgi {
 
 HWY_EXPORT(TonemapRow);
 
-void TonemapRowSimd(const float* radiance, size_t count, float scale, Tonemap curve, uint8_t* codes) {
-  HWY_DYNAMIC_DISPATCH(TonemapRow)(radiance, count, scale, curve == Tonemap::kAces, codes);
+void TonemapRowSimd(const float* const radiance[3], size_t count, float scale, Tonemap curve, uint8_t* rgb) {
+  HWY_DYNAMIC_DISPATCH(TonemapRow)(radiance, count, scale, curve == Tonemap::kAces, rgb);
 }
 
 }  // namespace ssgi

@@ -1,5 +1,6 @@
 #include "passes/tonemap.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -34,19 +35,29 @@ std::vector<float> TonemapInputs() {
 }
 
 TEST_CASE("tonemap: the SIMD kernel equals the scalar definition on every compiled target", "[tonemap][simd]") {
+  // The inputs in red, and shifted by one and by two values in green and blue, so each channel
+  // sees every value next to different neighbours.
   const std::vector<float> inputs = TonemapInputs();
+  std::vector<float> shifted[2];
+  for (int s = 0; s < 2; ++s) {
+    shifted[s] = inputs;
+    std::rotate(shifted[s].begin(), shifted[s].begin() + 1 + s, shifted[s].end());
+  }
+  const float* const channels[3] = {inputs.data(), shifted[0].data(), shifted[1].data()};
   size_t targets = 0;
   for (Tonemap curve : {Tonemap::kAces, Tonemap::kClamp}) {
     for (float scale : {1.0f, 0.25f, 3.0f}) {
-      std::vector<uint8_t> expected(inputs.size()), actual(inputs.size());
-      TonemapRowScalar(inputs.data(), inputs.size(), scale, curve, expected.data());
+      std::vector<uint8_t> expected(inputs.size() * 3), actual(inputs.size() * 3);
+      TonemapRowScalar(channels, inputs.size(), scale, curve, expected.data());
       targets += test::ForEachSimdTarget([&](const char* target) {
         // Every count up to a few vectors exercises the scalar tail too.
         for (size_t count : {inputs.size(), size_t(1), size_t(7), size_t(33)}) {
           std::fill(actual.begin(), actual.end(), uint8_t(0xAB));
-          TonemapRowSimd(inputs.data(), count, scale, curve, actual.data());
+          TonemapRowSimd(channels, count, scale, curve, actual.data());
           CAPTURE(target, count, scale);
-          REQUIRE(std::equal(actual.begin(), actual.begin() + count, expected.begin()));
+          REQUIRE(std::equal(actual.begin(), actual.begin() + 3 * count, expected.begin()));
+          // Nothing past the row is written.
+          REQUIRE(std::all_of(actual.begin() + 3 * count, actual.end(), [](uint8_t v) { return v == 0xAB; }));
         }
       });
     }
@@ -56,17 +67,23 @@ TEST_CASE("tonemap: the SIMD kernel equals the scalar definition on every compil
 
 TEST_CASE("tonemap: special values encode as documented", "[tonemap]") {
   const float in[] = {std::nanf(""), -5.0f, 0.0f, std::numeric_limits<float>::infinity(), 1e6f};
-  uint8_t codes[5];
-  TonemapRowScalar(in, 5, 1.0f, Tonemap::kAces, codes);
-  CHECK(codes[0] == 0);
-  CHECK(codes[1] == 0);
-  CHECK(codes[2] == 0);
-  CHECK(codes[3] == 255);
-  CHECK(codes[4] == 255);
-  // Mid-grey through the clamp curve is its sRGB code.
-  const float grey = SrgbCodeToLinear(128);
-  TonemapRowScalar(&grey, 1, 1.0f, Tonemap::kClamp, codes);
+  const float* const channels[3] = {in, in, in};
+  uint8_t codes[15];
+  TonemapRowScalar(channels, 5, 1.0f, Tonemap::kAces, codes);
+  for (int c = 0; c < 3; ++c) {
+    CHECK(codes[0 + c] == 0);
+    CHECK(codes[3 + c] == 0);
+    CHECK(codes[6 + c] == 0);
+    CHECK(codes[9 + c] == 255);
+    CHECK(codes[12 + c] == 255);
+  }
+  // Mid-grey through the clamp curve is its sRGB code, in each channel's own byte.
+  const float grey = SrgbCodeToLinear(128), black = 0.0f, white = 1.0f;
+  const float* const greyRed[3] = {&grey, &black, &white};
+  TonemapRowScalar(greyRed, 1, 1.0f, Tonemap::kClamp, codes);
   CHECK(int(codes[0]) == 128);
+  CHECK(int(codes[1]) == 0);
+  CHECK(int(codes[2]) == 255);
 }
 
 TEST_CASE("tonemap: the SIMD pass gives the scalar pass's bytes on the default scene on every target, "
@@ -80,7 +97,7 @@ TEST_CASE("tonemap: the SIMD pass gives the scalar pass's bytes on the default s
       simd.rgb.assign(scalar.rgb.size(), 0xA5);
       RunTonemap(frame.Result(), {}, simd, KernelPath::kSimd);
       CAPTURE(target, frame.view.width, frame.view.height);
-      CHECK(simd.rgb == scalar.rgb);
+      CHECK((simd.rgb == scalar.rgb));  // parenthesised: Catch would print every byte
     });
     CHECK(targets >= 1);
   });
