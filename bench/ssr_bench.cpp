@@ -58,7 +58,8 @@ void BM_SsrTrace(benchmark::State& state) {
 void BM_SsrCone(benchmark::State& state) {
   SsrConeOutputs out;
   RunKernels(state, [&](const Frame& f, KernelPath kernels) {
-    return RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace}, {}, out, kernels).pixels;
+    return RunSsrCone({f.gbuffer.gbuffer, f.colorPyramid, f.ssrTrace.hitX, f.ssrTrace.hitY, f.ssrTrace.confidence}, {}, out,
+                      kernels).pixels;
   });
 }
 

@@ -3,6 +3,7 @@
 // built once, so every caller and every SIMD target gets the same bits without calling pow.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 namespace ssgi {
@@ -35,6 +36,13 @@ inline constexpr int32_t kSrgbEncodeLowBits = 0x39000000;   // 2^-13, below the 
 inline constexpr int32_t kSrgbEncodeHighBits = 0x3F7FFFFF;  // the largest float below 1
 inline constexpr int32_t kSrgbEncodeOffsetMask = (1 << kSrgbEncodeShift) - 1;
 const int32_t* SrgbEncodeTableForKernels();
+
+// The largest half float. The frame's radiance buffers (direct light, the colour pyramid, the
+// cone-traced reflection) hold finite values in [0, kMaxRadiance]: they fit a GPU port's half-float
+// targets, and no NaN or infinity can spread through a blur. Sanitised: NaN and negatives (-inf
+// too) -> 0, values above the cap (+inf too) -> the cap.
+inline constexpr float kMaxRadiance = 65504.0f;
+inline float SanitizeRadiance(float v) { return v > 0.0f ? std::min(v, kMaxRadiance) : 0.0f; }
 
 // Unsigned normalised 8-bit code of a value in [0, 1], round half up; out-of-range values clamp,
 // NaN gives 0.

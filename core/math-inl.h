@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/color.h"
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -54,6 +55,13 @@ V MinStd(V a, V b) {
 template <class V>
 V MaxStd(V a, V b) {
   return hn::IfThenElse(hn::Lt(a, b), b, a);
+}
+
+// SanitizeRadiance (core/color.h).
+template <class V>
+V SanitizeRadianceV(V v) {
+  const hn::DFromV<V> d;
+  return hn::IfThenElseZero(hn::Gt(v, hn::Zero(d)), MinStd(v, hn::Set(d, kMaxRadiance)));
 }
 
 // std::clamp(v, lo, hi) = v < lo ? lo : (hi < v ? hi : v).

@@ -22,10 +22,6 @@ void ShapeLevels(size_t width, size_t height, std::vector<Plane3<float>>& levels
   }
 }
 
-// NaN fails the comparison and becomes 0 with the negatives: one NaN would otherwise poison every
-// texel its footprint reaches on every coarser level.
-float Sanitize(float v) { return v > 0.0f ? std::min(v, kColorPyramidMaxRadiance) : 0.0f; }
-
 // Clamp-to-edge: a zero outside the image would darken the borders of every level.
 size_t ClampIndex(ptrdiff_t i, size_t size) {
   return size_t(std::clamp<ptrdiff_t>(i, 0, ptrdiff_t(size) - 1));
@@ -81,7 +77,9 @@ struct BandScratch {
 }  // namespace
 
 void ColorPyramidSanitizeRowScalar(const float* radiance, size_t width, float* level0) {
-  for (size_t x = 0; x < width; ++x) level0[x] = Sanitize(radiance[x]);
+  // NaN becomes 0 with the negatives: one NaN would otherwise poison every texel its footprint
+  // reaches on every coarser level.
+  for (size_t x = 0; x < width; ++x) level0[x] = SanitizeRadiance(radiance[x]);
 }
 
 // Taps summed in tap order (deterministic).
@@ -117,16 +115,21 @@ void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t fo
   }
 }
 
-ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels) {
+namespace {
+
+// radiance: the image to sanitise into level 0, or nullptr where out.levels[0] already holds it.
+ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out, KernelPath kernels) {
   const Stopwatch watch;
-  const size_t width = radiance.c[0].xsize();
-  const size_t height = radiance.c[0].ysize();
+  SSGI_CHECK(radiance || !out.levels.empty());
+  const Plane3<float>& input = radiance ? *radiance : out.levels[0];
+  const size_t width = input.c[0].xsize();
+  const size_t height = input.c[0].ysize();
   SSGI_CHECK(width > 0 && height > 0);
-  for (const Plane<float>& channel : radiance.c) {
+  for (const Plane<float>& channel : input.c) {
     SSGI_CHECK_EQ(channel.xsize(), width);
     SSGI_CHECK_EQ(channel.ysize(), height);
   }
-  ShapeLevels(width, height, out.levels);
+  ShapeLevels(width, height, out.levels);  // keeps a level 0 of the right size
   const size_t levels = out.levels.size();
   const bool simd = kernels == KernelPath::kSimd;
   const auto sanitizeRow = simd ? ColorPyramidSanitizeRowSimd : ColorPyramidSanitizeRowScalar;
@@ -158,13 +161,14 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
     // and sanitises again, into scratch, the rows of its neighbours' footprints that its taps reach.
     const size_t ownedEnd = yEnd == destination.ysize() ? sourceHeight : 2 * yEnd;
     const auto levelZeroRow = [&](size_t sy) {
+      if (!radiance) return out.levels[0].c[c].MutableRow(sy);  // given: read only
       if (sy < 2 * yBegin) return scratch.sanitized.MutableRow(sy - firstTap);
       if (sy >= ownedEnd) return scratch.sanitized.MutableRow(kRadius + sy - ownedEnd);
       return out.levels[0].c[c].MutableRow(sy);
     };
-    if (k == 1) {
+    if (k == 1 && radiance) {
       for (size_t sy = firstTap; sy <= lastTap; ++sy)
-        sanitizeRow(radiance.c[c].ConstRow(sy), sourceWidth, levelZeroRow(sy));
+        sanitizeRow(radiance->c[c].ConstRow(sy), sourceWidth, levelZeroRow(sy));
     }
     const auto sourceRow = [&](size_t sy) -> const float* { return k == 1 ? levelZeroRow(sy) : source.ConstRow(sy); };
     size_t nextBlurred = firstTap;
@@ -203,14 +207,24 @@ ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& o
     });
   }
   // A 1 x 1 image has no level 1, in whose sweep level 0 is otherwise sanitised.
-  if (levels == 1) {
-    for (size_t c = 0; c < 3; ++c) sanitizeRow(radiance.c[c].ConstRow(0), width, out.levels[0].c[c].MutableRow(0));
+  if (levels == 1 && radiance) {
+    for (size_t c = 0; c < 3; ++c) sanitizeRow(radiance->c[c].ConstRow(0), width, out.levels[0].c[c].MutableRow(0));
   }
 
   ColorPyramidStats stats;
   for (const Plane3<float>& level : out.levels) stats.texels += level.c[0].xsize() * level.c[0].ysize();
   stats.ms = watch.Milliseconds();
   return stats;
+}
+
+}  // namespace
+
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels) {
+  return BuildPyramid(&radiance, out, kernels);
+}
+
+ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels) {
+  return BuildPyramid(nullptr, pyramid, kernels);
 }
 
 }  // namespace ssgi

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/color.h"
 #include "core/kernel_path.h"
 #include "core/plane.h"
 
@@ -26,7 +27,7 @@ inline constexpr int kColorPyramidRadius = int(kColorPyramidWeights.size()) / 2;
 // Level 0's ceiling, in the radiance's units: the largest half float. Sanitising +inf to a finite
 // cap (rather than 0) keeps a blown-out pixel bright; clamping every larger finite value too keeps
 // the weighted sums of a level from overflowing to +inf.
-inline constexpr float kColorPyramidMaxRadiance = 65504.0f;
+inline constexpr float kColorPyramidMaxRadiance = kMaxRadiance;
 
 struct ColorPyramid {
   // Linear RGB radiance, finite, in [0, kColorPyramidMaxRadiance]. levels[0]: the input's size, the
@@ -48,6 +49,12 @@ struct ColorPyramidStats {
 // kernels: which definition of the row kernels runs (the same bytes either way).
 ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out,
                                   KernelPath kernels = KernelPath::kSimd);
+
+// The same pyramid built on a level 0 the caller has put in pyramid.levels[0] (moved in, not
+// copied: the frame's memory-saving mode hands over the direct-light image): levels 1 and up are
+// made from it as it is. It must already be sanitised, as the direct-light pass writes it; the
+// bytes then equal RunColorPyramid's.
+ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels = KernelPath::kSimd);
 
 // The colour pyramid's row kernels, one channel row per call: the scalar definitions
 // (color_pyramid.cpp) and their Highway twins (color_pyramid_simd.cpp), equal bit for bit on every

@@ -63,12 +63,8 @@ void BlurFootprintRows(D d, const float* const* horizontalRows, size_t sourceWid
 
 void ColorPyramidSanitizeRow(const float* radiance, size_t width, float* level0) {
   const hn::ScalableTag<float> df;
-  const auto zero = hn::Zero(df);
-  const auto cap = hn::Set(df, kColorPyramidMaxRadiance);
-  for (size_t x = 0; x < width; x += hn::Lanes(df)) {
-    const auto v = LoadRow(df, radiance, x, width, 0.0f);
-    StoreRow(hn::IfThenElseZero(hn::Gt(v, zero), MinStd(v, cap)), df, level0, x, width);
-  }
+  for (size_t x = 0; x < width; x += hn::Lanes(df))
+    StoreRow(SanitizeRadianceV(LoadRow(df, radiance, x, width, 0.0f)), df, level0, x, width);
 }
 
 void ColorPyramidHorizontalRow(const float* level, size_t width, float* blurred) {

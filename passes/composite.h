@@ -28,6 +28,8 @@ struct CompositeInputs {
 // the trace's cut-off, so a material just under it does not end in a visible step.
 inline constexpr float kRoughnessFadeWidth = 0.1f;
 
+// out.result may be in.direct's planes and out.indirect in.reflected's (the frame's memory-saving
+// mode): each pixel is read before it is written.
 struct CompositeOutputs {
   Plane3<float> indirect;  // reflected x specular weight x confidence
   Plane3<float> result;    // direct + indirect

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/brdf.h"
+#include "core/color.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
@@ -35,7 +36,7 @@ size_t DirectLightRowScalar(const DirectLightContext& context, const uint32_t* w
         radiance += contribution;
       }
     }
-    for (int c = 0; c < 3; ++c) outRgb[c][x] = radiance[c];
+    for (int c = 0; c < 3; ++c) outRgb[c][x] = SanitizeRadiance(radiance[c]);
   }
   return shaded;
 }

@@ -30,7 +30,8 @@ struct DirectLightParams {
 };
 
 struct DirectLightOutputs {
-  Plane3<float> radiance;  // linear RGB radiance towards the camera, finite and >= 0
+  // Linear RGB radiance towards the camera, sanitised (SanitizeRadiance): finite, in [0, kMaxRadiance].
+  Plane3<float> radiance;
 };
 
 struct DirectLightStats {

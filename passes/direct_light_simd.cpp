@@ -65,7 +65,8 @@ Vec3V<DF> ShadePixels(const DirectLightConstants& c, hn::Vec<DU> word0, hn::Vec<
     if (shadowed && i == c.shadowedLight) contribution = Scale3(contribution, visibility);
     radiance = Add3(radiance, contribution);
   }
-  return IfThenElse3(geometry, radiance, background);
+  const Vec3V<DF> out = IfThenElse3(geometry, radiance, background);
+  return {SanitizeRadianceV(out.x), SanitizeRadianceV(out.y), SanitizeRadianceV(out.z)};
 }
 
 size_t DirectLightRow(const DirectLightConstants& c, const uint32_t* word0, const uint32_t* word1,

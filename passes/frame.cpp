@@ -1,5 +1,6 @@
 #include "passes/frame.h"
 
+#include <algorithm>
 #include <type_traits>
 
 #include "core/error.h"
@@ -91,21 +92,49 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
 
   frame.reflections = frame.plan.reflections.run;
   if (frame.reflections) {
+    // Freeing early, buffers are also handed on instead of copied (docs/pipeline.md §Memory): the
+    // direct image becomes the pyramid's level 0 (it is already sanitised), the hits' planes the
+    // reflection's red and green, and the composite writes over the direct image and the
+    // reflection. Each pass reads a pixel before it writes over it: the same bytes.
     if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
-    if (runs(FramePass::kColorPyramid)) stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+    const bool directInPyramid = release && runs(FramePass::kColorPyramid);
+    if (directInPyramid) {
+      frame.colorPyramid.levels.resize(std::max<size_t>(frame.colorPyramid.levels.size(), 1));
+      frame.colorPyramid.levels[0] = std::move(frame.direct.radiance);
+      stats.colorPyramid = RunColorPyramidOnLevelZero(frame.colorPyramid);
+    } else if (runs(FramePass::kColorPyramid)) {
+      stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+    }
     if (runs(FramePass::kSsrTrace))
-      stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace);
+      stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace, KernelPath::kSimd,
+                                   release ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
     drop(frame.hiz);
-    drop(frame.ssrTrace.iterations);  // for dumps only
-    if (runs(FramePass::kSsrCone))
-      stats.ssrCone = RunSsrCone({gbuffer, frame.colorPyramid, frame.ssrTrace}, config.ssrCone, frame.ssrCone);
+    if (release) {
+      frame.ssrCone.reflected.c[0] = std::move(frame.ssrTrace.hitX);
+      frame.ssrCone.reflected.c[1] = std::move(frame.ssrTrace.hitY);
+    }
+    if (runs(FramePass::kSsrCone)) {
+      const Plane3<float>& reflected = frame.ssrCone.reflected;
+      const Plane<float>& hitX = release ? reflected.c[0] : frame.ssrTrace.hitX;
+      const Plane<float>& hitY = release ? reflected.c[1] : frame.ssrTrace.hitY;
+      stats.ssrCone =
+          RunSsrCone({gbuffer, frame.colorPyramid, hitX, hitY, frame.ssrTrace.confidence}, config.ssrCone, frame.ssrCone);
+    }
+    if (directInPyramid) frame.direct.radiance = std::move(frame.colorPyramid.levels[0]);
     drop(frame.colorPyramid);
     drop(frame.ssrTrace.hitX);
     drop(frame.ssrTrace.hitY);
-    if (runs(FramePass::kComposite))
-      stats.composite = RunComposite({gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
-                                      frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
-                                     frame.composite);
+    if (release) {
+      frame.composite.result = std::move(frame.direct.radiance);
+      frame.composite.indirect = std::move(frame.ssrCone.reflected);
+    }
+    if (runs(FramePass::kComposite)) {
+      const Plane3<float>& direct = release ? frame.composite.result : frame.direct.radiance;
+      const Plane3<float>& reflected = release ? frame.composite.indirect : frame.ssrCone.reflected;
+      stats.composite = RunComposite(
+          {gbuffer, frame.view, direct, reflected, frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
+          frame.composite);
+    }
     drop(frame.ssrCone);
     drop(frame.ssrTrace.confidence);
     drop(frame.composite.indirect);

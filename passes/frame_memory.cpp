@@ -48,21 +48,28 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
     add("shadow visibility", floatPlane, P::kShadowFilter, P::kDirectLight);
   }
   const bool reflections = config.reflections != EffectMode::kOff;
-  add("direct light", 3 * floatPlane, P::kDirectLight, reflections ? P::kComposite : P::kTonemap);
+  // Freeing early, the frame hands buffers on instead of copying them (RunFramePasses): the direct
+  // image is the pyramid's level 0 and then the result; the hits become the reflection's red and
+  // green, and the reflection the indirect term.
+  const bool handOver = lifetime == BufferLifetime::kUntilLastReader;
+  add("direct light", 3 * floatPlane, P::kDirectLight, reflections && !handOver ? P::kComposite : P::kTonemap);
   if (reflections) {
     size_t hiz = 0, pyramid = 0;
-    for (const PyramidSize& level : PyramidLevelSizes(w, h)) {
-      hiz += PlaneBytes<float>(level.width, level.height);
-      pyramid += 3 * PlaneBytes<float>(level.width, level.height);
+    const std::vector<PyramidSize> levels = PyramidLevelSizes(w, h);
+    for (size_t k = 0; k < levels.size(); ++k) {
+      hiz += PlaneBytes<float>(levels[k].width, levels[k].height);
+      if (k > 0 || !handOver) pyramid += 3 * PlaneBytes<float>(levels[k].width, levels[k].height);
     }
     add("hi-z", hiz, P::kHiZ, P::kSsrTrace);
     add("colour pyramid", pyramid, P::kColorPyramid, P::kSsrCone);
-    add("ssr hits", 2 * floatPlane, P::kSsrTrace, P::kSsrCone);
-    add("ssr steps", floatPlane, P::kSsrTrace, P::kSsrTrace);
+    add("ssr hits", 2 * floatPlane, P::kSsrTrace, handOver ? P::kComposite : P::kSsrCone);
+    if (!handOver) add("ssr steps", floatPlane, P::kSsrTrace, P::kSsrTrace);
     add("ssr confidence", floatPlane, P::kSsrTrace, P::kComposite);
-    add("cone trace", 3 * floatPlane, P::kSsrCone, P::kComposite);
-    add("indirect", 3 * floatPlane, P::kComposite, P::kComposite);
-    add("result", 3 * floatPlane, P::kComposite, P::kTonemap);
+    add("cone trace", (handOver ? 1 : 3) * floatPlane, P::kSsrCone, P::kComposite);
+    if (!handOver) {
+      add("indirect", 3 * floatPlane, P::kComposite, P::kComposite);
+      add("result", 3 * floatPlane, P::kComposite, P::kTonemap);
+    }
   }
   add("display image", w * h * 3, P::kTonemap, P::kTonemap);
   // The dump's decoded G-buffer and shadow-term layers (11) and 8-bit codes as uint32 (3).

@@ -143,8 +143,8 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
   const size_t width = size_t(in.gbuffer.width()), height = size_t(in.gbuffer.height());
   SSGI_CHECK_EQ(in.pyramid.levels[0].c[0].xsize(), width);
   SSGI_CHECK_EQ(in.pyramid.levels[0].c[0].ysize(), height);
-  SSGI_CHECK_EQ(in.trace.confidence.xsize(), width);
-  SSGI_CHECK_EQ(in.trace.confidence.ysize(), height);
+  SSGI_CHECK_EQ(in.confidence.xsize(), width);
+  SSGI_CHECK_EQ(in.confidence.ysize(), height);
   for (Plane<float>& plane : out.reflected.c) {
     if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
   }
@@ -153,8 +153,8 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
   ParallelForRowBands("ssr_cone", height, [&](size_t, size_t yBegin, size_t yEnd) {
     if (kernels == KernelPath::kSimd) return SsrConeRowsSimd(context, in, yBegin, yEnd, out, rowCounts.data());
     for (size_t y = yBegin; y < yEnd; ++y) {
-      rowCounts[y] = SsrConeRowScalar(context, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y),
-                                      in.trace.hitY.ConstRow(y), in.trace.confidence.ConstRow(y), y, width,
+      rowCounts[y] = SsrConeRowScalar(context, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y),
+                                      in.hitY.ConstRow(y), in.confidence.ConstRow(y), y, width,
                                       out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
                                       out.reflected.c[2].MutableRow(y));
     }

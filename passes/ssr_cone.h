@@ -44,7 +44,11 @@ struct SsrConeParams {
 struct SsrConeInputs {
   const GBuffer& gbuffer;          // word 1 (bits 24-31: perceptual roughness code)
   const ColorPyramid& pyramid;     // RunColorPyramid of the direct-light image, the G-buffer's size
-  const SsrTraceOutputs& trace;    // RunSsrTrace of the same G-buffer
+  // RunSsrTrace's outputs for the same G-buffer. hitX and hitY may be the output's reflected.c[0] and
+  // c[1] themselves (the frame's memory-saving mode): each pixel is read before it is written.
+  const Plane<float>& hitX;
+  const Plane<float>& hitY;
+  const Plane<float>& confidence;
 };
 
 struct SsrConeOutputs {

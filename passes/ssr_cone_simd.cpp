@@ -282,8 +282,8 @@ void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, siz
   const size_t width = size_t(frame.width);
   for (size_t y = yBegin; y < yEnd; ++y) {
     rowCounts[y] = HWY_DYNAMIC_DISPATCH(ConeRow)(
-        frame, in.gbuffer.word[1].ConstRow(y), in.trace.hitX.ConstRow(y), in.trace.hitY.ConstRow(y),
-        in.trace.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
+        frame, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y),
+        in.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
         out.reflected.c[2].MutableRow(y));
   }}
 

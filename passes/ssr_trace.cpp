@@ -216,12 +216,12 @@ void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, i
     hitX[x] = hit.x;
     hitY[x] = hit.y;
     confidence[x] = hit.confidence;
-    iterations[x] = hit.iterations;
+    if (iterations) iterations[x] = hit.iterations;
   }
 }
 
 SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out,
-                          KernelPath kernels) {
+                          KernelPath kernels, SsrTraceSteps steps) {
   const Stopwatch stopwatch;
   const int width = in.gbuffer.width();
   const int height = in.gbuffer.height();
@@ -238,7 +238,8 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   ShapeOutput(out.hitX, size_t(width), size_t(height));
   ShapeOutput(out.hitY, size_t(width), size_t(height));
   ShapeOutput(out.confidence, size_t(width), size_t(height));
-  ShapeOutput(out.iterations, size_t(width), size_t(height));
+  if (steps == SsrTraceSteps::kRecord) ShapeOutput(out.iterations, size_t(width), size_t(height));
+  else out.iterations = Plane<float>();
 
   const int tilesX = (width + kTileSize - 1) / kTileSize;
   const int tilesY = (height + kTileSize - 1) / kTileSize;
@@ -251,7 +252,7 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
     if (kernels == KernelPath::kSimd) return SsrTraceRowsSimd(in, params, y0, y1, x0, x1, out, counts[tile]);
     for (int y = y0; y < y1; ++y) {
       SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-                        out.confidence.MutableRow(size_t(y)), out.iterations.MutableRow(size_t(y)), counts[tile]);
+                        out.confidence.MutableRow(size_t(y)), IterationsRow(out, y), counts[tile]);
     }
   });
 

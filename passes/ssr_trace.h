@@ -59,6 +59,11 @@ struct SsrTraceOutputs {
   Plane<float> iterations;
 };
 
+// Row y of out.iterations, or nullptr where it is not recorded (empty).
+inline float* IterationsRow(SsrTraceOutputs& out, int y) {
+  return out.iterations.ysize() > 0 ? out.iterations.MutableRow(size_t(y)) : nullptr;
+}
+
 struct SsrTraceStats {
   double ms = 0;
   size_t rays = 0;             // pixels traced
@@ -102,10 +107,14 @@ inline constexpr float kSsrMaxRayLengthInDepths = 1000.0f;
 // step leaves the origin's level-0 cell; the march goes on at startLevel.
 HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int startLevel);
 
-// Reuses out's planes when their sizes already match, else allocates them. `kernels` chooses the row
-// kernel; both give the same bytes.
+// Whether RunSsrTrace writes SsrTraceOutputs::iterations (dumps and tests read it; a frame that
+// frees buffers early has no reader for it and saves its memory).
+enum class SsrTraceSteps { kRecord, kSkip };
+
+// Reuses out's planes when their sizes already match, else allocates them; with SsrTraceSteps::kSkip
+// out.iterations is left empty. `kernels` chooses the row kernel; both give the same bytes.
 SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out,
-                          KernelPath kernels = KernelPath::kSimd);
+                          KernelPath kernels = KernelPath::kSimd, SsrTraceSteps steps = SsrTraceSteps::kRecord);
 
 struct SsrTraceCounts {
   size_t rays = 0;          // pixels traced
@@ -114,15 +123,15 @@ struct SsrTraceCounts {
 
 // The trace's scalar row kernel, the definition a SIMD twin (passes/ssr_trace_simd.cpp) must equal
 // bit for bit: traces pixels [xBegin, xEnd) of row y into hitX[x], hitY[x], confidence[x],
-// iterations[x] (each pointer at the row's pixel 0; SsrTraceOutputs gives the values) and adds its
-// rays and steps to `counts`.
+// iterations[x] (each pointer at the row's pixel 0, iterations nullptr to skip it; SsrTraceOutputs
+// gives the values) and adds its rays and steps to `counts`.
 void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
                        float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts);
 // Its Highway twin, dispatched to the machine's best target: lanes are the row's rays.
 void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
                      float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts);
-// The twin over rows [yBegin, yEnd) of out's planes (already of the G-buffer's size), reading the
-// inputs' layout once for all of them.
+// The twin over rows [yBegin, yEnd) of out's planes (already of the G-buffer's size; iterations
+// skipped when empty), reading the inputs' layout once for all of them.
 void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,
                       int xEnd, SsrTraceOutputs& out, SsrTraceCounts& counts);
 

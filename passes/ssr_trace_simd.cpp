@@ -280,7 +280,7 @@ void StoreNoHits(VI steps, size_t x0, size_t xEnd, float* hitX, float* hitY, flo
   StoreRow(hn::Set(df, -1.0f), df, hitX, x0, xEnd);
   StoreRow(hn::Set(df, -1.0f), df, hitY, x0, xEnd);
   StoreRow(hn::Zero(df), df, confidence, x0, xEnd);
-  StoreRow(hn::ConvertTo(df, steps), df, iterations, x0, xEnd);
+  if (iterations) StoreRow(hn::ConvertTo(df, steps), df, iterations, x0, xEnd);
 }
 
 // The rest of PixelTracer::Trace after the march: the surface at the hit must be in front of the
@@ -315,7 +315,7 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   StoreRow(hn::IfThenElse(found, m.posX, none), df, hitX, x0, xEnd);
   StoreRow(hn::IfThenElse(found, m.posY, none), df, hitY, x0, xEnd);
   StoreRow(hn::IfThenElseZero(found, MinStd(fade, one)), df, confidence, x0, xEnd);
-  StoreRow(hn::ConvertTo(df, m.steps), df, iterations, x0, xEnd);
+  if (iterations) StoreRow(hn::ConvertTo(df, m.steps), df, iterations, x0, xEnd);
 }
 
 void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int xBegin, int xEnd, float* hitX,
@@ -331,7 +331,7 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
     hwy::Prefetch(hitX + x);
     hwy::Prefetch(hitY + x);
     hwy::Prefetch(confidence + x);
-    hwy::Prefetch(iterations + x);
+    if (iterations) hwy::Prefetch(iterations + x);
     if (y + 1 < frame.height) {
       hwy::Prefetch(frame.word1 + next + size_t(x));
       hwy::Prefetch(frame.word2 + next + size_t(x));
@@ -368,7 +368,7 @@ void TraceRows(const SsrTraceFrame& frame, const SsrTraceParams& params, int yBe
                SsrTraceOutputs& out, SsrTraceCounts& counts) {
   for (int y = yBegin; y < yEnd; ++y) {
     TraceRow(frame, params, y, xBegin, xEnd, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-             out.confidence.MutableRow(size_t(y)), out.iterations.MutableRow(size_t(y)), counts);
+             out.confidence.MutableRow(size_t(y)), IterationsRow(out, y), counts);
   }
 }
 

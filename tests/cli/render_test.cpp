@@ -267,12 +267,17 @@ TEST_CASE("render: a frame larger than the memory allowed is refused before rend
   REQUIRE(rendered.exitCode == 0);
   const size_t line = rendered.output.find("memory: peak ");
   REQUIRE(line != std::string::npos);
-  double peak = 0, estimate = 0;
-  char peakUnit[8] = {}, estimateUnit[8] = {};
-  REQUIRE(std::sscanf(rendered.output.c_str() + line, "memory: peak %lf %3s resident (%*f bytes per pixel), estimate %lf %3s",
-                      &peak, peakUnit, &estimate, estimateUnit) == 4);
+  double peak = 0, frame = 0, estimate = 0, before = 0, buffers = 0;
+  char peakUnit[8] = {}, frameUnit[8] = {}, estimateUnit[8] = {}, beforeUnit[8] = {}, buffersUnit[8] = {};
+  REQUIRE(std::sscanf(rendered.output.c_str() + line,
+                      "memory: peak %lf %3s resident (%*f bytes per pixel), the frame's %lf %3s (%*f bytes per pixel); "
+                      "estimate %lf %3s (%lf %3s before the frame + %lf %3s of buffers)",
+                      &peak, peakUnit, &frame, frameUnit, &estimate, estimateUnit, &before, beforeUnit, &buffers,
+                      buffersUnit) == 10);
   const auto mib = [](double value, const std::string& unit) { return unit == "GiB" ? value * 1024.0 : value; };
   CHECK(std::abs(mib(estimate, estimateUnit) - mib(peak, peakUnit)) <= 0.1 * mib(peak, peakUnit));
+  // The part that grows with the image on its own: the frame's buffers against their estimate.
+  CHECK(std::abs(mib(buffers, buffersUnit) - mib(frame, frameUnit)) <= 0.1 * mib(frame, frameUnit));
 }
 
 }  // namespace

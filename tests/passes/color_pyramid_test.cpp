@@ -1,10 +1,12 @@
 #include "passes/color_pyramid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iterator>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -116,6 +118,28 @@ TEST_CASE("Colour pyramid sanitises NaN, +inf and negative pixels so no level is
           }
         }
       }
+    }
+  }
+}
+
+TEST_CASE("Colour pyramid built on a handed-over level 0 equals the pyramid built from a copy",
+          "[color_pyramid][memory]") {
+  for (const auto& [width, height] : {std::pair<size_t, size_t>{67, 45}, {1, 1}, {1, 5}, {300, 200}}) {
+    CAPTURE(width, height);
+    const Plane3<float> image = SmoothRandomImage(width, height, 7);
+    for (KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+      ColorPyramid copied, handedOver;
+      RunColorPyramid(image, copied, kernels);
+      handedOver.levels.resize(1);
+      handedOver.levels[0] = MakePlane3<float>(width, height, 0.0f);
+      for (size_t c = 0; c < 3; ++c)
+        for (size_t y = 0; y < height; ++y)
+          std::copy_n(image.c[c].ConstRow(y), width, handedOver.levels[0].c[c].MutableRow(y));
+      const ColorPyramidStats stats = RunColorPyramidOnLevelZero(handedOver, kernels);
+      CHECK(stats.texels == RunColorPyramid(image, copied, kernels).texels);
+      REQUIRE(handedOver.levels.size() == copied.levels.size());
+      for (size_t k = 0; k < copied.levels.size(); ++k)
+        for (size_t c = 0; c < 3; ++c) CHECK(test::SameBytes(handedOver.levels[k].c[c], copied.levels[k].c[c]));
     }
   }
 }

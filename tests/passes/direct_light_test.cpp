@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "core/color.h"
 #include "passes/shadow_map.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
@@ -135,6 +136,33 @@ TEST_CASE("direct light: lights add up, the shadowed one is scaled by its visibi
   }
   CHECK(Radiance(both, 3, 1) == params.background);
   CHECK(Radiance(both, 0, 0) == params.background);
+}
+
+TEST_CASE("direct light: radiance beyond the largest half float is capped there, on every kernel path",
+          "[direct_light]") {
+  // A sun of 1e36 W/m^2 on a mirror-like surface overflows to +inf in float; a negative one gives
+  // negative radiance; a background of 1e30 is out of range too.
+  test::TestScene scene = ViewSpaceScene(3, 1);
+  const ViewProjection view = MakePerspective(scene.camera, 3, 1);
+  test::TestScene negative = scene;
+  scene.directionalLights.push_back(test::Sun(glm::normalize(glm::vec3(0.0f, 0.0f, -1.0f)), 0.0f));
+  scene.directionalLights.back().irradiance = glm::vec3(1e36f, 1.0f, 0.0f);
+  negative.directionalLights.push_back(test::Sun(glm::normalize(glm::vec3(0.0f, 0.0f, -1.0f)), 0.0f));
+  negative.directionalLights.back().irradiance = glm::vec3(-5.0f);
+  GBuffer g = MakeGBuffer(3, 1, NormalEncoding::kOct24);
+  for (int x = 0; x < 2; ++x) SetPixel(g, x, 0, {0.9f, 0.9f, 0.9f}, 1.0f, {0.0f, 0.0f, 1.0f}, 0.0f, 2.0f);
+  DirectLightParams params;
+  params.background = {1e30f, -1.0f, 0.5f};
+  for (KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+    DirectLightOutputs out, dark;
+    RunDirectLight({g, view, scene}, params, out, kernels);
+    RunDirectLight({g, view, negative}, params, dark, kernels);
+    CHECK(Radiance(out, 0, 0).x == kMaxRadiance);
+    CHECK(Radiance(out, 0, 0).y > 0.0f);
+    CHECK(Radiance(out, 0, 0).y < kMaxRadiance);
+    CHECK(Radiance(dark, 1, 0) == glm::vec3(0.0f));
+    CHECK(Radiance(out, 2, 0) == glm::vec3(kMaxRadiance, 0.0f, 0.5f));
+  }
 }
 
 TEST_CASE("direct light: the SIMD kernel equals the scalar kernel on every target", "[direct_light][simd]") {

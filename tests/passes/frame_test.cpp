@@ -63,6 +63,9 @@ TEST_CASE("a frame that frees each buffer after its last reader gives the same i
   CHECK(freed.colorPyramid.levels.empty());
   CHECK(freed.direct.radiance.c[0].xsize() == 0);
   CHECK(freed.ssrCone.reflected.c[0].xsize() == 0);
+  CHECK(freed.ssrTrace.hitX.xsize() == 0);
+  CHECK(freed.ssrTrace.iterations.xsize() == 0);  // never recorded: no dump reads it
+  CHECK(freed.composite.indirect.c[0].xsize() == 0);
   CHECK_FALSE(freed.shadowMap);
   CHECK(freed.gbuffer.visibility.triangle.xsize() == 0);
 }

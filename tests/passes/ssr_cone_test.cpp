@@ -57,7 +57,7 @@ SsrTraceOutputs VerticalHits(float hitOffsetX) {
 SsrConeOutputs Cone(const GBuffer& gbuffer, const ColorPyramid& pyramid, const SsrTraceOutputs& trace,
                     SsrConeStats* stats = nullptr) {
   SsrConeOutputs out;
-  const SsrConeStats s = RunSsrCone({gbuffer, pyramid, trace}, SsrConeParams{}, out);
+  const SsrConeStats s = RunSsrCone({gbuffer, pyramid, trace.hitX, trace.hitY, trace.confidence}, SsrConeParams{}, out);
   if (stats) *stats = s;
   return out;
 }
@@ -313,7 +313,8 @@ TEST_CASE("Cone trace: the SIMD pass gives the scalar pass's bytes on every targ
   test::ForEachDefaultSceneFrame([](const Frame& frame) {
     CAPTURE(frame.view.width, frame.view.height);
     REQUIRE(frame.reflections);
-    const SsrConeInputs in{frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace};
+    const SsrConeInputs in{frame.gbuffer.gbuffer, frame.colorPyramid, frame.ssrTrace.hitX, frame.ssrTrace.hitY,
+                           frame.ssrTrace.confidence};
     SsrConeOutputs expected;
     const SsrConeStats expectedStats = RunSsrCone(in, {}, expected, KernelPath::kScalar);
     if (frame.view.width > 1) CHECK(expectedStats.pixels > size_t(frame.view.width));

@@ -22,7 +22,6 @@ uniform float weights[7];
 uniform int sourceLevel;
 uniform ivec2 level0Size;
 
-const float kMaxRadiance = 65504.0;  // the largest half float
 
 // How many level-0 texels texel `x` of level `level` covers along an axis whose level-0 size is
 // `size0`: 2^level, except the level's last texel, which runs to the border (§Hi-Z pyramid).
@@ -46,9 +45,7 @@ void main() {
   const int sourceOffset = channel * sourceSize.x * sourceSize.y;
   const int index = channel * destinationSize.x * destinationSize.y + texel.y * destinationSize.x + texel.x;
   if (stage == kSanitize) {
-    // NaN and negatives (-inf too) -> 0; above the cap (+inf too) -> the cap.
-    const float v = source[index];
-    destination[index] = v > kMaxRadiance ? kMaxRadiance : (v >= 0.0 ? v : 0.0);
+    destination[index] = SanitizeRadiance(source[index]);
   } else if (stage == kHorizontal) {
     destination[index] = Blur(sourceOffset, texel, ivec2(1, 0));
   } else if (stage == kVertical) {

@@ -30,6 +30,11 @@ vec3 Normalize3(vec3 a) {
   return unit;
 }
 
+// Every radiance buffer holds finite values in [0, 65504], the largest half float (§Conventions):
+// NaN and negatives (-inf too) -> 0, above the cap (+inf too) -> the cap.
+const float kMaxRadiance = 65504.0;
+float SanitizeRadiance(float v) { return v > 0.0 ? min(v, kMaxRadiance) : 0.0; }
+
 // G-buffer word 2 of a background pixel: +inf.
 const float kBackgroundDepth = uintBitsToFloat(0x7F800000u);
 

@@ -109,7 +109,7 @@ void main() {
       radiance += contribution;
     }
   }
-  direct[index] = radiance.r;
-  direct[index + plane] = radiance.g;
-  direct[index + 2 * plane] = radiance.b;
+  direct[index] = SanitizeRadiance(radiance.r);
+  direct[index + plane] = SanitizeRadiance(radiance.g);
+  direct[index + 2 * plane] = SanitizeRadiance(radiance.b);
 }
