@@ -1,9 +1,11 @@
 #include "passes/direct_light.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "core/brdf.h"
+#include "core/check.h"
 #include "core/color.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
@@ -45,10 +47,19 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightPa
                                 DirectLightOutputs& out, KernelPath kernels) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
-  const std::vector<PreparedLight> lights = PrepareLights(in.scene, in.view.view);
+  std::vector<PreparedLight> lights;
+  size_t shadowedLight = SIZE_MAX;  // its index among the shaded lights; none when not shaded
+  const std::vector<PreparedLight> prepared = PrepareLights(in.scene, in.view.view);
+  if (in.shadeLights) SSGI_CHECK_EQ(in.shadeLights->size(), prepared.size());
+  for (size_t i = 0; i < prepared.size(); ++i) {
+    if (in.shadeLights && !(*in.shadeLights)[i]) continue;
+    if (i == in.shadowedLight) shadowedLight = lights.size();
+    lights.push_back(prepared[i]);
+  }
   const DirectLightContext context{
-      in.view, lights.data(), lights.size(), in.shadowedLight, in.gbuffer.normalEncoding, params.background,
+      in.view, lights.data(), lights.size(), shadowedLight, in.gbuffer.normalEncoding, params.background,
   };
+  const Plane<float>* visibility = shadowedLight != SIZE_MAX ? in.lightVisibility : nullptr;
   const auto row = kernels == KernelPath::kSimd ? DirectLightRowSimd : DirectLightRowScalar;
   ReusePlane3(out.radiance, size_t(width), size_t(height));
   std::vector<size_t> shadedPerBand(RowBandCount(size_t(height)), 0);
@@ -59,7 +70,7 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightPa
     for (size_t y = yBegin; y < yEnd; ++y) {
       shaded +=
           row(context, in.gbuffer.word[0].ConstRow(y), in.gbuffer.word[1].ConstRow(y), in.gbuffer.word[2].ConstRow(y),
-              in.lightVisibility ? in.lightVisibility->ConstRow(y) : nullptr, y, width,
+              visibility ? visibility->ConstRow(y) : nullptr, y, width,
               out.radiance.c[0].MutableRow(y), out.radiance.c[1].MutableRow(y), out.radiance.c[2].MutableRow(y));
     }
     shadedPerBand[band] = shaded;

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
@@ -23,6 +24,9 @@ struct DirectLightInputs {
   // a shadow filter; null when no light is shadowed. Other lights are unshadowed.
   const Plane<float>* lightVisibility = nullptr;
   size_t shadowedLight = 0;
+  // Per light in PrepareLights order, whether to shade it (FramePlan::lightReaches: a light no
+  // visible pixel faces adds exactly 0, so leaving it out changes no byte); null: every light.
+  const std::vector<bool>* shadeLights = nullptr;
 };
 
 struct DirectLightParams {

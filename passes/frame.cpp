@@ -81,6 +81,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
 
   if (runs(FramePass::kDirectLight)) {
     DirectLightInputs directInputs{gbuffer, frame.view, scene};
+    directInputs.shadeLights = &frame.plan.lightReaches;
     if (frame.shadows) {
       directInputs.lightVisibility = &frame.shadowVisibility.visibility;
       directInputs.shadowedLight = shadowLight;

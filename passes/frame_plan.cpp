@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "core/brdf.h"
@@ -20,18 +21,47 @@ struct TileNeeds {
   size_t shadows = 0;      // pixels facing the shadowed light (1 at most unless counted)
 };
 
-// Whether the light's term at this pixel can be non-zero: the conditions under which the direct
-// light's BrdfCosine and Evaluate give anything but 0, computed as they compute them.
-bool FacesLight(const PreparedLight& light, const ViewProjection& view, int x, int y, float depth, uint32_t word1,
-                NormalEncoding encoding) {
-  const ViewProjection::Ray ray = view.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
-  const glm::vec3 position = ray.origin + ray.direction * depth;
-  const glm::vec3 toViewer = glm::normalize(-ray.direction);
-  const glm::vec3 normal = UnpackNormal(word1, encoding);
-  const LightAtPoint l = Evaluate(light, position);
-  if (!(l.irradiance.x > 0.0f || l.irradiance.y > 0.0f || l.irradiance.z > 0.0f)) return false;
-  return glm::dot(normal, l.toLight) > 0.0f && glm::dot(normal, toViewer) > 0.0f;
-}
+// One visible pixel as the direct light sees it; the normal is decoded only when a light needs it.
+class VisiblePixel {
+ public:
+  VisiblePixel(const ViewProjection& view, int x, int y, float depth, uint32_t word1, NormalEncoding encoding)
+      : ray_(view.PixelRay(float(x) + 0.5f, float(y) + 0.5f)),
+        position_(ray_.origin + ray_.direction * depth),
+        word1_(word1),
+        encoding_(encoding) {}
+
+  // Whether the light's term at this pixel can be non-zero: the conditions under which the direct
+  // light's BrdfCosine and Evaluate give anything but 0, computed as they compute them. (Lights
+  // are never negative: the scene loader refuses that.)
+  bool FacesLight(const PreparedLight& light) {
+    if (light.isSpot && !MayBeInsideCone(light)) return false;
+    const LightAtPoint l = Evaluate(light, position_);
+    if (!(l.irradiance.x > 0.0f || l.irradiance.y > 0.0f || l.irradiance.z > 0.0f)) return false;
+    if (!decoded_) {
+      toViewer_ = glm::normalize(-ray_.direction);
+      normal_ = UnpackNormal(word1_, encoding_);
+      decoded_ = true;
+    }
+    return glm::dot(normal_, l.toLight) > 0.0f && glm::dot(normal_, toViewer_) > 0.0f;
+  }
+
+ private:
+  // A cheap necessary condition for Evaluate's cone factor to be above 0: the angle test in double
+  // with a margin far above float's rounding, so that a spot aimed away from everything visible
+  // costs a few operations per pixel rather than an Evaluate and a normal decode.
+  bool MayBeInsideCone(const PreparedLight& light) const {
+    const glm::dvec3 offset = glm::dvec3(light.position) - glm::dvec3(position_);
+    const double along = -glm::dot(offset, glm::dvec3(light.direction));
+    return along >= (double(light.cosOuter) - 1e-4) * glm::length(offset);
+  }
+
+  ViewProjection::Ray ray_;
+  glm::vec3 position_;
+  uint32_t word1_;
+  NormalEncoding encoding_;
+  bool decoded_ = false;
+  glm::vec3 toViewer_{0.0f}, normal_{0.0f};
+};
 
 std::string Share(size_t part, size_t whole) {
   char text[32];
@@ -59,9 +89,18 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
   const bool seekShadows = plan.shadowLight && config.shadows == EffectMode::kAuto;
 
   std::vector<TileNeeds> needs(plan.tiles);
-  // The decision needs one facing pixel, anywhere: once a tile has found it, the others stop looking
+  // Each light needs one facing pixel, anywhere: once a tile has found it, the others stop looking
   // (which tiles looked depends on scheduling, so only the counted plan reports shadow tiles).
-  std::atomic<bool> facingFound{false};
+  const std::unique_ptr<std::atomic<bool>[]> reached(new std::atomic<bool>[lights.size()]);
+  for (size_t i = 0; i < lights.size(); ++i) reached[i] = false;
+  // Whether some light still needs a facing pixel (or the shadowed one's are being counted).
+  const bool countingShadows = countShadowPixels && seekShadows;
+  const auto seeking = [&] {
+    if (countingShadows) return true;
+    for (size_t i = 0; i < lights.size(); ++i)
+      if (!reached[i].load(std::memory_order_relaxed)) return true;
+    return false;
+  };
   // A row of tiles at a time, each image row whole: the rows of one tile are pages apart, a stride
   // the hardware prefetchers do not follow.
   ParallelFor("frame_plan", size_t(tilesY), [&](size_t tileRow) {
@@ -75,10 +114,14 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
         if (depth == kBackgroundDepth) continue;
         ++n.geometry;
         if (smooth[word1[x] >> 24]) ++n.reflections;
-        if (seekShadows && (countShadowPixels || !facingFound.load(std::memory_order_relaxed)) &&
-            FacesLight(lights[*plan.shadowLight], view, x, y, depth, word1[x], gbuffer.normalEncoding)) {
-          ++n.shadows;
-          facingFound.store(true, std::memory_order_relaxed);
+        if (!seeking()) continue;
+        VisiblePixel pixel(view, x, y, depth, word1[x], gbuffer.normalEncoding);
+        for (size_t i = 0; i < lights.size(); ++i) {
+          const bool counted = countingShadows && i == *plan.shadowLight;
+          if (!counted && reached[i].load(std::memory_order_relaxed)) continue;
+          if (!pixel.FacesLight(lights[i])) continue;
+          reached[i].store(true, std::memory_order_relaxed);
+          if (counted) ++n.shadows;
         }
       }
     }
@@ -94,6 +137,8 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
   }
   plan.reflections.counted = true;
   plan.shadows.counted = seekShadows && countShadowPixels;
+  for (size_t i = 0; i < lights.size(); ++i) plan.lightReaches.push_back(reached[i].load());
+  plan.directionalLights = scene.directionalLights.size();
 
   char cutoffText[32];
   std::snprintf(cutoffText, sizeof(cutoffText), "%g", double(cutoff));
@@ -105,7 +150,7 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
     plan.shadows.run = true;
     plan.shadows.why = "switched on";
   } else {
-    plan.shadows.run = facingFound.load();
+    plan.shadows.run = plan.lightReaches[*plan.shadowLight];
     plan.shadows.why = plan.shadows.run ? "visible pixels face the shadow-casting light"
                                         : "no visible pixel faces the shadow-casting light";
   }
@@ -134,6 +179,18 @@ std::string ExplainPlan(const FramePlan& plan) {
               Share(effect.pixels, plan.pixels) + ")";
     text += std::string("\n    ") + passes + (effect.run ? " run" : " do not run") + "\n";
   };
+  const size_t lights = plan.lightReaches.size();
+  const size_t shaded = size_t(std::count(plan.lightReaches.begin(), plan.lightReaches.end(), true));
+  text += "  lights: " + std::to_string(shaded) + " of " + std::to_string(lights) +
+          " face a visible pixel and are shaded";
+  std::string unseen;
+  for (size_t i = 0; i < lights; ++i) {
+    if (plan.lightReaches[i]) continue;
+    const bool spot = i >= plan.directionalLights;
+    unseen += std::string(unseen.empty() ? "" : ", ") + (spot ? "spot light " : "directional light ") +
+              std::to_string((spot ? i - plan.directionalLights : i) + 1);
+  }
+  text += (unseen.empty() ? std::string() : "; not shaded (no visible pixel faces it): " + unseen) + "\n";
   line("shadows", "shadow map, blocker search, shadow filter", plan.shadows);
   line("reflections", "hi-z, colour pyramid, ssr trace, cone trace, composite", plan.reflections);
   return text;

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
@@ -34,6 +35,10 @@ struct FramePlan {
   std::optional<size_t> shadowLight;  // the light whose term word 3 holds (PrepareLights order)
   EffectPlan shadows;
   EffectPlan reflections;
+  // Per light, in PrepareLights order: whether some visible pixel faces it (the direct light's
+  // conditions for a non-zero term). The direct light shades only these; the others add exactly 0.
+  std::vector<bool> lightReaches;
+  size_t directionalLights = 0;  // the first lights of lightReaches; spots follow
 };
 
 // The plan for the frame of this G-buffer, rendered with `view`. countShadowPixels: count the

@@ -4,6 +4,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <string>
+#include <vector>
+
+#include "passes/direct_light.h"
 #include "passes/frame.h"
 #include "tests/passes/test_scenes.h"
 
@@ -104,6 +108,34 @@ TEST_CASE("frame plan: a shadow-casting light that reaches no visible pixel runs
   const Frame off = Render(scene, EffectMode::kOff, EffectMode::kAuto);
   CHECK_FALSE(off.plan.shadows.run);
   CHECK(off.plan.shadows.why == "switched off");
+}
+
+TEST_CASE("frame plan: a light no visible pixel faces is not shaded, and the image is the same", "[plan]") {
+  test::TestScene scene = RoughFloor();
+  scene.directionalLights[0].castShadows = false;
+  // Spot 1 lights the floor in view; spot 2 is aimed at the sky; spot 3 lights the floor from below
+  // it (the floor in its cone faces away); a second sun shines from below the floor.
+  scene.spotLights.push_back(test::Spot({0.0f, 3.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 30.0f, 0.1f));
+  scene.spotLights.push_back(test::Spot({0.0f, 3.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 30.0f, 0.1f));
+  scene.spotLights.push_back(test::Spot({0.0f, -2.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, 40.0f, 0.1f));
+  scene.directionalLights.push_back(test::Sun(glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f)), 1.0f));
+  const Frame frame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+  // PrepareLights order: the suns, then the spots.
+  CHECK(frame.plan.lightReaches == std::vector<bool>{true, false, true, false, false});
+  const std::string text = ExplainPlan(frame.plan);
+  CHECK(text.find("lights: 2 of 5 face a visible pixel and are shaded; not shaded (no visible pixel faces it): "
+                  "directional light 2, spot light 2, spot light 3") != std::string::npos);
+  // Every light shaded gives the same bytes: the left-out lights add exactly 0.
+  DirectLightOutputs all;
+  RunDirectLight({frame.gbuffer.gbuffer, frame.view, scene}, {}, all);
+  for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(all.radiance.c[c], frame.direct.radiance.c[c]));
+  // And the mask does leave lights out: without the spot that lights the floor, the floor is darker.
+  const std::vector<bool> withoutSpot = {true, false, false, false, false};
+  DirectLightInputs masked{frame.gbuffer.gbuffer, frame.view, scene};
+  masked.shadeLights = &withoutSpot;
+  DirectLightOutputs dimmer;
+  RunDirectLight(masked, {}, dimmer);
+  CHECK_FALSE(test::SameBytes(dimmer.radiance.c[0], frame.direct.radiance.c[0]));
 }
 
 TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]") {
