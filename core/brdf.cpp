@@ -5,10 +5,13 @@
 namespace ssgi {
 namespace {
 
-const DfgTable& SharedDfgTable() {
-  static const DfgTable table = BuildDfgTable();
-  return table;
-}
+// BuildDfgTable's output as shipped: integrating it takes about 35 ms (a million cos and pow), which
+// every process would otherwise pay at its first composite, and the shipped bits depend on no libm.
+// tests/core/brdf_test.cpp checks it against BuildDfgTable bit for bit (and rewrites it with
+// SSGI_UPDATE_GOLDEN=1 after an intended change).
+constexpr float kShippedDfgTable[2 * kDfgSize * kDfgSize] = {
+#include "core/dfg_table.inc"
+};
 
 // Van der Corput radical inverse in base 2: the Hammersley set's second coordinate.
 double RadicalInverse(uint32_t bits) {
@@ -71,7 +74,7 @@ DfgTable BuildDfgTable() {
 }
 
 glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness) {
-  const DfgTable& table = SharedDfgTable();
+  const DfgTable& table = ShippedDfgTable();
   const float u = std::clamp(nDotV, 0.0f, 1.0f) * (kDfgSize - 1);
   const float v = std::clamp(roughness, 0.0f, 1.0f) * (kDfgSize - 1);
   const int i0 = std::min(int(u), kDfgSize - 2), j0 = std::min(int(v), kDfgSize - 2);
@@ -83,9 +86,18 @@ glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness) {
   return f0 * ab.x + glm::vec3(ab.y);
 }
 
+const DfgTable& ShippedDfgTable() {
+  static const DfgTable table = [] {
+    DfgTable t;
+    for (size_t k = 0; k < t.ab.size(); ++k) t.ab[k] = {kShippedDfgTable[2 * k], kShippedDfgTable[2 * k + 1]};
+    return t;
+  }();
+  return table;
+}
+
 const float* DfgTableForKernels() {
   static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
-  return &SharedDfgTable().ab[0].x;
+  return &ShippedDfgTable().ab[0].x;
 }
 
 }  // namespace ssgi

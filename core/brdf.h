@@ -77,7 +77,9 @@ struct DfgTable {
   std::array<glm::vec2, kDfgSize * kDfgSize> ab;  // (A, B) at [j * kDfgSize + i], in [0, 1], A + B <= 1
 };
 DfgTable BuildDfgTable();
-// F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in a table built once.
+// The table as the passes read it: BuildDfgTable's, shipped precomputed in core/dfg_table.inc.
+const DfgTable& ShippedDfgTable();
+// F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in the shipped table.
 glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness);
 // The table SpecularWeight reads, its (A, B) pairs as interleaved floats, for SIMD kernels that
 // gather from it and so give the same values.

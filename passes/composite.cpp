@@ -11,6 +11,7 @@ namespace ssgi {
 
 void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int width) {
   for (int x = 0; x < width; ++x) {
+    if (context.inPlace && !(row.confidence[x] > 0.0f)) continue;
     glm::vec3 indirect(0.0f);
     if (row.confidence[x] > 0.0f && UnpackDepth(row.word2[x]) != kBackgroundDepth) {
       const SurfaceMaterial material{UnpackAlbedo(row.word0[x]), UnpackMetallic(row.word0[x]),
@@ -35,7 +36,8 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
   ReusePlane3(out.indirect, size_t(width), size_t(height));
   ReusePlane3(out.result, size_t(width), size_t(height));
-  const CompositeContext context{in.view, in.gbuffer.normalEncoding, in.roughnessCutoff};
+  const bool inPlace = &in.direct == &out.result && &in.reflected == &out.indirect;
+  const CompositeContext context{in.view, in.gbuffer.normalEncoding, in.roughnessCutoff, inPlace};
   const auto composite = kernels == KernelPath::kSimd ? CompositeRowSimd : CompositeRowScalar;
   ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {

@@ -47,6 +47,10 @@ struct CompositeContext {
   const ViewProjection& view;
   NormalEncoding normalEncoding;
   float roughnessCutoff;
+  // The outputs are the inputs' planes (result = direct, indirect = reflected): a pixel the trace
+  // did not hit already holds its outputs there (the direct light is sanitised, so direct + 0 is
+  // direct, and the cone wrote 0), so it is not written again.
+  bool inPlace = false;
 };
 
 // One row of every buffer the composite reads and writes, each at the row's pixel 0; RGB as three

@@ -26,6 +26,7 @@ struct CompositeConstants {
   float roughnessCutoff;
   const float* srgbDecodeTable;
   const float* dfgTable;
+  bool inPlace;  // CompositeContext::inPlace
 };
 
 }  // namespace ssgi
@@ -44,6 +45,7 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
   const auto zero = hn::Zero(d);
   const auto one = hn::Set(d, 1.0f);
   const auto confidence = LoadRow(d, row.confidence, x, count, 0.0f);
+  if (c.inPlace && hn::AllFalse(d, hn::Gt(confidence, zero))) return;
   const auto depth = UnpackDepthV(d, LoadRow(du, row.word2, x, count, PackDepth(kBackgroundDepth)));
   const auto reflecting = hn::And(hn::Gt(confidence, zero), hn::Ne(depth, hn::Set(d, kBackgroundDepth)));
   Vec3V<DF> indirect{zero, zero, zero};
@@ -87,7 +89,7 @@ HWY_EXPORT(CompositeRowKernel);
 
 void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int width) {
   const CompositeConstants constants{&context.view, context.normalEncoding, context.roughnessCutoff,
-                                     SrgbDecodeTableForKernels(), DfgTableForKernels()};
+                                     SrgbDecodeTableForKernels(), DfgTableForKernels(), context.inPlace};
   HWY_DYNAMIC_DISPATCH(CompositeRowKernel)(constants, row, y, width);
 }
 

@@ -3,6 +3,7 @@
 // length up to a few vectors, and the whole pass on the default scene's buffers at several sizes.
 #include "passes/composite.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -162,6 +163,40 @@ TEST_CASE("composite: the SIMD pass gives the scalar pass's bytes on the default
       }
     });
     CHECK(targets >= 1);
+  }
+}
+
+Plane3<float> CopyOf(const Plane3<float>& planes) {
+  const size_t width = planes.c[0].xsize(), height = planes.c[0].ysize();
+  Plane3<float> copy = MakePlane3<float>(width, height, 0.0f);
+  for (int c = 0; c < 3; ++c)
+    for (size_t y = 0; y < height; ++y) std::copy_n(planes.c[c].ConstRow(y), width, copy.c[c].MutableRow(y));
+  return copy;
+}
+
+TEST_CASE("composite: in place over the direct image and the reflection, the same bytes on every target",
+          "[composite][simd][memory]") {
+  const test::DefaultScene scene = test::LoadDefaultScene();
+  for (const auto& [width, height] : {std::pair{1, 1}, {67, 45}, {1023, 769}}) {
+    const Frame frame = scene.Render(width, height);
+    REQUIRE(frame.reflections);
+    for (KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+      const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+        // The frame's memory-saving hand-over: the outputs are the inputs' own planes.
+        CompositeOutputs inPlace;
+        inPlace.result = CopyOf(frame.direct.radiance);
+        inPlace.indirect = CopyOf(frame.ssrCone.reflected);
+        RunComposite({frame.gbuffer.gbuffer, frame.view, inPlace.result, inPlace.indirect, frame.ssrTrace.confidence,
+                      SsrTraceParams{}.roughnessCutoff},
+                     inPlace, kernels);
+        for (int c = 0; c < 3; ++c) {
+          CAPTURE(target, width, height, c);
+          CHECK(test::SameBytes(inPlace.indirect.c[c], frame.composite.indirect.c[c]));
+          CHECK(test::SameBytes(inPlace.result.c[c], frame.composite.result.c[c]));
+        }
+      });
+      CHECK(targets >= 1);
+    }
   }
 }
 
