@@ -27,7 +27,14 @@ struct SsrTraceFrame {
   const ViewProjection* view;  // the perspective camera
   int levels;                  // Hi-Z levels; level k is max(1, width >> k) x max(1, height >> k)
   const float* hiz[kMaxHiZLevels];
-  int32_t hizStride[kMaxHiZLevels];
+  // Padded to 16 so that a 16-lane vector holds the whole table (unused entries 0).
+  int32_t hizStride[kMaxHiZLevels + 1];
+  // Every level addressed from one base: level k's texel (x, y) is hizBase[hizOffset[k] + y *
+  // hizStride[k] + x], so a gather whose lanes are at different levels is still one gather.
+  // hizOffsetsFit is false where the levels lie too far apart in memory for 32-bit indices.
+  const float* hizBase;
+  int32_t hizOffset[kMaxHiZLevels + 1];
+  bool hizOffsetsFit;
 };
 
 }  // namespace ssgi
@@ -125,14 +132,36 @@ HWY_INLINE VI TruncateSmall(VF v) {
   return hn::Sub(hn::BitCast(di, hn::Add(hn::Floor(v), hn::Set(df, kTwoTo23))), hn::BitCast(di, hn::Set(df, kTwoTo23)));
 }
 
-// The Hi-Z texel (cellX, cellY) of each live lane's level, 0 in the other lanes. Each level is a
-// plane of its own and a gather reads from one base: when the live lanes share their level (most
-// steps: neighbouring rays march alike), one GatherIndex; else a load per lane.
+// Each lane's entry of a per-level table (kMaxHiZLevels + 1 entries): a permutation where a vector
+// holds the whole table, else a gather from it.
+HWY_INLINE VI PerLevel(const int32_t* table, VI level) {
+  const DI di;
+  if constexpr (hn::MaxLanes(DI()) >= kMaxHiZLevels + 1) {
+    return hn::TableLookupLanes(hn::LoadU(di, table), hn::IndicesFromVec(di, level));
+  } else {
+    return hn::GatherIndex(di, table, level);
+  }
+}
+
+// Targets whose gathers are the hardware's, which reads any address the indices give: there the
+// levels, separate planes, are read through one base (SsrTraceFrame::hizOffset).
+constexpr bool kHardwareGather = HWY_TARGET == HWY_AVX2 || HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL;
+
+// The Hi-Z texel (cellX, cellY) of each live lane's level, 0 in the other lanes. Neighbouring rays
+// march alike, but at any step about half the vectors have live lanes at two or more levels: with
+// hardware gathers one GatherIndex from the common base serves every mix of levels. Elsewhere (and
+// where the levels lie too far apart), one GatherIndex when the live lanes share their level, else a
+// load per lane.
 HWY_INLINE VF ClosestInverseDepth(const SsrTraceFrame& frame, const MarchLanes& m, VI cellX, VI cellY) {
   const DF df;
   const DI di;
   const auto live = hn::RebindMask(di, m.live);
   const VI level = hn::IfThenElseZero(live, m.level);
+  if (kHardwareGather && frame.hizOffsetsFit) {
+    const VI index =
+        hn::Add(PerLevel(frame.hizOffset, level), hn::Add(hn::Mul(cellY, PerLevel(frame.hizStride, level)), cellX));
+    return hn::GatherIndex(df, frame.hizBase, hn::IfThenElseZero(live, index));
+  }
   HWY_ALIGN int32_t laneLevel[hn::MaxLanes(DI())];
   hn::Store(level, di, laneLevel);
   const int32_t first = laneLevel[hn::FindFirstTrue(di, live)];
@@ -341,7 +370,13 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
   const uint32_t* word1Row = frame.word1 + size_t(y) * size_t(frame.gbufferStride);
   const uint32_t* word2Row = frame.word2 + size_t(y) * size_t(frame.gbufferStride);
   const size_t end = size_t(xEnd);
-  for (size_t x0 = size_t(xBegin); x0 < end; x0 += lanes) {
+  // The rays of the vector at x0, marching.
+  struct VectorRays {
+    RayLanes rays;
+    MarchLanes march;
+  };
+  // Sets v up for the vector at x0; false (and its "no hit" stored) where it traces no ray.
+  const auto start = [&](size_t x0, VectorRays& v) {
     const auto word1 = LoadRow(du, word1Row, x0, end, 0u);
     const VF d = UnpackDepthV(df, LoadRow(du, word2Row, x0, end, PackDepth(kBackgroundDepth)));
     // The scalar tracer's first two tests: geometry, and smooth enough.
@@ -349,17 +384,34 @@ void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, i
     candidates = hn::And(candidates, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
     if (hn::AllFalse(df, candidates)) {
       StoreNoHits(hn::Zero(DI()), x0, end, hitX, hitY, confidence, iterations);
-      continue;
+      return false;
     }
     const VF px = hn::Add(hn::Add(hn::Iota(df, 0.0f), hn::Set(df, float(x0))), hn::Set(df, 0.5f));
-    const RayLanes rays = SetUpRays(frame, params, px, py, word1, d, candidates);
-    MarchLanes march = StartMarch(frame, rays.traced, rays.originX, hn::Set(df, py), rays.originZ, rays.end);
-    counts.rays += hn::CountTrue(df, rays.traced);
-    for (int step = 1; step <= params.maxIterations && !hn::AllFalse(df, march.live); ++step) {
-      StepMarch(frame, params, step, march);
+    v.rays = SetUpRays(frame, params, px, py, word1, d, candidates);
+    v.march = StartMarch(frame, v.rays.traced, v.rays.originX, hn::Set(df, py), v.rays.originZ, v.rays.end);
+    counts.rays += hn::CountTrue(df, v.rays.traced);
+    return true;
+  };
+  const auto finish = [&](size_t x0, const VectorRays& v) {
+    counts.iterations += uint64_t(hn::GetLane(hn::SumOfLanes(DI(), v.march.steps)));
+    FinishRays(frame, params, v.rays, v.march, x0, end, hitX, hitY, confidence, iterations);
+  };
+  // Two neighbouring vectors march side by side: each step waits on its Hi-Z gather, and the other
+  // vector's step fills that wait (a third, or refilling a finished vector's place from the row,
+  // measured no faster). Each vector steps exactly as it would alone.
+  for (size_t x0 = size_t(xBegin); x0 < end; x0 += 2 * lanes) {
+    VectorRays a, b;
+    const bool tracesA = start(x0, a);
+    const bool tracesB = x0 + lanes < end && start(x0 + lanes, b);
+    for (int step = 1; step <= params.maxIterations; ++step) {
+      const bool liveA = tracesA && !hn::AllFalse(df, a.march.live);
+      const bool liveB = tracesB && !hn::AllFalse(df, b.march.live);
+      if (!liveA && !liveB) break;
+      if (liveA) StepMarch(frame, params, step, a.march);
+      if (liveB) StepMarch(frame, params, step, b.march);
     }
-    counts.iterations += uint64_t(hn::GetLane(hn::SumOfLanes(DI(), march.steps)));
-    FinishRays(frame, params, rays, march, x0, end, hitX, hitY, confidence, iterations);
+    if (tracesA) finish(x0, a);
+    if (tracesB) finish(x0 + lanes, b);
   }
 }
 
@@ -388,7 +440,7 @@ namespace {
 
 SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
   const GBuffer& g = in.gbuffer;
-  SsrTraceFrame frame;
+  SsrTraceFrame frame{};
   frame.width = g.width();
   frame.height = g.height();
   frame.word1 = g.word[1].ConstRow(0);
@@ -405,6 +457,18 @@ SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
     SSGI_CHECK_EQ(level.xsize(), size_t(std::max(1, frame.width >> k)));
     SSGI_CHECK_EQ(level.ysize(), size_t(std::max(1, frame.height >> k)));
     frame.hizStride[k] = int32_t(level.PixelsPerRow());
+  }
+  // The lowest level address as the common base; every level's offset from it, and its last texel,
+  // must be a 32-bit index.
+  const auto address = [](const float* p) { return reinterpret_cast<uintptr_t>(p); };
+  frame.hizBase = *std::min_element(frame.hiz, frame.hiz + frame.levels,
+                                    [&](const float* a, const float* b) { return address(a) < address(b); });
+  frame.hizOffsetsFit = true;
+  for (int k = 0; k < frame.levels; ++k) {
+    const uintptr_t offset = (address(frame.hiz[k]) - address(frame.hizBase)) / sizeof(float);
+    const uintptr_t last = offset + uintptr_t(frame.hizStride[k]) * in.hiz.levels[size_t(k)].ysize();
+    frame.hizOffsetsFit = frame.hizOffsetsFit && last <= uintptr_t(INT32_MAX);
+    frame.hizOffset[k] = int32_t(std::min<uintptr_t>(offset, INT32_MAX));
   }
   return frame;
 }
