@@ -60,26 +60,27 @@ Bounds CasterBounds(const Mesh& mesh, const glm::mat4& view) {
   return all;
 }
 
-// Light-view bounds of the world positions of every G-buffer pixel with geometry: the receivers.
-// Per-band partials combined in band order.
-Bounds ReceiverBounds(const GBuffer& gbuffer, const ReceiverPositions& positions) {
+// The G-buffer pixels with geometry: how many, and the light-view bounds of their positions (the
+// receivers). Per-band partials combined in band order.
+struct Receivers {
+  size_t count = 0;
+  Bounds bounds;
+};
+Receivers ScanReceivers(const GBuffer& gbuffer, const ReceiverPositions& positions, KernelPath kernels) {
   const size_t height = size_t(gbuffer.height());
   const int width = gbuffer.width();
-  std::vector<Bounds> partial(RowBandCount(height));
-  ParallelForRowBands("shadow_map.receiver_bounds", height, [&](size_t band, size_t yBegin, size_t yEnd) {
-    for (int y = int(yBegin); y < int(yEnd); ++y) {
-      const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
-      const ReceiverPositions::Row row = positions.AtRow(y);
-      for (int x = 0; x < width; ++x) {
-        const float depth = UnpackDepth(w2[x]);
-        if (!(depth < kBackgroundDepth)) continue;
-        const glm::vec3 p = positions.At(row, x, depth);
-        partial[band].Add({p.x, p.y, -p.z});
-      }
-    }
+  const auto boundsRow = kernels == KernelPath::kSimd ? ReceiverBoundsRowSimd : ReceiverBoundsRowScalar;
+  std::vector<Receivers> partial(RowBandCount(height));
+  ParallelForRowBands("shadow_map.receivers", height, [&](size_t band, size_t yBegin, size_t yEnd) {
+    Receivers& r = partial[band];
+    for (int y = int(yBegin); y < int(yEnd); ++y)
+      r.count += boundsRow(gbuffer.word[2].ConstRow(y), width, positions, positions.AtRow(y), r.bounds.lo, r.bounds.hi);
   });
-  Bounds all;
-  for (const Bounds& b : partial) all.Add(b);
+  Receivers all;
+  for (const Receivers& r : partial) {
+    all.count += r.count;
+    all.bounds.Add(r.bounds);
+  }
   return all;
 }
 
@@ -91,14 +92,19 @@ glm::vec3 UpHint(const glm::vec3& forward) {
   return {0.0f, 0.0f, 1.0f};
 }
 
+// The rotation of a directional light's view (before its window is fitted).
+glm::mat4 DirectionalRotation(const PreparedLight& light) {
+  return glm::lookAt(glm::vec3(0.0f), light.direction, UpHint(light.direction));
+}
+
 // Directional light: an orthographic view along the light, its (x, y) window the receivers' bounds
-// padded by the widest search radius plus the normal offset, its near plane behind every caster of
-// the scene (casters outside the camera's view still cast), its far plane behind every receiver.
-ViewProjection FitDirectional(const PreparedLight& light, const Scene& scene, const GBuffer& gbuffer,
-                              const ViewProjection& camera, const ShadowMapParams& params) {
+// (in DirectionalRotation's view) padded by the widest search radius plus the normal offset, its
+// near plane behind every caster of the scene (casters outside the camera's view still cast), its
+// far plane behind every receiver.
+ViewProjection FitDirectional(const PreparedLight& light, const Scene& scene, const Bounds& receivers,
+                              const ShadowMapParams& params) {
   const glm::vec3 up = UpHint(light.direction);
-  const glm::mat4 rotation = glm::lookAt(glm::vec3(0.0f), light.direction, up);
-  const Bounds receivers = ReceiverBounds(gbuffer, ReceiverPositions(camera, rotation * glm::inverse(camera.view)));
+  const glm::mat4 rotation = DirectionalRotation(light);
   const Bounds casters = CasterBounds(scene.mesh, rotation);
   const float nearDepth = std::min(receivers.lo.z, casters.lo.z);
   const float margin = std::max(kMinDepthMargin, 1e-3f * (receivers.hi.z - nearDepth));
@@ -225,6 +231,21 @@ void SearchBlockersRow(const BlockerSearchContext& context, const uint32_t* word
 
 }  // namespace
 
+size_t ReceiverBoundsRowScalar(const uint32_t* word2, int width, const ReceiverPositions& positions,
+                               const ReceiverPositions::Row& row, glm::vec3& lo, glm::vec3& hi) {
+  size_t count = 0;
+  for (int x = 0; x < width; ++x) {
+    const float depth = UnpackDepth(word2[x]);
+    if (!(depth < kBackgroundDepth)) continue;
+    ++count;
+    const glm::vec3 p = positions.At(row, x, depth);
+    const glm::vec3 q(p.x + 0.0f, p.y + 0.0f, -p.z + 0.0f);
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  return count;
+}
+
 void BlockerSearchRowScalar(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
                             int width, uint32_t* shadowTerm) {
   if (context.light.orthographic) {
@@ -316,19 +337,17 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   ShadowMapStats stats;
   Stopwatch stopwatch;
 
-  std::vector<size_t> receiversPerBand(RowBandCount(size_t(height)), 0);
-  ParallelForRowBands("shadow_map.count_receivers", size_t(height), [&](size_t band, size_t yBegin, size_t yEnd) {
-    for (int y = int(yBegin); y < int(yEnd); ++y) {
-      const uint32_t* w2 = gbuffer.word[2].ConstRow(y);
-      for (int x = 0; x < width; ++x) receiversPerBand[band] += UnpackDepth(w2[x]) < kBackgroundDepth;
-    }
-  });
-  for (size_t n : receiversPerBand) stats.pixels += n;
+  // One sweep counts the receivers and bounds them in the directional light's view (a spot's view is
+  // fitted to its cone instead, and its bounds go unused).
+  const glm::mat4 rotation = light.isSpot ? glm::mat4(1.0f) : DirectionalRotation(light);
+  const Receivers receivers =
+      ScanReceivers(gbuffer, ReceiverPositions(in.camera, rotation * glm::inverse(in.camera.view)), kernels);
+  stats.pixels = receivers.count;
 
   if (light.isSpot) {
     out.lightView = FitSpot(light, scene.spotLights[in.light - directionalCount], scene, params);
   } else if (stats.pixels > 0) {
-    out.lightView = FitDirectional(light, scene, gbuffer, in.camera, params);
+    out.lightView = FitDirectional(light, scene, receivers.bounds, params);
   } else {
     // Nothing receives a shadow: a unit window at the origin, only so the output is a valid view.
     out.lightView = MakeOrthographic(glm::vec3(0.0f), light.direction, UpHint(light.direction), 1.0f, 1.0f, 0.0f,

@@ -142,6 +142,16 @@ BlockerSearchContext MakeBlockerSearchContext(const ReceiverPositions& receivers
                                               const PreparedLight& light, const std::vector<glm::vec2>& pattern,
                                               float maxBlockerDistance, NormalEncoding encoding);
 
+// The receivers of G-buffer row `row`: returns how many of the `width` pixels of word 2 (view depth)
+// have geometry, and widens [lo, hi] by their light-view (x, y, depth) positions (ReceiverPositions::At
+// with depth = -z), each component + 0 first, so that -0 counts as +0 and the bounds do not depend on
+// the order the pixels are visited in. The scalar definition (shadow_map.cpp) and its Highway twin
+// (shadow_map_simd.cpp), equal on every target.
+size_t ReceiverBoundsRowScalar(const uint32_t* word2, int width, const ReceiverPositions& positions,
+                               const ReceiverPositions::Row& row, glm::vec3& lo, glm::vec3& hi);
+size_t ReceiverBoundsRowSimd(const uint32_t* word2, int width, const ReceiverPositions& positions,
+                             const ReceiverPositions::Row& row, glm::vec3& lo, glm::vec3& hi);
+
 // RunShadowMap's blocker search on its own: every row of the G-buffer (words 1 and 2) into
 // shadowTerm, in parallel row bands, with the row kernel `kernels` picks.
 void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffer, Plane<uint32_t>& shadowTerm,

@@ -4,6 +4,8 @@
 // each tap a gather of the depth keys, the blocker distances summed tap by tap in every lane. A
 // receiver the scalar code returns early for stays in the vector under a mask: its lanes compute
 // values that are never stored and gather only key 0; a vector with no receiver left skips the taps.
+#include <limits>
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/shadow_map_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -239,6 +241,45 @@ void BlockerSearchRow(const BlockerSearchRowInputs& in, const uint32_t* word1, c
   }
 }
 
+// ReceiverBoundsRowScalar's twin: each lane keeps its own bounds over the pixels x = lane (mod the
+// lane count), then the lanes' bounds are folded in lane order. With -0 made +0 and NaN never
+// taken (the comparisons are glm::min's and glm::max's), a minimum or maximum does not depend on
+// the order it is taken in: the scalar bounds, exactly.
+size_t ReceiverBoundsRow(const uint32_t* word2, int width, glm::vec3 origin, glm::vec3 first, glm::vec3 step,
+                         glm::vec3& lo, glm::vec3& hi) {
+  const DF df;
+  const DI di;
+  const DU du;
+  const size_t count = size_t(width);
+  const VF zero = hn::Zero(df);
+  const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
+  const VF minusInf = hn::Neg(inf);
+  VF lanesLo[3] = {inf, inf, inf}, lanesHi[3] = {minusInf, minusInf, minusInf};
+  const Vec3V<DF> o = Set3(df, origin), f = Set3(df, first), s = Set3(df, step);
+  size_t receivers = 0;
+  for (size_t x = 0; x < count; x += hn::Lanes(df)) {
+    const VF depth = UnpackDepthV(df, LoadRow(du, word2, x, count, PackDepth(kBackgroundDepth)));
+    const MF receiver = hn::Lt(depth, hn::Set(df, kBackgroundDepth));
+    if (hn::AllFalse(df, receiver)) continue;
+    receivers += hn::CountTrue(df, receiver);
+    const VF px = hn::ConvertTo(df, hn::Add(hn::Iota(di, 0), hn::Set(di, int32_t(x))));
+    const Vec3V<DF> p = Add3(o, Scale3(Add3(f, Scale3(s, px)), depth));  // ReceiverPositions::At
+    const VF q[3] = {hn::Add(p.x, zero), hn::Add(p.y, zero), hn::Add(hn::Neg(p.z), zero)};
+    for (int c = 0; c < 3; ++c) {
+      lanesLo[c] = MinStd(lanesLo[c], hn::IfThenElse(receiver, q[c], inf));
+      lanesHi[c] = MaxStd(lanesHi[c], hn::IfThenElse(receiver, q[c], minusInf));
+    }
+  }
+  HWY_ALIGN float laneValues[hn::MaxLanes(DF())];
+  for (int c = 0; c < 3; ++c) {
+    hn::Store(lanesLo[c], df, laneValues);
+    for (size_t i = 0; i < hn::Lanes(df); ++i) lo[c] = laneValues[i] < lo[c] ? laneValues[i] : lo[c];
+    hn::Store(lanesHi[c], df, laneValues);
+    for (size_t i = 0; i < hn::Lanes(df); ++i) hi[c] = hi[c] < laneValues[i] ? laneValues[i] : hi[c];
+  }
+  return receivers;
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();
@@ -249,6 +290,12 @@ HWY_AFTER_NAMESPACE();
 namespace ssgi {
 
 HWY_EXPORT(BlockerSearchRow);
+HWY_EXPORT(ReceiverBoundsRow);
+
+size_t ReceiverBoundsRowSimd(const uint32_t* word2, int width, const ReceiverPositions& positions,
+                             const ReceiverPositions::Row& row, glm::vec3& lo, glm::vec3& hi) {
+  return HWY_DYNAMIC_DISPATCH(ReceiverBoundsRow)(word2, width, positions.Origin(), row.first, row.step, lo, hi);
+}
 
 void BlockerSearchRowSimd(const BlockerSearchContext& context, const uint32_t* word1, const uint32_t* word2, int y,
                           int width, uint32_t* shadowTerm) {

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
+#include <vector>
 
 #include <catch2/catch.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "core/parallel.h"
 #include "passes/gbuffer.h"
@@ -498,6 +501,43 @@ TEST_CASE("shadow map: the SIMD blocker search writes the scalar word 3 on every
       }
     }
   }
+}
+
+TEST_CASE("shadow map: the SIMD receiver bounds equal the scalar definition on every compiled target",
+          "[shadow][simd]") {
+  // Rows of view depths with background pixels, and positions that land on -0 and +0 exactly (a
+  // light view through the camera, so x = 0 on the centre column and depth 0 at the origin) or on
+  // NaN (an infinite step): the bounds must not depend on the order the pixels are visited in.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> depth(0.5f, 40.0f);
+  std::uniform_int_distribution<int> background(0, 5);
+  const std::vector<ReceiverPositions::Row> rows = {
+      {{-0.7f, 0.3f, -1.0f}, {0.011f, 0.0f, 0.0f}},
+      {{-0.0f, 0.0f, -0.0f}, {0.0f, -0.0f, 0.0f}},
+      {{0.2f, -0.4f, -1.0f}, {std::numeric_limits<float>::infinity(), 0.001f, -0.002f}}};
+  const TestScene scene = DefaultSceneWithSpot(64, 48);
+  const ViewProjection camera = MakePerspective(scene.camera, 64, 48);
+  size_t targets = 0;
+  for (const glm::mat4& toLight : {glm::mat4(1.0f), glm::lookAt(glm::vec3(1.0f, 2.0f, 3.0f), glm::vec3(0.0f),
+                                                                 glm::vec3(0.0f, 1.0f, 0.0f))}) {
+    const ReceiverPositions positions(camera, toLight);
+    for (const ReceiverPositions::Row& row : rows) {
+      for (int width : {1, 7, 16, 33, 200}) {
+        std::vector<uint32_t> word2(static_cast<size_t>(width));
+        for (uint32_t& w : word2) w = PackDepth(background(rng) == 0 ? kBackgroundDepth : depth(rng));
+        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+        const size_t count = ReceiverBoundsRowScalar(word2.data(), width, positions, row, lo, hi);
+        targets += test::ForEachSimdTarget([&](const char* target) {
+          glm::vec3 simdLo(std::numeric_limits<float>::infinity()), simdHi(-std::numeric_limits<float>::infinity());
+          CAPTURE(target, width);
+          CHECK(ReceiverBoundsRowSimd(word2.data(), width, positions, row, simdLo, simdHi) == count);
+          CHECK(std::memcmp(&simdLo, &lo, sizeof(lo)) == 0);
+          CHECK(std::memcmp(&simdHi, &hi, sizeof(hi)) == 0);
+        });
+      }
+    }
+  }
+  CHECK(targets >= 2 * 3 * 5 * 2);
 }
 
 TEST_CASE("shadow map: the first shadow-casting light is listed first", "[shadow]") {
