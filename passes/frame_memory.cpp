@@ -43,7 +43,7 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   add("g-buffer raster set-up", setUp, P::kGBuffer, P::kGBuffer);
   if (config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty()) {
     const size_t side = size_t(config.shadowMap.resolution);
-    add("shadow map", 2 * PlaneBytes<float>(side, side), P::kShadowMap, P::kShadowMap);
+    add("shadow map", PlaneBytes<float>(side, side), P::kShadowMap, P::kShadowMap);  // depth keys only
     add("shadow-map raster set-up", setUp, P::kShadowMap, P::kShadowMap);
     add("shadow visibility", floatPlane, P::kShadowFilter, P::kDirectLight);
   }
