@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <vector>
 
 namespace ssgi {
@@ -18,12 +18,6 @@ namespace {
 constexpr int32_t kBucketFloats = int32_t(1) << kSrgbEncodeShift;
 constexpr int32_t kNoBoundary = kBucketFloats;  // an offset no float inside the bucket reaches
 
-int32_t FloatBits(float x) {
-  int32_t bits;
-  std::memcpy(&bits, &x, 4);
-  return bits;
-}
-
 struct SrgbTables {
   std::array<float, 256> codeToLinear;
   std::array<float, 255> thresholds;  // thresholds[k]: the linear value where code k rounds up to k + 1
@@ -34,19 +28,17 @@ struct SrgbTables {
     for (int k = 0; k < 255; ++k) thresholds[k] = SrgbToLinear((float(k) + 0.5f) / 255.0f);
     for (size_t b = 0; b < encode.size(); ++b) {
       const int32_t first = kSrgbEncodeLowBits + int32_t(b) * kBucketFloats;
-      float lowest;
-      std::memcpy(&lowest, &first, 4);
-      const auto above = std::upper_bound(thresholds.begin(), thresholds.end(), lowest);
+      const auto above = std::upper_bound(thresholds.begin(), thresholds.end(), std::bit_cast<float>(first));
       int32_t offset = kNoBoundary;
-      if (above != thresholds.end() && FloatBits(*above) - first < kBucketFloats) {
-        offset = FloatBits(*above) - first;
+      if (above != thresholds.end() && std::bit_cast<int32_t>(*above) - first < kBucketFloats) {
+        offset = std::bit_cast<int32_t>(*above) - first;
         // A second boundary in the same bucket would need a second compare.
-        if (above + 1 != thresholds.end() && FloatBits(above[1]) - first < kBucketFloats) std::abort();
+        if (above + 1 != thresholds.end() && std::bit_cast<int32_t>(above[1]) - first < kBucketFloats) std::abort();
       }
       encode[b] = offset << 8 | int32_t(above - thresholds.begin());
     }
     // Everything below the first bucket must encode to 0.
-    if (FloatBits(thresholds[0]) <= kSrgbEncodeLowBits) std::abort();
+    if (std::bit_cast<int32_t>(thresholds[0]) <= kSrgbEncodeLowBits) std::abort();
   }
 };
 
@@ -74,7 +66,7 @@ const float* SrgbDecodeTableForKernels() { return Tables().codeToLinear.data(); 
 
 uint8_t LinearToSrgbCode(float linear) {
   if (!(linear > 0.0f)) return 0;
-  const int32_t bits = std::min(std::max(FloatBits(linear), kSrgbEncodeLowBits), kSrgbEncodeHighBits);
+  const int32_t bits = std::min(std::max(std::bit_cast<int32_t>(linear), kSrgbEncodeLowBits), kSrgbEncodeHighBits);
   const int32_t entry = Tables().encode[size_t((bits - kSrgbEncodeLowBits) >> kSrgbEncodeShift)];
   return uint8_t((entry & 0xFF) + ((bits & kSrgbEncodeOffsetMask) >= (entry >> 8)));
 }
