@@ -273,9 +273,9 @@ size_t ReceiverBoundsRow(const uint32_t* word2, int width, glm::vec3 origin, glm
   HWY_ALIGN float laneValues[hn::MaxLanes(DF())];
   for (int c = 0; c < 3; ++c) {
     hn::Store(lanesLo[c], df, laneValues);
-    for (size_t i = 0; i < hn::Lanes(df); ++i) lo[c] = laneValues[i] < lo[c] ? laneValues[i] : lo[c];
+    for (size_t i = 0; i < hn::Lanes(df); ++i) lo[c] = glm::min(lo[c], laneValues[i]);
     hn::Store(lanesHi[c], df, laneValues);
-    for (size_t i = 0; i < hn::Lanes(df); ++i) hi[c] = hi[c] < laneValues[i] ? laneValues[i] : hi[c];
+    for (size_t i = 0; i < hn::Lanes(df); ++i) hi[c] = glm::max(hi[c], laneValues[i]);
   }
   return receivers;
 }
