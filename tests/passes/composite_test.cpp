@@ -166,14 +166,6 @@ TEST_CASE("composite: the SIMD pass gives the scalar pass's bytes on the default
   }
 }
 
-Plane3<float> CopyOf(const Plane3<float>& planes) {
-  const size_t width = planes.c[0].xsize(), height = planes.c[0].ysize();
-  Plane3<float> copy = MakePlane3<float>(width, height, 0.0f);
-  for (int c = 0; c < 3; ++c)
-    for (size_t y = 0; y < height; ++y) std::copy_n(planes.c[c].ConstRow(y), width, copy.c[c].MutableRow(y));
-  return copy;
-}
-
 TEST_CASE("composite: in place over the direct image and the reflection, the same bytes on every target",
           "[composite][simd][memory]") {
   const test::DefaultScene scene = test::LoadDefaultScene();
@@ -184,8 +176,8 @@ TEST_CASE("composite: in place over the direct image and the reflection, the sam
       const size_t targets = test::ForEachSimdTarget([&](const char* target) {
         // The frame's memory-saving hand-over: the outputs are the inputs' own planes.
         CompositeOutputs inPlace;
-        inPlace.result = CopyOf(frame.direct.radiance);
-        inPlace.indirect = CopyOf(frame.ssrCone.reflected);
+        inPlace.result = test::CopyOf(frame.direct.radiance);
+        inPlace.indirect = test::CopyOf(frame.ssrCone.reflected);
         RunComposite({frame.gbuffer.gbuffer, frame.view, inPlace.result, inPlace.indirect, frame.ssrTrace.confidence,
                       SsrTraceParams{}.roughnessCutoff},
                      inPlace, kernels);

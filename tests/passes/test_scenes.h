@@ -1,6 +1,7 @@
 // Small scenes built in code for the pass tests: quads, boxes, a ground plane, sun directions.
 #pragma once
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <optional>
@@ -92,6 +93,15 @@ bool SameBytes(const Plane<T>& a, const Plane<T>& b) {
   for (size_t y = 0; y < a.ysize(); ++y)
     if (std::memcmp(a.ConstRow(y), b.ConstRow(y), a.xsize() * sizeof(T)) != 0) return false;
   return true;
+}
+
+// A copy of three planes (planes cannot be copied).
+inline Plane3<float> CopyOf(const Plane3<float>& planes) {
+  const size_t width = planes.c[0].xsize(), height = planes.c[0].ysize();
+  Plane3<float> copy = MakePlane3<float>(width, height, 0.0f);
+  for (int c = 0; c < 3; ++c)
+    for (size_t y = 0; y < height; ++y) std::copy_n(planes.c[c].ConstRow(y), width, copy.c[c].MutableRow(y));
+  return copy;
 }
 
 }  // namespace ssgi::test
