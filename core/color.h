@@ -40,7 +40,8 @@ const int32_t* SrgbEncodeTableForKernels();
 // The largest half float. The frame's radiance buffers (direct light, the colour pyramid, the
 // cone-traced reflection) hold finite values in [0, kMaxRadiance]: they fit a GPU port's half-float
 // targets, and no NaN or infinity can spread through a blur. Sanitised: NaN and negatives (-inf
-// too) -> 0, values above the cap (+inf too) -> the cap.
+// too) -> 0, values above the cap (+inf too) -> the cap: a blown-out pixel stays bright, and the
+// pyramid's weighted sums cannot overflow to +inf.
 inline constexpr float kMaxRadiance = 65504.0f;
 inline float SanitizeRadiance(float v) { return v > 0.0f ? std::min(v, kMaxRadiance) : 0.0f; }
 

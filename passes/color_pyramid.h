@@ -24,14 +24,9 @@ inline constexpr std::array<float, 7> kColorPyramidWeights = {
 // How far the taps reach on either side of the centre texel.
 inline constexpr int kColorPyramidRadius = int(kColorPyramidWeights.size()) / 2;
 
-// Level 0's ceiling, in the radiance's units: the largest half float. Sanitising +inf to a finite
-// cap (rather than 0) keeps a blown-out pixel bright; clamping every larger finite value too keeps
-// the weighted sums of a level from overflowing to +inf.
-inline constexpr float kColorPyramidMaxRadiance = kMaxRadiance;
-
 struct ColorPyramid {
-  // Linear RGB radiance, finite, in [0, kColorPyramidMaxRadiance]. levels[0]: the input's size, the
-  // input sanitised (NaN and negatives -> 0, values above the cap and +inf -> the cap);
+  // Linear RGB radiance, finite, in [0, kMaxRadiance]. levels[0]: the input's size, the input
+  // sanitised (SanitizeRadiance: NaN and negatives -> 0, values above the cap and +inf -> the cap);
   // levels[k + 1]: PyramidHalvedSize of levels[k] on each axis, down to 1 x 1.
   std::vector<Plane3<float>> levels;
 };

@@ -53,7 +53,7 @@ struct SsrConeInputs {
 
 struct SsrConeOutputs {
   // G-buffer size. Linear RGB radiance reflected toward the viewer before the specular weight,
-  // finite, in [0, kColorPyramidMaxRadiance]; 0 where trace.confidence is 0 (no hit).
+  // finite, in [0, kMaxRadiance]; 0 where trace.confidence is 0 (no hit).
   Plane3<float> reflected;
 };
 
