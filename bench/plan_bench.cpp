@@ -3,6 +3,10 @@
 // results; bench/plot_cost_share.py draws them.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <map>
+#include <string>
+
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "passes/frame.h"
@@ -57,7 +61,17 @@ Frame TimeKeptFrame(benchmark::State& state, const Scene& scene, EffectMode Fram
   config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
   Frame frame;
   RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
-  for (auto _ : state) RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+  // Each stage's mean time, to show where a step in the frame's cost comes from.
+  std::map<std::string, double> stageMs;
+  for (auto _ : state) {
+    RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+    for (const StageStats& stage : StageRows(frame.stats)) stageMs[stage.name] += stage.ms;
+  }
+  for (const auto& [name, ms] : stageMs) {
+    std::string counter = name + " ms";
+    std::replace(counter.begin(), counter.end(), ' ', '_');
+    state.counters[counter] = ms / double(state.iterations());
+  }
   state.SetItemsProcessed(int64_t(state.iterations()) * kSize * kSize);
   return frame;
 }

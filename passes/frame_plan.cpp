@@ -15,12 +15,6 @@
 namespace ssgi {
 namespace {
 
-struct TileNeeds {
-  size_t geometry = 0;
-  size_t reflections = 0;  // pixels smoother than the cut-off
-  size_t shadows = 0;      // pixels facing the shadowed light (1 at most unless counted)
-};
-
 // One visible pixel as the direct light sees it; the normal is decoded only when a light needs it.
 class VisiblePixel {
  public:
@@ -71,24 +65,36 @@ std::string Share(size_t part, size_t whole) {
 
 }  // namespace
 
+void CountPlanRowScalar(const uint32_t* word1, const uint32_t* word2, int width, uint32_t smoothCodes,
+                        uint32_t* geometry, uint32_t* smooth) {
+  for (int x = 0; x < width; ++x) {
+    if (UnpackDepth(word2[x]) == kBackgroundDepth) continue;
+    const int tile = x / TileMask::kTileSize;
+    ++geometry[tile];
+    if ((word1[x] >> 24) < smoothCodes) ++smooth[tile];
+  }
+}
+
 FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer, const ViewProjection& view,
                     bool countShadowPixels) {
   const int width = gbuffer.width(), height = gbuffer.height();
-  const int tilesX = (width + kPlanTileSize - 1) / kPlanTileSize;
-  const int tilesY = (height + kPlanTileSize - 1) / kPlanTileSize;
   FramePlan plan;
-  plan.tiles = size_t(tilesX) * size_t(tilesY);
+  plan.reflectionTiles = TileMask::None(width, height);
+  const int tilesX = plan.reflectionTiles.tilesX, tilesY = plan.reflectionTiles.tilesY;
+  plan.tiles = plan.reflectionTiles.needed.size();
   plan.pixels = size_t(width) * size_t(height);
   const std::vector<size_t> shadowLights = ShadowCastingLights(scene);
   if (config.shadows != EffectMode::kOff && !shadowLights.empty()) plan.shadowLight = shadowLights.front();
   const std::vector<PreparedLight> lights = PrepareLights(scene, view.view);
-  // The roughness codes below the cut-off, decided as the trace and the composite decide them.
+  // The roughness codes below the cut-off, decided as the trace and the composite decide them:
+  // UnpackRoughness grows with the code, so they are the codes below the first one that is not.
   const float cutoff = config.ssrTrace.roughnessCutoff;
-  bool smooth[256];
-  for (uint32_t code = 0; code < 256; ++code) smooth[code] = UnpackRoughness(code << 24) < cutoff;
+  uint32_t smoothCodes = 0;
+  while (smoothCodes < 256 && UnpackRoughness(smoothCodes << 24) < cutoff) ++smoothCodes;
   const bool seekShadows = plan.shadowLight && config.shadows == EffectMode::kAuto;
 
-  std::vector<TileNeeds> needs(plan.tiles);
+  std::vector<uint32_t> geometryPerTile(plan.tiles, 0), smoothPerTile(plan.tiles, 0);
+  std::vector<size_t> shadowsPerTile(plan.tiles, 0);  // pixels facing the shadowed light, when counted
   // Each light needs one facing pixel, anywhere: once a tile has found it, the others stop looking
   // (which tiles looked depends on scheduling, so only the counted plan reports shadow tiles).
   const std::unique_ptr<std::atomic<bool>[]> reached(new std::atomic<bool>[lights.size()]);
@@ -104,35 +110,34 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
   // A row of tiles at a time, each image row whole: the rows of one tile are pages apart, a stride
   // the hardware prefetchers do not follow.
   ParallelFor("frame_plan", size_t(tilesY), [&](size_t tileRow) {
-    const int y0 = int(tileRow) * kPlanTileSize, y1 = std::min(y0 + kPlanTileSize, height);
+    const size_t firstTile = tileRow * size_t(tilesX);
+    const int y0 = int(tileRow) * TileMask::kTileSize, y1 = std::min(y0 + TileMask::kTileSize, height);
     for (int y = y0; y < y1; ++y) {
       const uint32_t* word1 = gbuffer.word[1].ConstRow(size_t(y));
       const uint32_t* word2 = gbuffer.word[2].ConstRow(size_t(y));
-      for (int x = 0; x < width; ++x) {
-        TileNeeds& n = needs[tileRow * size_t(tilesX) + size_t(x / kPlanTileSize)];
+      CountPlanRowSimd(word1, word2, width, smoothCodes, &geometryPerTile[firstTile], &smoothPerTile[firstTile]);
+      for (int x = 0; x < width && seeking(); ++x) {
         const float depth = UnpackDepth(word2[x]);
         if (depth == kBackgroundDepth) continue;
-        ++n.geometry;
-        if (smooth[word1[x] >> 24]) ++n.reflections;
-        if (!seeking()) continue;
         VisiblePixel pixel(view, x, y, depth, word1[x], gbuffer.normalEncoding);
         for (size_t i = 0; i < lights.size(); ++i) {
           const bool counted = countingShadows && i == *plan.shadowLight;
           if (!counted && reached[i].load(std::memory_order_relaxed)) continue;
           if (!pixel.FacesLight(lights[i])) continue;
           reached[i].store(true, std::memory_order_relaxed);
-          if (counted) ++n.shadows;
+          if (counted) ++shadowsPerTile[firstTile + size_t(x / TileMask::kTileSize)];
         }
       }
     }
   });
-  for (const TileNeeds& n : needs) {
-    plan.geometryPixels += n.geometry;
-    plan.reflections.pixels += n.reflections;
-    plan.reflections.tiles += n.reflections > 0;
+  for (size_t tile = 0; tile < plan.tiles; ++tile) {
+    plan.geometryPixels += geometryPerTile[tile];
+    plan.reflections.pixels += smoothPerTile[tile];
+    plan.reflections.tiles += smoothPerTile[tile] > 0;
+    plan.reflectionTiles.needed[tile] = smoothPerTile[tile] > 0;
     if (countShadowPixels) {
-      plan.shadows.pixels += n.shadows;
-      plan.shadows.tiles += n.shadows > 0;
+      plan.shadows.pixels += shadowsPerTile[tile];
+      plan.shadows.tiles += shadowsPerTile[tile] > 0;
     }
   }
   plan.reflections.counted = true;

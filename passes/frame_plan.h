@@ -14,11 +14,10 @@
 #include "core/camera.h"
 #include "core/gbuffer.h"
 #include "core/scene.h"
+#include "core/tile_mask.h"
 #include "passes/frame_config.h"
 
 namespace ssgi {
-
-inline constexpr int kPlanTileSize = 32;
 
 struct EffectPlan {
   bool run = false;
@@ -39,12 +38,24 @@ struct FramePlan {
   // conditions for a non-zero term). The direct light shades only these; the others add exactly 0.
   std::vector<bool> lightReaches;
   size_t directionalLights = 0;  // the first lights of lightReaches; spots follow
+  // The tiles with a pixel smoother than the cut-off: the only tiles the trace, the cone and the
+  // composite work on (every other pixel of the image has no hit and no indirect light).
+  TileMask reflectionTiles;
 };
 
 // The plan for the frame of this G-buffer, rendered with `view`. countShadowPixels: count the
 // pixels and tiles facing the shadowed light (for --explain) instead of stopping at the first.
 FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer, const ViewProjection& view,
                     bool countShadowPixels = false);
+
+// Per 32x32 tile of row y (tile t holds x in [32t, 32t + 32)): adds the row's pixels with geometry
+// (word 2 not the background) to geometry[t] and those of them whose roughness code (word 1's top
+// byte) is below smoothCodes to smooth[t].
+void CountPlanRowScalar(const uint32_t* word1, const uint32_t* word2, int width, uint32_t smoothCodes,
+                        uint32_t* geometry, uint32_t* smooth);
+// Its Highway twin (passes/frame_plan_simd.cpp), dispatched to the machine's best target.
+void CountPlanRowSimd(const uint32_t* word1, const uint32_t* word2, int width, uint32_t smoothCodes,
+                      uint32_t* geometry, uint32_t* smooth);
 
 // The plan as `--explain` prints it: a line per effect, run or skipped and why, with its share of
 // tiles and pixels.

@@ -4,12 +4,15 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "passes/direct_light.h"
 #include "passes/frame.h"
 #include "tests/passes/test_scenes.h"
+#include "tests/test_support.h"
 
 namespace ssgi {
 namespace {
@@ -151,6 +154,64 @@ TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]
   CHECK(text.find("shadows: run, visible pixels face the shadow-casting light; needed in") != std::string::npos);
   CHECK(text.find("reflections: run") != std::string::npos);
   CHECK(text.find("hi-z, colour pyramid, ssr trace, cone trace, composite run") != std::string::npos);
+}
+
+TEST_CASE("frame plan: the tile counts' twin gives the scalar counts on every target", "[plan][simd]") {
+  std::mt19937 rng(7);
+  for (int width : {1, 31, 32, 67, 1023}) {
+    // Background, geometry at both ends of the depth range, every roughness code.
+    std::vector<uint32_t> word1(static_cast<size_t>(width)), word2(static_cast<size_t>(width));
+    for (int x = 0; x < width; ++x) {
+      word1[size_t(x)] = uint32_t(rng());
+      const uint32_t kind = rng() % 4;
+      word2[size_t(x)] = kind == 0 ? PackDepth(kBackgroundDepth) : kind == 1 ? PackDepth(1e-6f) : PackDepth(3.5f);
+    }
+    for (uint32_t smoothCodes : {0u, 1u, 77u, 255u, 256u}) {
+      const size_t tiles = size_t((width + TileMask::kTileSize - 1) / TileMask::kTileSize);
+      std::vector<uint32_t> geometry(tiles, 5), smooth(tiles, 3);  // the kernels add to what is there
+      CountPlanRowScalar(word1.data(), word2.data(), width, smoothCodes, geometry.data(), smooth.data());
+      uint32_t covered = 0;
+      for (uint32_t n : geometry) covered += n - 5;
+      CHECK(covered == uint32_t(std::count_if(word2.begin(), word2.end(),
+                                               [](uint32_t w) { return w != PackDepth(kBackgroundDepth); })));
+      const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+        std::vector<uint32_t> simdGeometry(tiles, 5), simdSmooth(tiles, 3);
+        CountPlanRowSimd(word1.data(), word2.data(), width, smoothCodes, simdGeometry.data(), simdSmooth.data());
+        CAPTURE(target, width, smoothCodes);
+        CHECK(simdGeometry == geometry);
+        CHECK(simdSmooth == smooth);
+      });
+      CHECK(targets >= 1);
+    }
+  }
+}
+
+TEST_CASE("frame plan: the reflection tiles are the tiles with a smooth pixel", "[plan]") {
+  test::TestScene scene = RoughFloor();
+  AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
+  const Frame frame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
+  const TileMask& tiles = frame.plan.reflectionTiles;
+  REQUIRE(tiles.Fits(kWidth, kHeight));
+  const GBuffer& gbuffer = frame.gbuffer.gbuffer;
+  size_t needed = 0;
+  for (int tileY = 0; tileY < tiles.tilesY; ++tileY) {
+    for (int tileX = 0; tileX < tiles.tilesX; ++tileX) {
+      bool smooth = false;
+      for (int y = tileY * TileMask::kTileSize; y < std::min(kHeight, (tileY + 1) * TileMask::kTileSize); ++y) {
+        for (int x = tileX * TileMask::kTileSize; x < std::min(kWidth, (tileX + 1) * TileMask::kTileSize); ++x) {
+          const uint32_t word1 = gbuffer.word[1].ConstRow(size_t(y))[x];
+          const bool geometry = UnpackDepth(gbuffer.word[2].ConstRow(size_t(y))[x]) != kBackgroundDepth;
+          smooth = smooth || (geometry && UnpackRoughness(word1) < test::ConfigOf(scene).ssrTrace.roughnessCutoff);
+        }
+      }
+      CAPTURE(tileX, tileY);
+      CHECK(tiles.Needed(tileX, tileY) == smooth);
+      needed += smooth;
+    }
+  }
+  CHECK(needed == frame.plan.reflections.tiles);
+  CHECK(needed > 0);
+  CHECK(needed < tiles.needed.size());
 }
 
 }  // namespace
