@@ -4,13 +4,14 @@
 #include <vector>
 
 #include "core/brdf.h"
+#include "core/check.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {
 
-void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int width) {
-  for (int x = 0; x < width; ++x) {
+void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
+  for (int x = xBegin; x < xEnd; ++x) {
     if (context.inPlace && !(row.confidence[x] > 0.0f)) continue;
     glm::vec3 indirect(0.0f);
     if (row.confidence[x] > 0.0f && UnpackDepth(row.word2[x]) != kBackgroundDepth) {
@@ -39,6 +40,7 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
   const bool inPlace = &in.direct == &out.result && &in.reflected == &out.indirect;
   const CompositeContext context{in.view, in.gbuffer.normalEncoding, in.roughnessCutoff, inPlace};
   const auto composite = kernels == KernelPath::kSimd ? CompositeRowSimd : CompositeRowScalar;
+  SSGI_CHECK(in.tiles == nullptr || in.tiles->Fits(width, height));
   ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {
       const CompositeRow row{
@@ -51,7 +53,18 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
           {out.indirect.c[0].MutableRow(y), out.indirect.c[1].MutableRow(y), out.indirect.c[2].MutableRow(y)},
           {out.result.c[0].MutableRow(y), out.result.c[1].MutableRow(y), out.result.c[2].MutableRow(y)},
       };
-      composite(context, row, y, width);
+      // Outside the mask the kernel would store indirect 0 and result direct + 0; in place both are
+      // already there.
+      ForEachTileRun(
+          in.tiles, int(y), width, [&](int xBegin, int xEnd) { composite(context, row, y, xBegin, xEnd); },
+          [&](int xBegin, int xEnd) {
+            if (inPlace) return;
+            for (int c = 0; c < 3; ++c) {
+              std::fill(row.indirect[c] + xBegin, row.indirect[c] + xEnd, 0.0f);
+              std::transform(row.direct[c] + xBegin, row.direct[c] + xEnd, row.result[c] + xBegin,
+                             [](float direct) { return direct + 0.0f; });
+            }
+          });
     }
   });
   CompositeStats stats;

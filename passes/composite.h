@@ -12,6 +12,7 @@
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
 #include "core/plane.h"
+#include "core/tile_mask.h"
 
 namespace ssgi {
 
@@ -22,6 +23,10 @@ struct CompositeInputs {
   const Plane3<float>& reflected;  // cone-traced radiance, 0 where nothing was hit
   const Plane<float>& confidence;  // [0, 1], 0 where nothing was hit
   float roughnessCutoff;           // the trace's: rougher pixels were not traced
+  // FramePlan::reflectionTiles, or null: its 32x32 tiles hold every pixel smoother than the cut-off,
+  // and the others, where the indirect light is 0 (reflected and confidence finite and >= 0, as
+  // the cone and the trace give them), are stored as such without reading the G-buffer.
+  const TileMask* tiles = nullptr;
 };
 
 // The reflection fades out linearly over the last kRoughnessFadeWidth of perceptual roughness below
@@ -67,9 +72,9 @@ struct CompositeRow {
 };
 
 // The composite's scalar row kernel, the definition a SIMD twin (passes/composite_simd.cpp) must
-// equal bit for bit: indirect and result of row y, pixels [0, width).
-void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int width);
+// equal bit for bit: indirect and result of the pixels [xBegin, xEnd) of row y.
+void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd);
 // Its Highway twin (passes/composite_simd.cpp): lanes are pixels of the row.
-void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int width);
+void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd);
 
 }  // namespace ssgi

@@ -37,7 +37,7 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// CompositeRowScalar's body for pixels x, x + 1, ... of row y (a row of `count` pixels).
+// CompositeRowScalar's body for pixels x, x + 1, ... of row y, short of `count` (the run's end).
 void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_t x, size_t count, float py,
                      hn::Vec<DF> px) {
   const DF d;
@@ -69,12 +69,12 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
   StoreRow3(Add3(LoadRow3(d, row.direct, x, count), indirect), d, row.result, x, count);
 }
 
-void CompositeRowKernel(const CompositeConstants& c, const CompositeRow& row, size_t y, int width) {
+void CompositeRowKernel(const CompositeConstants& c, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
   const DF d;
   const auto lane = hn::Iota(d, 0.0f);
-  for (size_t x = 0; x < size_t(width); x += hn::Lanes(d)) {
+  for (size_t x = size_t(xBegin); x < size_t(xEnd); x += hn::Lanes(d)) {
     const auto px = hn::Add(hn::Add(lane, hn::Set(d, float(x))), hn::Set(d, 0.5f));
-    CompositePixels(c, row, x, size_t(width), float(y) + 0.5f, px);
+    CompositePixels(c, row, x, size_t(xEnd), float(y) + 0.5f, px);
   }
 }
 
@@ -87,10 +87,10 @@ namespace ssgi {
 
 HWY_EXPORT(CompositeRowKernel);
 
-void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int width) {
+void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
   const CompositeConstants constants{&context.view, context.normalEncoding, context.roughnessCutoff,
                                      SrgbDecodeTableForKernels(), DfgTableForKernels(), context.inPlace};
-  HWY_DYNAMIC_DISPATCH(CompositeRowKernel)(constants, row, y, width);
+  HWY_DYNAMIC_DISPATCH(CompositeRowKernel)(constants, row, y, xBegin, xEnd);
 }
 
 }  // namespace ssgi

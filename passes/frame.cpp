@@ -106,8 +106,13 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     } else if (runs(FramePass::kColorPyramid)) {
       stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
     }
+    // Only the plan's reflection tiles can trace. The cone and the composite skip the other tiles
+    // only after this run's trace: hits read from a port's file are taken as they are.
+    const TileMask* reflectionTiles = &frame.plan.reflectionTiles;
+    const TileMask* tracedTiles = runs(FramePass::kSsrTrace) ? reflectionTiles : nullptr;
     if (runs(FramePass::kSsrTrace))
-      stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, frame.ssrTrace, KernelPath::kSimd,
+      stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz, reflectionTiles}, config.ssrTrace, frame.ssrTrace,
+                                   KernelPath::kSimd,
                                    release ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
     drop(frame.hiz);
     if (release) {
@@ -119,7 +124,8 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       const Plane<float>& hitX = release ? reflected.c[0] : frame.ssrTrace.hitX;
       const Plane<float>& hitY = release ? reflected.c[1] : frame.ssrTrace.hitY;
       stats.ssrCone =
-          RunSsrCone({gbuffer, frame.colorPyramid, hitX, hitY, frame.ssrTrace.confidence}, config.ssrCone, frame.ssrCone);
+          RunSsrCone({gbuffer, frame.colorPyramid, hitX, hitY, frame.ssrTrace.confidence, tracedTiles}, config.ssrCone,
+                     frame.ssrCone);
     }
     if (directInPyramid) frame.direct.radiance = std::move(frame.colorPyramid.levels[0]);
     drop(frame.colorPyramid);
@@ -133,7 +139,8 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       const Plane3<float>& direct = release ? frame.composite.result : frame.direct.radiance;
       const Plane3<float>& reflected = release ? frame.composite.indirect : frame.ssrCone.reflected;
       stats.composite = RunComposite(
-          {gbuffer, frame.view, direct, reflected, frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff},
+          {gbuffer, frame.view, direct, reflected, frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff,
+           tracedTiles},
           frame.composite);
     }
     drop(frame.ssrCone);

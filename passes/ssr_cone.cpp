@@ -110,11 +110,11 @@ ConeTanTable BuildConeTanTable() {
 float ConeHalfAngleTan(uint8_t roughnessCode) { return SharedConeTanTable()[roughnessCode]; }
 
 SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
-                               const float* hitY, const float* confidence, size_t y, size_t width, float* red,
-                               float* green, float* blue) {
+                               const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd,
+                               float* red, float* green, float* blue) {
   float* rows[3] = {red, green, blue};
   SsrConeCounts counts;
-  for (size_t x = 0; x < width; ++x) {
+  for (size_t x = xBegin; x < xEnd; ++x) {
     glm::vec3 radiance(0.0f);
     if (confidence[x] > 0.0f) {
       const uint32_t code = word1[x] >> 24;
@@ -149,14 +149,19 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
     if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
   }
   const SsrConeContext context{in.pyramid, SharedConeTanTable(), params.maxSamples};
+  SSGI_CHECK(in.tiles == nullptr || in.tiles->Fits(int(width), int(height)));
   std::vector<SsrConeCounts> rowCounts(height);
   ParallelForRowBands("ssr_cone", height, [&](size_t, size_t yBegin, size_t yEnd) {
     if (kernels == KernelPath::kSimd) return SsrConeRowsSimd(context, in, yBegin, yEnd, out, rowCounts.data());
     for (size_t y = yBegin; y < yEnd; ++y) {
-      rowCounts[y] = SsrConeRowScalar(context, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y),
-                                      in.hitY.ConstRow(y), in.confidence.ConstRow(y), y, width,
-                                      out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
-                                      out.reflected.c[2].MutableRow(y));
+      ForEachConeRun(in, y, out, [&](size_t xBegin, size_t xEnd) {
+        const SsrConeCounts counts = SsrConeRowScalar(
+            context, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y),
+            in.confidence.ConstRow(y), y, xBegin, xEnd, out.reflected.c[0].MutableRow(y),
+            out.reflected.c[1].MutableRow(y), out.reflected.c[2].MutableRow(y));
+        rowCounts[y].samples += counts.samples;
+        rowCounts[y].pixels += counts.pixels;
+      });
     }
   });
   SsrConeStats stats;

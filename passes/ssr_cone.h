@@ -4,6 +4,7 @@
 // Cone-Traced Reflections", cone tracing section).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
 #include "core/plane.h"
+#include "core/tile_mask.h"
 #include "passes/color_pyramid.h"
 #include "passes/ssr_trace.h"
 
@@ -49,6 +51,9 @@ struct SsrConeInputs {
   const Plane<float>& hitX;
   const Plane<float>& hitY;
   const Plane<float>& confidence;
+  // FramePlan::reflectionTiles, or null: its 32x32 tiles hold every pixel with confidence > 0 (the
+  // trace was given the same mask), and the others get 0 stored without reading anything.
+  const TileMask* tiles = nullptr;
 };
 
 struct SsrConeOutputs {
@@ -81,19 +86,30 @@ struct SsrConeCounts {
 };
 
 // The cone trace's scalar row kernel, the definition a SIMD twin (passes/ssr_cone_simd.cpp) must
-// equal bit for bit: reflected radiance of row y, `width` pixels of G-buffer word 1 and the trace's
-// hitX, hitY and confidence, into red[x], green[x], blue[x].
+// equal bit for bit: reflected radiance of the pixels [xBegin, xEnd) of row y, from G-buffer word 1
+// and the trace's hitX, hitY and confidence (rows indexed by x), into red[x], green[x], blue[x].
 SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
-                               const float* hitY, const float* confidence, size_t y, size_t width, float* red,
-                               float* green, float* blue);
+                               const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd,
+                               float* red, float* green, float* blue);
 // Its Highway twin, dispatched to the machine's best target: lanes are the row's pixels.
 SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
-                             const float* hitY, const float* confidence, size_t y, size_t width, float* red,
-                             float* green, float* blue);
+                             const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd,
+                             float* red, float* green, float* blue);
 // The twin over rows [yBegin, yEnd) of the pass's inputs into out's planes (already of the
-// G-buffer's size), reading the pyramid's layout once for all of them; row y's counts into
-// rowCounts[y].
+// G-buffer's size), reading the pyramid's layout once for all of them, skipping as in.tiles says;
+// row y's counts into rowCounts[y].
 void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, size_t yBegin, size_t yEnd,
                      SsrConeOutputs& out, SsrConeCounts* rowCounts);
+
+// Row y in runs of in.tiles' tiles: run(xBegin, xEnd) where a row kernel must run, and 0 (what it
+// stores where the confidence is 0) stored into out's planes elsewhere.
+template <class Run>
+void ForEachConeRun(const SsrConeInputs& in, size_t y, SsrConeOutputs& out, const Run& run) {
+  ForEachTileRun(
+      in.tiles, int(y), int(in.confidence.xsize()), [&](int xBegin, int xEnd) { run(size_t(xBegin), size_t(xEnd)); },
+      [&](int xBegin, int xEnd) {
+        for (Plane<float>& plane : out.reflected.c) std::fill(plane.MutableRow(y) + xBegin, plane.MutableRow(y) + xEnd, 0.0f);
+      });
+}
 
 }  // namespace ssgi

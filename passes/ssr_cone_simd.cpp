@@ -156,8 +156,8 @@ Vec3V<DF> SampleCircleLanes(const SsrConeFrame& frame, VF x, VF y, VF diameter, 
   return {blend(f.x, c.x), blend(f.y, c.y), blend(f.z, c.z)};
 }
 
-// SsrConeRowScalar for the pixels x0, x0 + 1, ... of row y, `width` pixels long; red, green, blue
-// are its output rows.
+// SsrConeRowScalar for the pixels x0, x0 + 1, ... of row y, short of `width` (the run's end); red,
+// green, blue are its output rows.
 void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hitX, const float* hitY,
                const float* confidence, size_t y, size_t x0, size_t width, float* const rgb[3],
                SsrConeCounts& counts) {
@@ -223,11 +223,12 @@ void ConeLanes(const SsrConeFrame& frame, const uint32_t* word1, const float* hi
 }
 
 SsrConeCounts ConeRow(const SsrConeFrame& frame, const uint32_t* word1, const float* hitX, const float* hitY,
-                      const float* confidence, size_t y, size_t width, float* red, float* green, float* blue) {
+                      const float* confidence, size_t y, size_t xBegin, size_t xEnd, float* red, float* green,
+                      float* blue) {
   float* const rgb[3] = {red, green, blue};
   SsrConeCounts counts;
-  for (size_t x0 = 0; x0 < width; x0 += hn::Lanes(DF())) {
-    ConeLanes(frame, word1, hitX, hitY, confidence, y, x0, width, rgb, counts);
+  for (size_t x0 = xBegin; x0 < xEnd; x0 += hn::Lanes(DF())) {
+    ConeLanes(frame, word1, hitX, hitY, confidence, y, x0, xEnd, rgb, counts);
   }
   return counts;
 }
@@ -270,22 +271,26 @@ SsrConeFrame FlattenContext(const SsrConeContext& context) {
 }  // namespace
 
 SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
-                             const float* hitY, const float* confidence, size_t y, size_t width, float* red,
+                             const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd, float* red,
                              float* green, float* blue) {
-  return HWY_DYNAMIC_DISPATCH(ConeRow)(FlattenContext(context), word1, hitX, hitY, confidence, y, width, red, green,
+  return HWY_DYNAMIC_DISPATCH(ConeRow)(FlattenContext(context), word1, hitX, hitY, confidence, y, xBegin, xEnd, red, green,
                                        blue);
 }
 
 void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, size_t yBegin, size_t yEnd,
                      SsrConeOutputs& out, SsrConeCounts* rowCounts) {
   const SsrConeFrame frame = FlattenContext(context);
-  const size_t width = size_t(frame.width);
   for (size_t y = yBegin; y < yEnd; ++y) {
-    rowCounts[y] = HWY_DYNAMIC_DISPATCH(ConeRow)(
-        frame, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y),
-        in.confidence.ConstRow(y), y, width, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
-        out.reflected.c[2].MutableRow(y));
-  }}
+    ForEachConeRun(in, y, out, [&](size_t xBegin, size_t xEnd) {
+      const SsrConeCounts counts = HWY_DYNAMIC_DISPATCH(ConeRow)(
+          frame, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y), in.confidence.ConstRow(y),
+          y, xBegin, xEnd, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
+          out.reflected.c[2].MutableRow(y));
+      rowCounts[y].samples += counts.samples;
+      rowCounts[y].pixels += counts.pixels;
+    });
+  }
+}
 
 }  // namespace ssgi
 #endif

@@ -243,12 +243,23 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
 
   const int tilesX = (width + kTileSize - 1) / kTileSize;
   const int tilesY = (height + kTileSize - 1) / kTileSize;
+  static_assert(kTileSize == TileMask::kTileSize);
+  SSGI_CHECK(in.tiles == nullptr || in.tiles->Fits(width, height));
   std::vector<SsrTraceCounts> counts(size_t(tilesX) * size_t(tilesY));
   ParallelFor("ssr_trace", counts.size(), [&](size_t tile) {
     const int x0 = int(tile % size_t(tilesX)) * kTileSize;
     const int y0 = int(tile / size_t(tilesX)) * kTileSize;
     const int x1 = std::min(x0 + kTileSize, width);
     const int y1 = std::min(y0 + kTileSize, height);
+    if (in.tiles != nullptr && !in.tiles->Needed(x0 / kTileSize, y0 / kTileSize)) {
+      for (int y = y0; y < y1; ++y) {
+        std::fill(out.hitX.MutableRow(size_t(y)) + x0, out.hitX.MutableRow(size_t(y)) + x1, -1.0f);
+        std::fill(out.hitY.MutableRow(size_t(y)) + x0, out.hitY.MutableRow(size_t(y)) + x1, -1.0f);
+        std::fill(out.confidence.MutableRow(size_t(y)) + x0, out.confidence.MutableRow(size_t(y)) + x1, 0.0f);
+        if (float* iterations = IterationsRow(out, y)) std::fill(iterations + x0, iterations + x1, 0.0f);
+      }
+      return;
+    }
     if (kernels == KernelPath::kSimd) return SsrTraceRowsSimd(in, params, y0, y1, x0, x1, out, counts[tile]);
     for (int y = y0; y < y1; ++y) {
       SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),

@@ -15,6 +15,7 @@
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
 #include "core/plane.h"
+#include "core/tile_mask.h"
 #include "passes/hiz.h"
 
 namespace ssgi {
@@ -44,6 +45,9 @@ struct SsrTraceInputs {
   const GBuffer& gbuffer;        // words 1 (normal, roughness) and 2 (view depth)
   const ViewProjection& view;    // the perspective camera of the G-buffer's size
   const HiZ& hiz;                // RunHiZ of gbuffer.word[2]
+  // FramePlan::reflectionTiles of this G-buffer, or null: its 32x32 tiles hold every pixel that can
+  // trace, and the others get "no hit" stored without reading anything (the same bytes).
+  const TileMask* tiles = nullptr;
 };
 
 struct SsrTraceOutputs {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -94,6 +95,14 @@ TEST_CASE("composite: identical at 1, 2 and 3 threads", "[composite][determinism
   }
 }
 
+// [0, end) for every end, and [32, end) for every end past 32.
+std::vector<std::pair<int, int>> RunsOfRow(int width) {
+  std::vector<std::pair<int, int>> runs;
+  for (int begin : {0, TileMask::kTileSize})
+    for (int end = begin + 1; end <= width; ++end) runs.emplace_back(begin, end);
+  return runs;
+}
+
 TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target", "[composite][simd]") {
   constexpr int kWidth = 70;  // a few vectors of every target, and a tail
   std::mt19937 rng(22);
@@ -112,7 +121,8 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
             for (int c = 1; c < 7; ++c) in[c][x] = radiance(rng);
           }
           const CompositeContext context{view, encoding, cutoff};
-          for (int width = 1; width <= kWidth; ++width) {
+          // Runs from the row's start and from a tile edge (a tile mask's runs), of every length.
+          for (const auto [begin, end] : RunsOfRow(kWidth)) {
             // Every output row is filled past the row's end, which must stay as it is.
             std::vector<float> expected(6 * kWidth, -1.0f), actual(6 * kWidth);
             const auto rowOf = [&](std::vector<float>& out) {
@@ -122,12 +132,12 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
                                   {&out[0], &out[kWidth], &out[2 * kWidth]},
                                   {&out[3 * kWidth], &out[4 * kWidth], &out[5 * kWidth]}};
             };
-            CompositeRowScalar(context, rowOf(expected), y, width);
+            CompositeRowScalar(context, rowOf(expected), y, begin, end);
             test::ForEachSimdTarget([&](const char* target) {
               std::fill(actual.begin(), actual.end(), -1.0f);
-              CompositeRowSimd(context, rowOf(actual), y, width);
+              CompositeRowSimd(context, rowOf(actual), y, begin, end);
               const size_t first = test::FirstDifferentBits(actual.data(), expected.data(), actual.size());
-              CAPTURE(target, view.orthographic, int(encoding), cutoff, y, width, first);
+              CAPTURE(target, view.orthographic, int(encoding), cutoff, y, begin, end, first);
               REQUIRE(first == actual.size());
               ++compared;
             });

@@ -214,5 +214,43 @@ TEST_CASE("frame plan: the reflection tiles are the tiles with a smooth pixel", 
   CHECK(needed < tiles.needed.size());
 }
 
+TEST_CASE("frame plan: the trace, cone and composite skipping tiles give the bytes of the whole image", "[plan]") {
+  test::TestScene scene = RoughFloor();
+  AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
+  const FrameConfig config = test::ConfigOf(scene);
+  const Frame frame = RenderFrame(scene, config);  // every buffer kept, the passes given the tiles
+  REQUIRE(frame.reflections);
+  REQUIRE(frame.plan.reflections.tiles < frame.plan.tiles);
+  const GBuffer& gbuffer = frame.gbuffer.gbuffer;
+  SsrTraceOutputs trace;
+  RunSsrTrace({gbuffer, frame.view, frame.hiz}, config.ssrTrace, trace);
+  CHECK(test::SameBytes(trace.hitX, frame.ssrTrace.hitX));
+  CHECK(test::SameBytes(trace.hitY, frame.ssrTrace.hitY));
+  CHECK(test::SameBytes(trace.confidence, frame.ssrTrace.confidence));
+  CHECK(test::SameBytes(trace.iterations, frame.ssrTrace.iterations));
+  for (const KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+    SsrConeOutputs cone;
+    RunSsrCone({gbuffer, frame.colorPyramid, trace.hitX, trace.hitY, trace.confidence}, config.ssrCone, cone, kernels);
+    SsrConeOutputs skipping;
+    RunSsrCone({gbuffer, frame.colorPyramid, trace.hitX, trace.hitY, trace.confidence, &frame.plan.reflectionTiles},
+               config.ssrCone, skipping, kernels);
+    CompositeOutputs composite, skippingComposite;
+    RunComposite({gbuffer, frame.view, frame.direct.radiance, cone.reflected, trace.confidence,
+                  config.ssrTrace.roughnessCutoff},
+                 composite, kernels);
+    RunComposite({gbuffer, frame.view, frame.direct.radiance, cone.reflected, trace.confidence,
+                  config.ssrTrace.roughnessCutoff, &frame.plan.reflectionTiles},
+                 skippingComposite, kernels);
+    for (int c = 0; c < 3; ++c) {
+      CAPTURE(int(kernels), c);
+      CHECK(test::SameBytes(skipping.reflected.c[c], cone.reflected.c[c]));
+      CHECK(test::SameBytes(cone.reflected.c[c], frame.ssrCone.reflected.c[c]));
+      CHECK(test::SameBytes(skippingComposite.indirect.c[c], composite.indirect.c[c]));
+      CHECK(test::SameBytes(skippingComposite.result.c[c], composite.result.c[c]));
+      CHECK(test::SameBytes(composite.result.c[c], frame.composite.result.c[c]));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ssgi

@@ -226,27 +226,29 @@ TEST_CASE("Cone output is byte-identical at 1, 2 and 3 threads", "[cone]") {
 }
 
 // SsrConeRowSimd against SsrConeRowScalar on every compiled and supported target, every row of the
-// image whole and as its first 1 .. 49 pixels (three AVX-512 vectors and one lane): same bits,
-// nothing written past the width, same counts.
+// image whole, as its first 1 .. 49 pixels (three AVX-512 vectors and one lane) and as the runs from
+// x = 32 (a tile mask's runs start on tile edges): same bits, nothing written outside the run, same
+// counts.
 void CheckConeRowTwins(const GBuffer& gbuffer, const ColorPyramid& pyramid, const SsrTraceOutputs& trace,
                        int maxSamples) {
   const ConeTanTable coneTan = BuildConeTanTable();
   const SsrConeContext context{pyramid, coneTan, maxSamples};
   const size_t width = size_t(gbuffer.width()), height = size_t(gbuffer.height());
   struct Segment {
-    size_t y, width;
+    size_t y, begin, end;
   };
   std::vector<Segment> segments;
   for (size_t y = 0; y < height; ++y) {
-    segments.push_back({y, width});
-    for (size_t length = 1; length < std::min(width, size_t(50)); ++length) segments.push_back({y, length});
+    segments.push_back({y, 0, width});
+    for (size_t length = 1; length < std::min(width, size_t(50)); ++length) segments.push_back({y, 0, length});
+    for (size_t end = 33; end <= std::min(width, size_t(81)); end += 3) segments.push_back({y, 32, end});
   }
   constexpr float kUntouched = -7.0f;
   const auto run = [&](const Segment& s, std::vector<float>& rgb, bool simd) {
     rgb.assign(3 * width, kUntouched);
     const auto kernel = simd ? SsrConeRowSimd : SsrConeRowScalar;
     return kernel(context, gbuffer.word[1].ConstRow(s.y), trace.hitX.ConstRow(s.y), trace.hitY.ConstRow(s.y),
-                  trace.confidence.ConstRow(s.y), s.y, s.width, rgb.data(), rgb.data() + width,
+                  trace.confidence.ConstRow(s.y), s.y, s.begin, s.end, rgb.data(), rgb.data() + width,
                   rgb.data() + 2 * width);
   };
   std::vector<std::vector<float>> expected(segments.size());
@@ -256,7 +258,7 @@ void CheckConeRowTwins(const GBuffer& gbuffer, const ColorPyramid& pyramid, cons
   const size_t targets = test::ForEachSimdTarget([&](const char* target) {
     for (size_t i = 0; i < segments.size(); ++i) {
       const SsrConeCounts counts = run(segments[i], actual, true);
-      CAPTURE(target, segments[i].y, segments[i].width, maxSamples);
+      CAPTURE(target, segments[i].y, segments[i].begin, segments[i].end, maxSamples);
       REQUIRE(test::FirstDifferentBits(actual.data(), expected[i].data(), actual.size()) == actual.size());
       REQUIRE(counts.samples == expectedCounts[i].samples);
       REQUIRE(counts.pixels == expectedCounts[i].pixels);
