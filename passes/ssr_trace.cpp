@@ -246,20 +246,30 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   static_assert(kTileSize == TileMask::kTileSize);
   SSGI_CHECK(in.tiles == nullptr || in.tiles->Fits(width, height));
   std::vector<SsrTraceCounts> counts(size_t(tilesX) * size_t(tilesY));
-  ParallelFor("ssr_trace", counts.size(), [&](size_t tile) {
+  // Tiles the mask leaves out hold no pixel that traces: "no hit" is stored there unread, a row's
+  // run of such tiles at a time (long runs stream; a 32-pixel piece per row of a tile does not).
+  std::vector<size_t> traced;
+  for (size_t tile = 0; tile < counts.size(); ++tile) {
+    if (in.tiles == nullptr || in.tiles->needed[tile]) traced.push_back(tile);
+  }
+  if (traced.size() < counts.size()) {
+    ParallelForRowBands("ssr_trace.no_hits", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
+      for (size_t y = yBegin; y < yEnd; ++y) {
+        ForEachTileRun(in.tiles, int(y), width, [](int, int) {}, [&](int x0, int x1) {
+          std::fill(out.hitX.MutableRow(y) + x0, out.hitX.MutableRow(y) + x1, -1.0f);
+          std::fill(out.hitY.MutableRow(y) + x0, out.hitY.MutableRow(y) + x1, -1.0f);
+          std::fill(out.confidence.MutableRow(y) + x0, out.confidence.MutableRow(y) + x1, 0.0f);
+          if (float* iterations = IterationsRow(out, int(y))) std::fill(iterations + x0, iterations + x1, 0.0f);
+        });
+      }
+    });
+  }
+  ParallelFor("ssr_trace", traced.size(), [&](size_t i) {
+    const size_t tile = traced[i];
     const int x0 = int(tile % size_t(tilesX)) * kTileSize;
     const int y0 = int(tile / size_t(tilesX)) * kTileSize;
     const int x1 = std::min(x0 + kTileSize, width);
     const int y1 = std::min(y0 + kTileSize, height);
-    if (in.tiles != nullptr && !in.tiles->Needed(x0 / kTileSize, y0 / kTileSize)) {
-      for (int y = y0; y < y1; ++y) {
-        std::fill(out.hitX.MutableRow(size_t(y)) + x0, out.hitX.MutableRow(size_t(y)) + x1, -1.0f);
-        std::fill(out.hitY.MutableRow(size_t(y)) + x0, out.hitY.MutableRow(size_t(y)) + x1, -1.0f);
-        std::fill(out.confidence.MutableRow(size_t(y)) + x0, out.confidence.MutableRow(size_t(y)) + x1, 0.0f);
-        if (float* iterations = IterationsRow(out, y)) std::fill(iterations + x0, iterations + x1, 0.0f);
-      }
-      return;
-    }
     if (kernels == KernelPath::kSimd) return SsrTraceRowsSimd(in, params, y0, y1, x0, x1, out, counts[tile]);
     for (int y = y0; y < y1; ++y) {
       SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
