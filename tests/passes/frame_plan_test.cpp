@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "passes/direct_light.h"
@@ -20,11 +21,11 @@ namespace {
 constexpr int kWidth = 96, kHeight = 64;
 
 // A rough floor seen from above and in front, lit by a shadow-casting sun from above.
-test::TestScene RoughFloor() {
+test::TestScene RoughFloor(int width = kWidth, int height = kHeight) {
   CameraDesc camera;
   camera.position = {0.0f, 2.0f, 5.0f};
   camera.target = {0.0f, 0.0f, 0.0f};
-  test::TestScene scene = test::MakeScene(camera, kWidth, kHeight);
+  test::TestScene scene = test::MakeScene(camera, width, height);
   scene.materials[0].roughness = 0.9f;
   test::AddGround(scene.mesh, 50.0f);
   scene.directionalLights.push_back(test::Sun(test::LightDirection(30.0f, 40.0f), 2.0f));
@@ -215,7 +216,9 @@ TEST_CASE("frame plan: the reflection tiles are the tiles with a smooth pixel", 
 }
 
 TEST_CASE("frame plan: the trace, cone and composite skipping tiles give the bytes of the whole image", "[plan]") {
-  test::TestScene scene = RoughFloor();
+  // Whole tiles, and tiles cut at the right and bottom edges.
+  const auto [width, height] = GENERATE(std::pair{kWidth, kHeight}, std::pair{101, 70});
+  test::TestScene scene = RoughFloor(width, height);
   AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
   const FrameConfig config = test::ConfigOf(scene);
   const Frame frame = RenderFrame(scene, config);  // every buffer kept, the passes given the tiles
