@@ -176,13 +176,14 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
 std::string ExplainPlan(const FramePlan& plan) {
   std::string text = "frame plan: " + std::to_string(plan.geometryPixels) + " of " + std::to_string(plan.pixels) +
                      " pixels have geometry (" + Share(plan.geometryPixels, plan.pixels) + ")\n";
-  const auto line = [&](const char* name, const char* passes, const EffectPlan& effect) {
+  // `running`: what runs, and where, when the effect runs.
+  const auto line = [&](const char* name, const char* passes, const std::string& running, const EffectPlan& effect) {
     text += std::string("  ") + name + ": " + (effect.run ? "run" : "skipped") + ", " + effect.why;
     if (effect.counted)
       text += "; needed in " + std::to_string(effect.tiles) + " of " + std::to_string(plan.tiles) + " tiles (" +
               Share(effect.tiles, plan.tiles) + "), " + std::to_string(effect.pixels) + " pixels (" +
               Share(effect.pixels, plan.pixels) + ")";
-    text += std::string("\n    ") + passes + (effect.run ? " run" : " do not run") + "\n";
+    text += "\n    " + (effect.run ? running : std::string(passes) + " do not run") + "\n";
   };
   const size_t lights = plan.lightReaches.size();
   const size_t shaded = size_t(std::count(plan.lightReaches.begin(), plan.lightReaches.end(), true));
@@ -196,8 +197,14 @@ std::string ExplainPlan(const FramePlan& plan) {
               std::to_string((spot ? i - plan.directionalLights : i) + 1);
   }
   text += (unseen.empty() ? std::string() : "; not shaded (no visible pixel faces it): " + unseen) + "\n";
-  line("shadows", "shadow map, blocker search, shadow filter", plan.shadows);
-  line("reflections", "hi-z, colour pyramid, ssr trace, cone trace, composite", plan.reflections);
+  line("shadows", "shadow map, blocker search, shadow filter", "shadow map, blocker search, shadow filter run",
+       plan.shadows);
+  line("reflections", "hi-z, colour pyramid, ssr trace, cone trace, composite",
+       plan.reflections.tiles == plan.tiles
+           ? std::string("hi-z, colour pyramid, ssr trace, cone trace, composite run on the whole image")
+           : "hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
+                 std::to_string(plan.reflections.tiles) + " tiles only",
+       plan.reflections);
   return text;
 }
 

@@ -154,7 +154,8 @@ TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]
   const std::string text = ExplainPlan(counted);
   CHECK(text.find("shadows: run, visible pixels face the shadow-casting light; needed in") != std::string::npos);
   CHECK(text.find("reflections: run") != std::string::npos);
-  CHECK(text.find("hi-z, colour pyramid, ssr trace, cone trace, composite run") != std::string::npos);
+  CHECK(text.find("hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
+                  std::to_string(counted.reflections.tiles) + " tiles only") != std::string::npos);
 }
 
 TEST_CASE("frame plan: the tile counts' twin gives the scalar counts on every target", "[plan][simd]") {
