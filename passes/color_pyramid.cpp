@@ -74,6 +74,77 @@ struct BandScratch {
   Plane<float> vertical;   // the vertical kernel's scratch
 };
 
+// What one parallel item makes of a level: rows [yBegin, yEnd), columns [xBegin, xEnd) (empty when
+// yBegin == yEnd).
+struct BandJob {
+  size_t yBegin = 0, yEnd = 0, xBegin = 0, xEnd = 0;
+};
+
+// The columns of level k - 1's rows the horizontal blur makes for level k's columns [xBegin, xEnd):
+// the footprints' columns and the taps' reach, within the level. The blur of such a part of a row
+// clamps at the part's ends, so only the footprints' columns are exact (their taps lie inside), or
+// the level's own end is the part's.
+void HorizontalColumns(size_t xBegin, size_t xEnd, size_t width, size_t sourceWidth, size_t& first, size_t& last) {
+  first = 2 * xBegin > size_t(kRadius) ? 2 * xBegin - kRadius : 0;
+  last = std::min(sourceWidth - 1, PyramidFootprintEnd(xEnd - 1, width, sourceWidth) + kRadius);
+}
+
+// Every level's items, as BuildPyramid runs them: bands of BandRows rows while a level has more rows
+// than that, then the rest of the levels whole, one item per channel. Without needs each item makes
+// its whole band; with them, the rows and columns of its band that the needs name, and the needs of
+// the level below grow by what those read (levels made coarsest first, so a level's needs are
+// complete before its own items are planned).
+std::vector<std::vector<BandJob>> PlanJobs(const std::vector<Plane3<float>>& levels, const ColorPyramidNeeds* needs,
+                                          size_t& firstSmallLevel) {
+  const size_t count = levels.size();
+  const auto width = [&](size_t k) { return levels[k].c[0].xsize(); };
+  const auto height = [&](size_t k) { return levels[k].c[0].ysize(); };
+  firstSmallLevel = count;
+  for (size_t k = 1; k < count; ++k) {
+    if (height(k) <= BandRows(width(k - 1))) {
+      firstSmallLevel = k;
+      break;
+    }
+  }
+  std::vector<std::vector<BandJob>> jobs(count);
+  std::vector<std::vector<ColumnSpan>> need;
+  if (needs) {
+    SSGI_CHECK_EQ(needs->rows.size(), count);
+    need = needs->rows;
+    for (size_t k = 1; k < count; ++k) SSGI_CHECK_EQ(need[k].size(), height(k));
+  }
+  for (size_t k = count; k-- > 1;) {
+    const size_t rows = height(k);
+    const size_t bandRows = k < firstSmallLevel ? BandRows(width(k - 1)) : rows;
+    for (size_t yBegin = 0; yBegin < rows; yBegin += bandRows) {
+      const size_t yEnd = std::min(rows, yBegin + bandRows);
+      BandJob job{yBegin, yEnd, 0, width(k)};
+      if (needs) {
+        ColumnSpan columns;
+        job = {};
+        for (size_t y = yBegin; y < yEnd; ++y) {
+          if (need[k][y].Empty()) continue;
+          if (columns.Empty()) job.yBegin = y;
+          job.yEnd = y + 1;
+          columns.Add(need[k][y].begin, need[k][y].end - 1);
+        }
+        job.xBegin = size_t(std::clamp(columns.begin, 0, int(width(k))));
+        job.xEnd = size_t(std::clamp(columns.end, 0, int(width(k))));
+        if (columns.Empty() || job.xBegin >= job.xEnd) job = {};
+        if (job.yBegin < job.yEnd && k > 1) {
+          size_t first = 0, last = 0;
+          HorizontalColumns(job.xBegin, job.xEnd, width(k), width(k - 1), first, last);
+          const size_t firstRow = 2 * job.yBegin > size_t(kRadius) ? 2 * job.yBegin - kRadius : 0;
+          const size_t lastRow = std::min(height(k - 1) - 1, PyramidFootprintEnd(job.yEnd - 1, rows, height(k - 1)) + kRadius);
+          for (size_t sy = firstRow; sy <= lastRow; ++sy) need[k - 1][sy].Add(int(first), int(last));
+        }
+      }
+      jobs[k].push_back(job);
+    }
+  }
+  return jobs;
+}
+
 }  // namespace
 
 void ColorPyramidSanitizeRowScalar(const float* radiance, size_t width, float* level0) {
@@ -117,8 +188,11 @@ void ColorPyramidVerticalRowScalar(const float* const* horizontalRows, size_t fo
 
 namespace {
 
-// radiance: the image to sanitise into level 0, or nullptr where out.levels[0] already holds it.
-ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out, KernelPath kernels) {
+// radiance: the image to sanitise into level 0, or nullptr where out.levels[0] already holds it;
+// needs: what to make of levels 1 and up (nullptr: all of them).
+ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out, KernelPath kernels,
+                               const ColorPyramidNeeds* needs) {
+  SSGI_CHECK(!(radiance && needs));  // a sanitised level 0 is always made whole
   const Stopwatch watch;
   SSGI_CHECK(radiance || !out.levels.empty());
   const Plane3<float>& input = radiance ? *radiance : out.levels[0];
@@ -148,11 +222,19 @@ ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out,
   // row, in order, into the scratch's ring, just before the first vertical taps that read it: the
   // taps of consecutive rows overlap in all but two rows, so a band blurs each row of its taps once
   // and the blur never goes to memory.
-  const auto makeRows = [&](size_t c, size_t k, size_t yBegin, size_t yEnd, BandScratch& scratch) {
+  // Columns [xBegin, xEnd) of the rows: the kernels run on that part of each row as on a whole row
+  // (each texel is made by the same operations wherever its row starts), the horizontal blur on the
+  // columns HorizontalColumns gives.
+  const auto makeRows = [&](size_t c, size_t k, const BandJob& job, BandScratch& scratch) {
+    const size_t yBegin = job.yBegin, yEnd = job.yEnd, xBegin = job.xBegin, xEnd = job.xEnd;
     const Plane<float>& source = out.levels[k - 1].c[c];
     Plane<float>& destination = out.levels[k].c[c];
     const size_t sourceWidth = source.xsize();
     const size_t sourceHeight = source.ysize();
+    size_t firstColumn = 0, lastColumn = 0;
+    HorizontalColumns(xBegin, xEnd, destination.xsize(), sourceWidth, firstColumn, lastColumn);
+    // The part's footprints: up to the source's end where the part ends the row.
+    const size_t partSourceWidth = xEnd == destination.xsize() ? sourceWidth - 2 * xBegin : 2 * (xEnd - xBegin);
     const size_t firstTap = 2 * yBegin > size_t(kRadius) ? 2 * yBegin - kRadius : 0;
     const size_t lastTap = std::min(sourceHeight - 1, 2 * yEnd + kRadius - 1);
     // Level 1's source, level 0, is sanitised here, in one sweep over the band's taps before any
@@ -175,35 +257,44 @@ ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out,
     for (size_t y = yBegin; y < yEnd; ++y) {
       const size_t footprintRows = PyramidFootprintEnd(y, destination.ysize(), sourceHeight) - 2 * y + 1;
       const size_t rowLastTap = std::min(sourceHeight - 1, 2 * y + footprintRows - 1 + kRadius);
-      for (; nextBlurred <= rowLastTap; ++nextBlurred)
-        horizontalRow(sourceRow(nextBlurred), sourceWidth, scratch.ring.MutableRow(nextBlurred % kTapRows));
+      for (; nextBlurred <= rowLastTap; ++nextBlurred) {
+        horizontalRow(sourceRow(nextBlurred) + firstColumn, lastColumn - firstColumn + 1,
+                      scratch.ring.MutableRow(nextBlurred % kTapRows) + firstColumn);
+      }
       const float* horizontalRows[kTapRows];
-      for (size_t i = 0; i < footprintRows + 2 * kRadius; ++i)
-        horizontalRows[i] = scratch.ring.ConstRow(ClampIndex(ptrdiff_t(2 * y + i) - kRadius, sourceHeight) % kTapRows);
-      verticalRow(horizontalRows, footprintRows, rowCoverage[k - 1].data() + 2 * y, columnCoverage[k - 1].data(),
-                  sourceWidth, destination.xsize(), scratch.vertical.MutableRow(0), destination.MutableRow(y));
+      for (size_t i = 0; i < footprintRows + 2 * kRadius; ++i) {
+        horizontalRows[i] =
+            scratch.ring.ConstRow(ClampIndex(ptrdiff_t(2 * y + i) - kRadius, sourceHeight) % kTapRows) + 2 * xBegin;
+      }
+      verticalRow(horizontalRows, footprintRows, rowCoverage[k - 1].data() + 2 * y,
+                  columnCoverage[k - 1].data() + 2 * xBegin, partSourceWidth, xEnd - xBegin,
+                  scratch.vertical.MutableRow(0), destination.MutableRow(y) + xBegin);
     }
   };
 
   // Levels in sequence (each reads the previous), by bands of rows with all three channels.
-  size_t k = 1;
-  for (; k < levels; ++k) {
-    const size_t rows = out.levels[k].c[0].ysize();
-    const size_t bandRows = BandRows(out.levels[k - 1].c[0].xsize());
-    if (rows <= bandRows) break;
-    ParallelFor("color_pyramid.level", (rows + bandRows - 1) / bandRows, [&](size_t band) {
-      const size_t yBegin = band * bandRows;
-      const size_t yEnd = std::min(rows, yBegin + bandRows);
+  size_t firstSmallLevel = levels;
+  const std::vector<std::vector<BandJob>> jobs = PlanJobs(out.levels, needs, firstSmallLevel);
+  size_t texels = 0;
+  for (size_t k = 1; k < levels; ++k) {
+    for (const BandJob& job : jobs[k]) texels += (job.yEnd - job.yBegin) * (job.xEnd - job.xBegin);
+  }
+  for (size_t k = 1; k < firstSmallLevel; ++k) {
+    ParallelFor("color_pyramid.level", jobs[k].size(), [&](size_t band) {
+      const BandJob& job = jobs[k][band];
+      if (job.yBegin == job.yEnd) return;  // (only with needs, so level 0 is already sanitised)
       BandScratch scratch(out.levels[k - 1].c[0].xsize());
-      for (size_t c = 0; c < 3; ++c) makeRows(c, k, yBegin, yEnd, scratch);
+      for (size_t c = 0; c < 3; ++c) makeRows(c, k, job, scratch);
     });
   }
   // The levels of one band or less: each channel makes all of them in one item, as a parallel region
   // per level would cost more than their work.
-  if (k < levels) {
+  if (firstSmallLevel < levels) {
     ParallelFor("color_pyramid.small_levels", 3, [&](size_t c) {
-      BandScratch scratch(out.levels[k - 1].c[0].xsize());
-      for (size_t j = k; j < levels; ++j) makeRows(c, j, 0, out.levels[j].c[0].ysize(), scratch);
+      BandScratch scratch(out.levels[firstSmallLevel - 1].c[0].xsize());
+      for (size_t j = firstSmallLevel; j < levels; ++j) {
+        if (jobs[j][0].yBegin < jobs[j][0].yEnd) makeRows(c, j, jobs[j][0], scratch);
+      }
     });
   }
   // A 1 x 1 image has no level 1, in whose sweep level 0 is otherwise sanitised.
@@ -212,7 +303,7 @@ ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out,
   }
 
   ColorPyramidStats stats;
-  for (const Plane3<float>& level : out.levels) stats.texels += level.c[0].xsize() * level.c[0].ysize();
+  stats.texels = width * height + texels;
   stats.ms = watch.Milliseconds();
   return stats;
 }
@@ -220,11 +311,12 @@ ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out,
 }  // namespace
 
 ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels) {
-  return BuildPyramid(&radiance, out, kernels);
+  return BuildPyramid(&radiance, out, kernels, nullptr);
 }
 
-ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels) {
-  return BuildPyramid(nullptr, pyramid, kernels);
+ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels,
+                                             const ColorPyramidNeeds* needs) {
+  return BuildPyramid(nullptr, pyramid, kernels, needs);
 }
 
 }  // namespace ssgi

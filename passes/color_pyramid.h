@@ -5,6 +5,7 @@
 // addresses both.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -45,11 +46,28 @@ struct ColorPyramidStats {
 ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out,
                                   KernelPath kernels = KernelPath::kSimd);
 
+// A reader's texels of levels 1 and up: per level, per row, the columns [begin, end) it reads (an
+// empty span, begin >= end, where it reads none of the row).
+struct ColumnSpan {
+  int begin = 0, end = 0;
+  bool Empty() const { return begin >= end; }
+  void Add(int first, int last) {  // columns first .. last, inclusive
+    if (Empty()) *this = {first, last + 1};
+    else *this = {std::min(begin, first), std::max(end, last + 1)};
+  }
+};
+struct ColorPyramidNeeds {
+  std::vector<std::vector<ColumnSpan>> rows;  // rows[k][y] for every level k (level 0's unused)
+};
+
 // The same pyramid built on a level 0 the caller has put in pyramid.levels[0] (moved in, not
 // copied: the frame's memory-saving mode hands over the direct-light image): levels 1 and up are
 // made from it as it is. It must already be sanitised, as the direct-light pass writes it; the
-// bytes then equal RunColorPyramid's.
-ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels = KernelPath::kSimd);
+// bytes then equal RunColorPyramid's. With `needs`, only what they name is made, and what those
+// texels are made from: every texel `needs` names holds RunColorPyramid's bytes, and the others of
+// levels 1 and up hold anything (the frame's reader, the cone trace, reads none of them).
+ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels = KernelPath::kSimd,
+                                             const ColorPyramidNeeds* needs = nullptr);
 
 // The colour pyramid's row kernels, one channel row per call: the scalar definitions
 // (color_pyramid.cpp) and their Highway twins (color_pyramid_simd.cpp), equal bit for bit on every

@@ -1,5 +1,6 @@
 #include "passes/color_pyramid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iterator>
@@ -135,6 +136,62 @@ TEST_CASE("Colour pyramid built on a handed-over level 0 equals the pyramid buil
       REQUIRE(handedOver.levels.size() == copied.levels.size());
       for (size_t k = 0; k < copied.levels.size(); ++k)
         for (size_t c = 0; c < 3; ++c) CHECK(test::SameBytes(handedOver.levels[k].c[c], copied.levels[k].c[c]));
+    }
+  }
+}
+
+// Random needs: per level some rows (a few whole, most a random column span), the rest none.
+ColorPyramidNeeds RandomNeeds(const ColorPyramid& shape, std::mt19937& rng, int percentOfRows) {
+  ColorPyramidNeeds needs;
+  needs.rows.resize(shape.levels.size());
+  for (size_t k = 1; k < shape.levels.size(); ++k) {
+    const int width = int(shape.levels[k].c[0].xsize());
+    needs.rows[k].resize(shape.levels[k].c[0].ysize());
+    for (ColumnSpan& span : needs.rows[k]) {
+      if (int(rng() % 100) >= percentOfRows) continue;
+      const int a = int(rng() % uint32_t(width)), b = int(rng() % uint32_t(width));
+      if (rng() % 8 == 0) span = {0, width};
+      else span.Add(std::min(a, b), std::max(a, b));
+    }
+  }
+  return needs;
+}
+
+TEST_CASE("Colour pyramid made only where needed equals the whole pyramid there", "[color_pyramid][plan]") {
+  std::mt19937 rng(11);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const auto& [width, height] :
+       {std::pair<size_t, size_t>{67, 45}, {1, 1}, {1, 5}, {300, 200}, {1023, 769}, {2048, 64}}) {
+    const Plane3<float> image = SmoothRandomImage(width, height, 5);
+    for (KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+      ColorPyramid whole;
+      RunColorPyramid(image, whole, kernels);
+      for (const int percent : {0, 3, 30, 100}) {
+        CAPTURE(width, height, int(kernels), percent);
+        const ColorPyramidNeeds needs = RandomNeeds(whole, rng, percent);
+        // Levels filled with NaN: a needed texel made from a texel that was not made is NaN.
+        ColorPyramid partial;
+        for (const Plane3<float>& level : whole.levels)
+          partial.levels.push_back(MakePlane3<float>(level.c[0].xsize(), level.c[0].ysize(), nan));
+        partial.levels[0] = test::CopyOf(image);
+        const ColorPyramidStats stats = RunColorPyramidOnLevelZero(partial, kernels, &needs);
+        size_t needed = 0, differing = 0;
+        for (size_t k = 1; k < whole.levels.size(); ++k) {
+          for (size_t y = 0; y < needs.rows[k].size(); ++y) {
+            const ColumnSpan span = needs.rows[k][y];
+            for (int x = span.begin; x < span.end; ++x) {
+              for (size_t c = 0; c < 3; ++c) {
+                ++needed;
+                differing += std::memcmp(&partial.levels[k].c[c].ConstRow(y)[x], &whole.levels[k].c[c].ConstRow(y)[x],
+                                         sizeof(float)) != 0;
+              }
+            }
+          }
+        }
+        CHECK(differing == 0);
+        if (percent == 0) CHECK(stats.texels == width * height);  // level 0 only
+        if (percent == 100 && width * height > 1) CHECK(needed > 0);
+      }
     }
   }
 }
