@@ -1,6 +1,7 @@
 #include "passes/frame.h"
 
 #include <algorithm>
+#include <optional>
 #include <type_traits>
 
 #include "core/error.h"
@@ -8,6 +9,13 @@
 #include "core/stopwatch.h"
 
 namespace ssgi {
+namespace {
+
+// Beyond 1 / kPartialPyramidShare of the image needing reflections, the hits are not listed: so many
+// cones read most of the pyramid.
+constexpr size_t kPartialPyramidShare = 10;
+
+}  // namespace
 
 std::string_view FramePassName(FramePass pass) {
   switch (pass) {
@@ -99,13 +107,21 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // reflection. Each pass reads a pixel before it writes over it: the same bytes.
     if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
     const bool directInPyramid = release && runs(FramePass::kColorPyramid);
-    if (directInPyramid) {
-      frame.colorPyramid.levels.resize(std::max<size_t>(frame.colorPyramid.levels.size(), 1));
-      frame.colorPyramid.levels[0] = std::move(frame.direct.radiance);
-      stats.colorPyramid = RunColorPyramidOnLevelZero(frame.colorPyramid);
-    } else if (runs(FramePass::kColorPyramid)) {
-      stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
-    }
+    const auto makePyramid = [&](const ColorPyramidNeeds* needs) {
+      if (directInPyramid) {
+        frame.colorPyramid.levels.resize(std::max<size_t>(frame.colorPyramid.levels.size(), 1));
+        frame.colorPyramid.levels[0] = std::move(frame.direct.radiance);
+        stats.colorPyramid = RunColorPyramidOnLevelZero(frame.colorPyramid, KernelPath::kSimd, needs);
+      } else if (runs(FramePass::kColorPyramid)) {
+        stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+      }
+    };
+    // A frame that frees its buffers keeps no pyramid for a dump: it traces first and makes only the
+    // texels the cone trace of those hits reads (docs/pipeline.md §Frame plan), where the hits are
+    // few enough for listing them to pay.
+    const bool pyramidAfterTrace =
+        directInPyramid && runs(FramePass::kSsrTrace) && runs(FramePass::kSsrCone);
+    if (!pyramidAfterTrace) makePyramid(nullptr);
     // Only the plan's reflection tiles can trace. The cone and the composite skip the other tiles
     // only after this run's trace: hits read from a port's file are taken as they are.
     const TileMask* reflectionTiles = &frame.plan.reflectionTiles;
@@ -115,6 +131,14 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
                                    KernelPath::kSimd,
                                    release ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
     drop(frame.hiz);
+    if (pyramidAfterTrace) {
+      std::optional<ColorPyramidNeeds> needs;
+      if (frame.plan.reflections.pixels <= frame.plan.pixels / kPartialPyramidShare) {
+        needs = SsrConePyramidNeeds(gbuffer.word[1], frame.ssrTrace.hitX, frame.ssrTrace.hitY,
+                                    frame.ssrTrace.confidence, reflectionTiles, frame.plan.pixels / 2);
+      }
+      makePyramid(needs ? &*needs : nullptr);
+    }
     if (release) {
       frame.ssrCone.reflected.c[0] = std::move(frame.ssrTrace.hitX);
       frame.ssrCone.reflected.c[1] = std::move(frame.ssrTrace.hitY);

@@ -61,7 +61,8 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
       if (k > 0 || !handOver) pyramid += 3 * PlaneBytes<float>(levels[k].width, levels[k].height);
     }
     add("hi-z", hiz, P::kHiZ, P::kSsrTrace);
-    add("colour pyramid", pyramid, P::kColorPyramid, P::kSsrCone);
+    // Handing over, the frame makes the pyramid after the trace (RunFramePasses), when the Hi-Z is freed.
+    add("colour pyramid", pyramid, handOver ? P::kSsrCone : P::kColorPyramid, P::kSsrCone);
     add("ssr hits", 2 * floatPlane, P::kSsrTrace, handOver ? P::kComposite : P::kSsrCone);
     if (!handOver) add("ssr steps", floatPlane, P::kSsrTrace, P::kSsrTrace);
     add("ssr confidence", floatPlane, P::kSsrTrace, P::kComposite);

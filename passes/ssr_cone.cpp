@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "core/check.h"
 #include "core/parallel.h"
+#include "core/pyramid.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {
@@ -108,6 +110,61 @@ ConeTanTable BuildConeTanTable() {
 }
 
 float ConeHalfAngleTan(uint8_t roughnessCode) { return SharedConeTanTable()[roughnessCode]; }
+
+std::optional<ColorPyramidNeeds> SsrConePyramidNeeds(const Plane<uint32_t>& word1, const Plane<float>& hitX,
+                                                    const Plane<float>& hitY, const Plane<float>& confidence,
+                                                    const TileMask* tiles, size_t maxRowSpans) {
+  const size_t width = confidence.xsize(), height = confidence.ysize();
+  const std::vector<PyramidSize> sizes = PyramidLevelSizes(width, height);
+  const int lastLevel = int(sizes.size()) - 1;
+  ColorPyramidNeeds needs;
+  needs.rows.resize(sizes.size());
+  for (size_t k = 1; k < sizes.size(); ++k) needs.rows[k].resize(sizes[k].height);
+  const ConeTanTable& coneTan = SharedConeTanTable();
+  size_t rowSpans = 0;
+  // Level k's texels whose bilinear fetches cover level-0 coordinates [lo, hi] along an axis of
+  // `size` texels (level 0: `baseSize`), a texel more on each side for the rounding of the circles'
+  // centres.
+  const auto texels = [](double lo, double hi, size_t size, size_t baseSize, int& first, int& last) {
+    const double scale = double(size) / double(baseSize);
+    first = std::max(0, int(std::floor(lo * scale - 0.5)) - 1);
+    last = std::min(int(size) - 1, int(std::floor(hi * scale - 0.5)) + 2);
+  };
+  for (size_t y = 0; y < height; ++y) {
+    const uint32_t* codes = word1.ConstRow(y);
+    const float* hx = hitX.ConstRow(y);
+    const float* hy = hitY.ConstRow(y);
+    const float* weight = confidence.ConstRow(y);
+    bool tooMany = false;
+    const auto listRun = [&](int xBegin, int xEnd) {
+      for (int x = xBegin; x < xEnd && !tooMany; ++x) {
+        const uint32_t code = codes[x] >> 24;
+        if (!(weight[x] > 0.0f) || code == 0) continue;  // no hit, or the mirror's level-0 sample
+        const double originX = double(x) + 0.5, originY = double(y) + 0.5;
+        const double dx = double(hx[x]) - originX, dy = double(hy[x]) - originY;
+        const double h = std::sqrt(dx * dx + dy * dy);
+        if (h < 0.999 * double(kConeMinHeight)) continue;  // the level-0 sample at the hit
+        // The circles' radii are below h tan(theta); SampleCircle reads the level of the diameter
+        // and the one above.
+        const double diameter = std::max(2.002 * h * double(coneTan[code]), 1.0);
+        const int levels = std::min(int(std::floor(std::log2(diameter))) + 1, lastLevel);
+        for (int k = 1; k <= levels; ++k) {
+          int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+          texels(std::min(originX, double(hx[x])), std::max(originX, double(hx[x])), sizes[size_t(k)].width, width,
+                 x0, x1);
+          texels(std::min(originY, double(hy[x])), std::max(originY, double(hy[x])), sizes[size_t(k)].height, height,
+                 y0, y1);
+          for (int row = y0; row <= y1; ++row) needs.rows[size_t(k)][size_t(row)].Add(x0, x1);
+          rowSpans += size_t(std::max(0, y1 - y0 + 1));
+        }
+        tooMany = rowSpans > maxRowSpans;
+      }
+    };
+    ForEachTileRun(tiles, int(y), int(width), listRun, [](int, int) {});
+    if (tooMany) return std::nullopt;
+  }
+  return needs;
+}
 
 SsrConeCounts SsrConeRowScalar(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
                                const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd,

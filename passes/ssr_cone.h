@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
@@ -100,6 +101,16 @@ SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word
 // row y's counts into rowCounts[y].
 void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, size_t yBegin, size_t yEnd,
                      SsrConeOutputs& out, SsrConeCounts* rowCounts);
+
+// The colour-pyramid texels of levels 1 and up that RunSsrCone reads for these hits (a superset):
+// per pixel with confidence > 0 whose cone walks (roughness code above 0, a hit at least
+// kConeMinHeight away), every level up to the one above its widest circle's, over the bilinear
+// footprints of the segment from the pixel to its hit and a texel more on each side. `tiles` as
+// SsrConeInputs::tiles. nullopt where listing them would cost more than `maxRowSpans` row spans:
+// the whole pyramid is then as cheap.
+std::optional<ColorPyramidNeeds> SsrConePyramidNeeds(const Plane<uint32_t>& word1, const Plane<float>& hitX,
+                                                    const Plane<float>& hitY, const Plane<float>& confidence,
+                                                    const TileMask* tiles, size_t maxRowSpans);
 
 // Row y in runs of in.tiles' tiles: run(xBegin, xEnd) where a row kernel must run, and 0 (what it
 // stores where the confidence is 0) stored into out's planes elsewhere.

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "core/procedural_mesh.h"
 #include "tests/passes/test_scenes.h"
 
 namespace ssgi {
@@ -68,6 +69,31 @@ TEST_CASE("a frame that frees each buffer after its last reader gives the same i
   CHECK(freed.composite.indirect.c[0].xsize() == 0);
   CHECK_FALSE(freed.shadowMap);
   CHECK(freed.gbuffer.visibility.triangle.xsize() == 0);
+}
+
+TEST_CASE("a frame with few reflecting pixels makes part of the colour pyramid, with the same image",
+          "[frame][memory][plan]") {
+  // A rough box on rough ground, and a glossy strip in front of the box that reflects it: a small
+  // share of the image, whose cones read levels above 0. Texels the partial pyramid does not make
+  // stay 0, so a cone that read one would change the image.
+  test::TestScene scene = BoxOnGlossyGround(192, 128);
+  scene.materials[0].roughness = 0.9f;
+  Material glossy = scene.materials[0];
+  glossy.roughness = 0.2f;
+  glossy.metallic = 1.0f;
+  scene.materials.push_back(glossy);
+  AddQuad(scene.mesh, {-0.6f, 0.001f, 1.3f}, {1.2f, 0.0f, 0.0f}, {0.0f, 0.0f, -0.5f}, 1u);
+  const FrameConfig config = test::ConfigOf(scene);
+  const Frame kept = RenderFrame(scene, config, BufferLifetime::kKeepAll);
+  const Frame freed = RenderFrame(scene, config, BufferLifetime::kUntilLastReader);
+  REQUIRE(freed.reflections);
+  REQUIRE(freed.plan.reflections.pixels * 10 <= freed.plan.pixels);
+  REQUIRE(kept.stats.ssrCone);
+  CHECK(kept.stats.ssrCone->pixels > 100);
+  REQUIRE(freed.stats.colorPyramid);
+  CHECK(freed.stats.colorPyramid->texels < kept.stats.colorPyramid->texels);
+  CHECK(freed.display.rgb == kept.display.rgb);
+  for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(freed.Result().c[c], kept.Result().c[c]));
 }
 
 TEST_CASE("a frame rendered again into its kept buffers gives the same image", "[frame]") {
