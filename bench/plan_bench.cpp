@@ -52,19 +52,21 @@ Scene StripFloor(int smooth, float sunDegrees = 2.0f) {
 }
 
 // Times one frame of the scene rendered again and again, at kSize x kSize on range(2) threads, its
-// buffers kept as a running renderer keeps them; `effect` is set to automatic when range(1) is 1,
+// buffers kept as a running renderer keeps them (range(3) 1) or each freed after its last reader as
+// `ssgi render` frees them (0); `effect` is set to automatic when range(1) is 1,
 // else switched off. Returns the frame, for its plan and stats.
-Frame TimeKeptFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect) {
+Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect) {
   const ThreadLimit threads(int(state.range(2)));
   FrameConfig config;
   config.width = config.height = kSize;
   config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
+  const BufferLifetime lifetime = state.range(3) ? BufferLifetime::kKeepAll : BufferLifetime::kUntilLastReader;
   Frame frame;
-  RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+  RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
   // Each stage's mean time, to show where a step in the frame's cost comes from.
   std::map<std::string, double> stageMs;
   for (auto _ : state) {
-    RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame);
+    RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
     for (const StageStats& stage : StageRows(frame.stats)) stageMs[stage.name] += stage.ms;
   }
   for (const auto& [name, ms] : stageMs) {
@@ -76,17 +78,20 @@ Frame TimeKeptFrame(benchmark::State& state, const Scene& scene, EffectMode Fram
   return frame;
 }
 
-// Arguments: smooth strips (0 .. kStrips), reflections (1 auto, 0 off), threads. Reports the share
-// of the image's pixels that need reflections, as the frame plan counts them.
+// Arguments: smooth strips (0 .. kStrips), reflections (1 auto, 0 off), threads, keep (1 the frame's
+// buffers kept, 0 freed as `ssgi render` frees them). Reports the share of the image's pixels that
+// need reflections, as the frame plan counts them.
 void BM_FrameReflectionShare(benchmark::State& state) {
-  const Frame frame = TimeKeptFrame(state, StripFloor(int(state.range(0))), &FrameConfig::reflections);
+  const Frame frame = TimeFrame(state, StripFloor(int(state.range(0))), &FrameConfig::reflections);
   state.counters["reflectionShare"] = double(frame.plan.reflections.pixels) / double(frame.plan.pixels);
 }
 
 void RegisterShares(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"smooth", "reflections", "threads"});
-  for (int smooth = 0; smooth <= kStrips; smooth += 2) b->Args({smooth, 1, 2});
-  b->Args({0, 0, 2});
+  b->ArgNames({"smooth", "reflections", "threads", "keep"});
+  for (int keep : {1, 0}) {
+    for (int smooth = 0; smooth <= kStrips; smooth += 2) b->Args({smooth, 1, 2, keep});
+    b->Args({0, 0, 2, keep});
+  }
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
@@ -94,18 +99,18 @@ BENCHMARK(BM_FrameReflectionShare)->Apply(RegisterShares);
 
 // The same floor, all rough, under suns of growing size: the share of the image the shadow blur
 // runs on grows with the penumbrae. Arguments: the sun's angular diameter in tenths of a degree,
-// shadows (1 auto, 0 off), threads. Reports the share of 16x16 tiles the blur ran on.
+// shadows (1 auto, 0 off), threads, keep (1). Reports the share of 16x16 tiles the blur ran on.
 void BM_FramePenumbraShare(benchmark::State& state) {
-  const Frame frame = TimeKeptFrame(state, StripFloor(0, float(state.range(0)) / 10.0f), &FrameConfig::shadows);
+  const Frame frame = TimeFrame(state, StripFloor(0, float(state.range(0)) / 10.0f), &FrameConfig::shadows);
   const auto& filter = frame.stats.shadowFilter;
   state.counters["penumbraShare"] =
       filter && filter->tiles > 0 ? double(filter->tilesBlurred) / double(filter->tiles) : 0.0;
 }
 
 void RegisterPenumbrae(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"sunTenthsDeg", "shadows", "threads"});
-  for (int tenths : {0, 2, 5, 10, 20, 40, 80, 160}) b->Args({tenths, 1, 2});
-  b->Args({0, 0, 2});
+  b->ArgNames({"sunTenthsDeg", "shadows", "threads", "keep"});
+  for (int tenths : {0, 2, 5, 10, 20, 40, 80, 160}) b->Args({tenths, 1, 2, 1});
+  b->Args({0, 0, 2, 1});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 

@@ -22,10 +22,10 @@ def main():
         runs = json.load(f)["benchmarks"]
     medians = [r for r in runs if r.get("aggregate_name", "median") == "median"]
 
-    def series(name, counter, effect):
-        on = sorted((100.0 * r[counter], r["real_time"]) for r in medians
-                    if r["name"].startswith(name) and "/%s:1/" % effect in r["name"])
-        off = [r["real_time"] for r in medians if r["name"].startswith(name) and "/%s:0/" % effect in r["name"]]
+    def series(name, counter, effect, keep):
+        runs = [r for r in medians if r["name"].startswith(name) and "/keep:%d" % keep in r["name"]]
+        on = sorted((100.0 * r[counter], r["real_time"]) for r in runs if "/%s:1/" % effect in r["name"])
+        off = [r["real_time"] for r in runs if "/%s:0/" % effect in r["name"]]
         return on, off
 
     panels = [("BM_FrameReflectionShare", "reflectionShare", "reflections", "pixels that need reflections"),
@@ -35,17 +35,23 @@ def main():
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.0), dpi=100)
     for ax, (name, counter, effect, label) in zip(axes, panels):
-        on, off = series(name, counter, effect)
-        if not on or not off:
-            sys.exit("no %s medians in %s" % (name, args.json))
-        ax.plot([p[0] for p in on], [p[1] for p in on], "o-", label="%s auto (frame plan)" % effect)
-        ax.axhline(off[0], color="grey", linestyle="--", label="%s off" % effect)
+        top = 0.0
+        for keep, colour, how in [(1, "tab:blue", "buffers kept"), (0, "tab:orange", "freed, as ssgi render")]:
+            on, off = series(name, counter, effect, keep)
+            if not on or not off:
+                if keep == 1:
+                    sys.exit("no %s medians in %s" % (name, args.json))
+                continue
+            ax.plot([p[0] for p in on], [p[1] for p in on], "o-", color=colour,
+                    label="%s auto (frame plan), %s" % (effect, how))
+            ax.axhline(off[0], color=colour, linestyle="--", alpha=0.6, label="%s off, %s" % (effect, how))
+            top = max(top, max(p[1] for p in on))
         ax.set_xlabel("%s (%% of the image)" % label)
         ax.set_ylabel("frame time (ms, median)")
         ax.set_xlim(-2, 100)
-        ax.set_ylim(0, max(p[1] for p in on) * 1.1)
+        ax.set_ylim(0, top * 1.1)
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="lower right")
+        ax.legend(loc="lower right" if effect == "reflections" else "upper left", fontsize="small")
     fig.suptitle("1024x1024, 2 threads: frame time against the need for each effect")
     fig.tight_layout()
     fig.savefig(args.png)
