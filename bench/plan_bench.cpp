@@ -60,7 +60,7 @@ Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameCon
   FrameConfig config;
   config.width = config.height = kSize;
   config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
-  const BufferLifetime lifetime = state.range(3) ? BufferLifetime::kKeepAll : BufferLifetime::kUntilLastReader;
+  const BufferLifetime lifetime = state.range(3) ? BufferLifetime::kKeepForReuse : BufferLifetime::kUntilLastReader;
   Frame frame;
   RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
   // Each stage's mean time, to show where a step in the frame's cost comes from.

@@ -37,15 +37,6 @@ struct ColorPyramidStats {
   size_t texels = 0;  // RGB texels written over all levels
 };
 
-// radiance: linear RGB (the direct-light image), any values (non-finite and negative sanitised).
-// Level k + 1 texel (x, y) = the mean, over its Hi-Z footprint in level k (2x2; 3 wide / tall at an
-// odd level's last column / row), of level k blurred by kColorPyramidWeights horizontally then
-// vertically with clamp-to-edge addressing; each footprint texel weighted by the level-0 area it
-// covers, so a texel is the mean of its own level-0 area at every size. Reuses out's planes when their sizes already match.
-// kernels: which definition of the row kernels runs (the same bytes either way).
-ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out,
-                                  KernelPath kernels = KernelPath::kSimd);
-
 // A reader's texels of levels 1 and up: per level, per row, the columns [begin, end) it reads (an
 // empty span, begin >= end, where it reads none of the row).
 struct ColumnSpan {
@@ -59,6 +50,16 @@ struct ColumnSpan {
 struct ColorPyramidNeeds {
   std::vector<std::vector<ColumnSpan>> rows;  // rows[k][y] for every level k (level 0's unused)
 };
+
+// radiance: linear RGB (the direct-light image), any values (non-finite and negative sanitised).
+// Level k + 1 texel (x, y) = the mean, over its Hi-Z footprint in level k (2x2; 3 wide / tall at an
+// odd level's last column / row), of level k blurred by kColorPyramidWeights horizontally then
+// vertically with clamp-to-edge addressing; each footprint texel weighted by the level-0 area it
+// covers, so a texel is the mean of its own level-0 area at every size. Reuses out's planes when their sizes already match.
+// kernels: which definition of the row kernels runs (the same bytes either way).
+// With `needs`, level 0 is made whole and levels 1 and up as RunColorPyramidOnLevelZero makes them.
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out,
+                                  KernelPath kernels = KernelPath::kSimd, const ColorPyramidNeeds* needs = nullptr);
 
 // The same pyramid built on a level 0 the caller has put in pyramid.levels[0] (moved in, not
 // copied: the frame's memory-saving mode hands over the direct-light image): levels 1 and up are

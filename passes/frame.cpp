@@ -113,14 +113,14 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
         frame.colorPyramid.levels[0] = std::move(frame.direct.radiance);
         stats.colorPyramid = RunColorPyramidOnLevelZero(frame.colorPyramid, KernelPath::kSimd, needs);
       } else if (runs(FramePass::kColorPyramid)) {
-        stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
+        stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid, KernelPath::kSimd, needs);
       }
     };
-    // A frame that frees its buffers keeps no pyramid for a dump: it traces first and makes only the
-    // texels the cone trace of those hits reads (docs/pipeline.md §Frame plan), where the hits are
-    // few enough for listing them to pay.
-    const bool pyramidAfterTrace =
-        directInPyramid && runs(FramePass::kSsrTrace) && runs(FramePass::kSsrCone);
+    // A frame whose pyramid no dump reads traces first and makes only the texels the cone trace of
+    // those hits reads (docs/pipeline.md §Frame plan), where the hits are few enough for listing
+    // them to pay.
+    const bool pyramidAfterTrace = lifetime != BufferLifetime::kKeepAll && runs(FramePass::kColorPyramid) &&
+                                   runs(FramePass::kSsrTrace) && runs(FramePass::kSsrCone);
     if (!pyramidAfterTrace) makePyramid(nullptr);
     // Only the plan's reflection tiles can trace. The cone and the composite skip the other tiles
     // only after this run's trace: hits read from a port's file are taken as they are.

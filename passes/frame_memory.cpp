@@ -78,7 +78,7 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   for (FramePass pass : kFramePasses) {
     size_t alive = 0;
     for (const FrameMemoryEstimate::Buffer& buffer : estimate.buffers) {
-      const FramePass end = lifetime == BufferLifetime::kKeepAll ? P::kTonemap : buffer.lastRead;
+      const FramePass end = lifetime == BufferLifetime::kUntilLastReader ? buffer.lastRead : P::kTonemap;
       if (buffer.made <= pass && pass <= end) alive += buffer.bytes;
     }
     if (alive > estimate.bytes) {

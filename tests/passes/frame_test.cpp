@@ -94,6 +94,15 @@ TEST_CASE("a frame with few reflecting pixels makes part of the colour pyramid, 
   CHECK(freed.stats.colorPyramid->texels < kept.stats.colorPyramid->texels);
   CHECK(freed.display.rgb == kept.display.rgb);
   for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(freed.Result().c[c], kept.Result().c[c]));
+  // Kept for the next frame, as a renderer keeps them: the same, frame after frame.
+  Frame reused;
+  for (int i = 0; i < 2; ++i) {
+    RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, reused, BufferLifetime::kKeepForReuse);
+    REQUIRE(reused.stats.colorPyramid);
+    CHECK(reused.stats.colorPyramid->texels < kept.stats.colorPyramid->texels);
+    CHECK(reused.display.rgb == kept.display.rgb);
+    for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(reused.Result().c[c], kept.Result().c[c]));
+  }
 }
 
 TEST_CASE("a frame rendered again into its kept buffers gives the same image", "[frame]") {
