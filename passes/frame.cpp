@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 #include <type_traits>
+#include <utility>
 
 #include "core/error.h"
 #include "core/lighting.h"
@@ -155,13 +156,21 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     drop(frame.colorPyramid);
     drop(frame.ssrTrace.hitX);
     drop(frame.ssrTrace.hitY);
+    // The composite works in place where no later reader needs the direct image and the reflection
+    // apart: freed, they are handed on; kept for reuse, their planes trade places with the result's
+    // and the indirect term's, which the next frame writes again.
+    const bool composeInPlace =
+        release || (lifetime == BufferLifetime::kKeepForReuse && runs(FramePass::kComposite));
     if (release) {
       frame.composite.result = std::move(frame.direct.radiance);
       frame.composite.indirect = std::move(frame.ssrCone.reflected);
+    } else if (composeInPlace) {
+      std::swap(frame.composite.result, frame.direct.radiance);
+      std::swap(frame.composite.indirect, frame.ssrCone.reflected);
     }
     if (runs(FramePass::kComposite)) {
-      const Plane3<float>& direct = release ? frame.composite.result : frame.direct.radiance;
-      const Plane3<float>& reflected = release ? frame.composite.indirect : frame.ssrCone.reflected;
+      const Plane3<float>& direct = composeInPlace ? frame.composite.result : frame.direct.radiance;
+      const Plane3<float>& reflected = composeInPlace ? frame.composite.indirect : frame.ssrCone.reflected;
       stats.composite = RunComposite(
           {gbuffer, frame.view, direct, reflected, frame.ssrTrace.confidence, config.ssrTrace.roughnessCutoff,
            tracedTiles},

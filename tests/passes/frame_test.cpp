@@ -114,6 +114,14 @@ TEST_CASE("a frame rendered again into its kept buffers gives the same image", "
   REQUIRE(kept.shadowMap);
   CHECK(kept.display.rgb == fresh.display.rgb);
   CHECK(test::SameBytes(kept.gbuffer.gbuffer.word[3], fresh.gbuffer.gbuffer.word[3]));
+  // Kept for reuse: the composite in place, its planes trading places frame after frame.
+  Frame reused;
+  for (int i = 0; i < 3; ++i) {
+    RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, reused, BufferLifetime::kKeepForReuse);
+    REQUIRE(reused.reflections);
+    CHECK(reused.display.rgb == fresh.display.rgb);
+    for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(reused.Result().c[c], fresh.Result().c[c]));
+  }
 }
 
 }  // namespace
