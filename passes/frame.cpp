@@ -107,7 +107,10 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // reflection's red and green, and the composite writes over the direct image and the
     // reflection. Each pass reads a pixel before it writes over it: the same bytes.
     if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
-    const bool directInPyramid = release && runs(FramePass::kColorPyramid);
+    const bool reuse = lifetime == BufferLifetime::kKeepForReuse;
+    // The direct image is the pyramid's level 0 while the pyramid is made and read, where no dump
+    // needs the two apart.
+    const bool directInPyramid = (release || reuse) && runs(FramePass::kColorPyramid);
     const auto makePyramid = [&](const ColorPyramidNeeds* needs) {
       if (directInPyramid) {
         frame.colorPyramid.levels.resize(std::max<size_t>(frame.colorPyramid.levels.size(), 1));
@@ -159,8 +162,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // The composite works in place where no later reader needs the direct image and the reflection
     // apart: freed, they are handed on; kept for reuse, their planes trade places with the result's
     // and the indirect term's, which the next frame writes again.
-    const bool composeInPlace =
-        release || (lifetime == BufferLifetime::kKeepForReuse && runs(FramePass::kComposite));
+    const bool composeInPlace = release || (reuse && runs(FramePass::kComposite));
     if (release) {
       frame.composite.result = std::move(frame.direct.radiance);
       frame.composite.indirect = std::move(frame.ssrCone.reflected);
