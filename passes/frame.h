@@ -108,10 +108,11 @@ struct Frame {
 // How long a frame keeps its buffers.
 enum class BufferLifetime {
   kKeepAll,          // to the frame's end: for dumps, tests and the benchmarks of single passes
-  // To the frame's end, for the next frame to render into, as a running renderer keeps them: the
-  // colour pyramid holds only what the cone trace reads, and the composite works in place, so
+  // To the frame's end, for the next frame to render into, as a running renderer keeps them.
+  // Buffers are handed on as kUntilLastReader hands them (the direct image is the colour pyramid's
+  // level 0, the composite works in place), and the pyramid holds only what the cone trace reads:
   // after the frame only Result() and the display image are defined among the direct image, the
-  // reflection and the composite's planes (a dump needs kKeepAll).
+  // pyramid, the reflection and the composite's planes (a dump needs kKeepAll).
   kKeepForReuse,
   // Each buffer freed once its last reader has run (passes/frame_memory.h gives the schedule): only
   // G-buffer words 0-2, the final image (Result) and the display image outlive the frame's passes.
