@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "bench/bench_scene.h"
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "passes/frame.h"
@@ -51,19 +52,12 @@ Scene StripFloor(int smooth, float sunDegrees = 2.0f) {
   return scene;
 }
 
-// Times one frame of the scene rendered again and again, at kSize x kSize on range(2) threads, its
-// buffers kept as a running renderer keeps them (range(3) 1) or each freed after its last reader as
-// `ssgi render` frees them (0); `effect` is set to automatic when range(1) is 1,
-// else switched off. Returns the frame, for its plan and stats.
-Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect) {
-  const ThreadLimit threads(int(state.range(2)));
-  FrameConfig config;
-  config.width = config.height = kSize;
-  config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
-  const BufferLifetime lifetime = state.range(3) ? BufferLifetime::kKeepForReuse : BufferLifetime::kUntilLastReader;
+// Renders the frame again and again into the same buffers (after one untimed frame), reporting
+// each stage's mean time as a counter, to show where a frame's cost, or a step in it, comes from.
+// Returns the frame, for its plan and stats.
+Frame TimeFrames(benchmark::State& state, const Scene& scene, const FrameConfig& config, BufferLifetime lifetime) {
   Frame frame;
   RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
-  // Each stage's mean time, to show where a step in the frame's cost comes from.
   std::map<std::string, double> stageMs;
   for (auto _ : state) {
     RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
@@ -74,8 +68,20 @@ Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameCon
     std::replace(counter.begin(), counter.end(), ' ', '_');
     state.counters[counter] = ms / double(state.iterations());
   }
-  state.SetItemsProcessed(int64_t(state.iterations()) * kSize * kSize);
+  state.SetItemsProcessed(int64_t(state.iterations()) * config.width * config.height);
   return frame;
+}
+
+// Times one frame of the scene at kSize x kSize on range(2) threads, its buffers kept for the next
+// frame as a running renderer keeps them (range(3) 1) or each freed after its last reader as
+// `ssgi render` frees them (0); `effect` is set to automatic when range(1) is 1, else switched off.
+Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect) {
+  const ThreadLimit threads(int(state.range(2)));
+  FrameConfig config;
+  config.width = config.height = kSize;
+  config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
+  return TimeFrames(state, scene, config,
+                    state.range(3) ? BufferLifetime::kKeepForReuse : BufferLifetime::kUntilLastReader);
 }
 
 // Arguments: smooth strips (0 .. kStrips), reflections (1 auto, 0 off), threads, keep (1 the frame's
@@ -115,6 +121,25 @@ void RegisterPenumbrae(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_FramePenumbraShare)->Apply(RegisterPenumbrae);
+
+// The rows of `ssgi figures`' Table 1, with each stage's time: the default scene at its own
+// 1024x1024, row 0 direct light only, 1 with shadows, 2 with shadows and reflections, on `threads`
+// threads, rendered as Table 1 renders them (into the last frame's buffers).
+void BM_Table1Frame(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const ThreadLimit threads(int(state.range(1)));
+  FrameConfig config = bench.config;
+  config.shadows = state.range(0) >= 1 ? EffectMode::kAuto : EffectMode::kOff;
+  config.reflections = state.range(0) >= 2 ? EffectMode::kAuto : EffectMode::kOff;
+  TimeFrames(state, bench.scene, config, BufferLifetime::kKeepForReuse);
+}
+
+BENCHMARK(BM_Table1Frame)
+    ->ArgNames({"row", "threads"})
+    ->ArgsProduct({{0, 1, 2}, {2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace ssgi
