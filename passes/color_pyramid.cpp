@@ -135,7 +135,8 @@ std::vector<std::vector<BandJob>> PlanJobs(const std::vector<Plane3<float>>& lev
           size_t first = 0, last = 0;
           HorizontalColumns(job.xBegin, job.xEnd, width(k), width(k - 1), first, last);
           const size_t firstRow = 2 * job.yBegin > size_t(kRadius) ? 2 * job.yBegin - kRadius : 0;
-          const size_t lastRow = std::min(height(k - 1) - 1, PyramidFootprintEnd(job.yEnd - 1, rows, height(k - 1)) + kRadius);
+          const size_t lastRow =
+              std::min(height(k - 1) - 1, PyramidFootprintEnd(job.yEnd - 1, rows, height(k - 1)) + kRadius);
           for (size_t sy = firstRow; sy <= lastRow; ++sy) need[k - 1][sy].Add(int(first), int(last));
         }
       }

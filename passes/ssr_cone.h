@@ -119,7 +119,8 @@ void ForEachConeRun(const SsrConeInputs& in, size_t y, SsrConeOutputs& out, cons
   ForEachTileRun(
       in.tiles, int(y), int(in.confidence.xsize()), [&](int xBegin, int xEnd) { run(size_t(xBegin), size_t(xEnd)); },
       [&](int xBegin, int xEnd) {
-        for (Plane<float>& plane : out.reflected.c) std::fill(plane.MutableRow(y) + xBegin, plane.MutableRow(y) + xEnd, 0.0f);
+        for (Plane<float>& plane : out.reflected.c)
+          std::fill(plane.MutableRow(y) + xBegin, plane.MutableRow(y) + xEnd, 0.0f);
       });
 }
 

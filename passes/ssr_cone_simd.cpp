@@ -271,10 +271,10 @@ SsrConeFrame FlattenContext(const SsrConeContext& context) {
 }  // namespace
 
 SsrConeCounts SsrConeRowSimd(const SsrConeContext& context, const uint32_t* word1, const float* hitX,
-                             const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd, float* red,
-                             float* green, float* blue) {
-  return HWY_DYNAMIC_DISPATCH(ConeRow)(FlattenContext(context), word1, hitX, hitY, confidence, y, xBegin, xEnd, red, green,
-                                       blue);
+                             const float* hitY, const float* confidence, size_t y, size_t xBegin, size_t xEnd,
+                             float* red, float* green, float* blue) {
+  return HWY_DYNAMIC_DISPATCH(ConeRow)(FlattenContext(context), word1, hitX, hitY, confidence, y, xBegin, xEnd, red,
+                                       green, blue);
 }
 
 void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, size_t yBegin, size_t yEnd,
