@@ -130,10 +130,15 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // only after this run's trace: hits read from a port's file are taken as they are.
     const TileMask* reflectionTiles = &frame.plan.reflectionTiles;
     const TileMask* tracedTiles = runs(FramePass::kSsrTrace) ? reflectionTiles : nullptr;
-    if (runs(FramePass::kSsrTrace))
-      stats.ssrTrace = RunSsrTrace({gbuffer, frame.view, frame.hiz, reflectionTiles}, config.ssrTrace, frame.ssrTrace,
-                                   KernelPath::kSimd,
-                                   release ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
+    // Kept for reuse, the skipped tiles' hits and reflection are left as they are: the cone trace and
+    // the composite in place read neither there.
+    const bool leaveSkippedTiles = reuse && runs(FramePass::kComposite);
+    if (runs(FramePass::kSsrTrace)) {
+      stats.ssrTrace =
+          RunSsrTrace({gbuffer, frame.view, frame.hiz, reflectionTiles, leaveSkippedTiles}, config.ssrTrace,
+                      frame.ssrTrace, KernelPath::kSimd,
+                      release || reuse ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
+    }
     drop(frame.hiz);
     if (pyramidAfterTrace) {
       std::optional<ColorPyramidNeeds> needs;
@@ -152,8 +157,9 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       const Plane<float>& hitX = release ? reflected.c[0] : frame.ssrTrace.hitX;
       const Plane<float>& hitY = release ? reflected.c[1] : frame.ssrTrace.hitY;
       stats.ssrCone =
-          RunSsrCone({gbuffer, frame.colorPyramid, hitX, hitY, frame.ssrTrace.confidence, tracedTiles}, config.ssrCone,
-                     frame.ssrCone);
+          RunSsrCone({gbuffer, frame.colorPyramid, hitX, hitY, frame.ssrTrace.confidence, tracedTiles,
+                      leaveSkippedTiles && tracedTiles != nullptr},
+                     config.ssrCone, frame.ssrCone);
     }
     if (directInPyramid) frame.direct.radiance = std::move(frame.colorPyramid.levels[0]);
     drop(frame.colorPyramid);

@@ -110,9 +110,10 @@ enum class BufferLifetime {
   kKeepAll,          // to the frame's end: for dumps, tests and the benchmarks of single passes
   // To the frame's end, for the next frame to render into, as a running renderer keeps them.
   // Buffers are handed on as kUntilLastReader hands them (the direct image is the colour pyramid's
-  // level 0, the composite works in place), and the pyramid holds only what the cone trace reads:
-  // after the frame only Result() and the display image are defined among the direct image, the
-  // pyramid, the reflection and the composite's planes (a dump needs kKeepAll).
+  // level 0, the composite works in place), the pyramid holds only what the cone trace reads, and
+  // the trace and the cone trace leave the tiles without a smooth pixel as they were: after the
+  // frame only Result() and the display image are defined among the reflection passes' buffers (a
+  // dump needs kKeepAll).
   kKeepForReuse,
   // Each buffer freed once its last reader has run (passes/frame_memory.h gives the schedule): only
   // G-buffer words 0-2, the final image (Result) and the display image outlive the frame's passes.

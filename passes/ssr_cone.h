@@ -55,6 +55,7 @@ struct SsrConeInputs {
   // FramePlan::reflectionTiles, or null: its 32x32 tiles hold every pixel with confidence > 0 (the
   // trace was given the same mask), and the others get 0 stored without reading anything.
   const TileMask* tiles = nullptr;
+  bool leaveSkippedTiles = false;  // as SsrTraceInputs::leaveSkippedTiles
 };
 
 struct SsrConeOutputs {
@@ -119,6 +120,7 @@ void ForEachConeRun(const SsrConeInputs& in, size_t y, SsrConeOutputs& out, cons
   ForEachTileRun(
       in.tiles, int(y), int(in.confidence.xsize()), [&](int xBegin, int xEnd) { run(size_t(xBegin), size_t(xEnd)); },
       [&](int xBegin, int xEnd) {
+        if (in.leaveSkippedTiles) return;
         for (Plane<float>& plane : out.reflected.c)
           std::fill(plane.MutableRow(y) + xBegin, plane.MutableRow(y) + xEnd, 0.0f);
       });

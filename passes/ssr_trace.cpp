@@ -252,7 +252,7 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   for (size_t tile = 0; tile < counts.size(); ++tile) {
     if (in.tiles == nullptr || in.tiles->needed[tile]) traced.push_back(tile);
   }
-  if (traced.size() < counts.size()) {
+  if (traced.size() < counts.size() && !in.leaveSkippedTiles) {
     ParallelForRowBands("ssr_trace.no_hits", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
       for (size_t y = yBegin; y < yEnd; ++y) {
         ForEachTileRun(in.tiles, int(y), width, [](int, int) {}, [&](int x0, int x1) {

@@ -48,6 +48,9 @@ struct SsrTraceInputs {
   // FramePlan::reflectionTiles of this G-buffer, or null: its 32x32 tiles hold every pixel that can
   // trace, and the others get "no hit" stored without reading anything (the same bytes).
   const TileMask* tiles = nullptr;
+  // With tiles: the other tiles' outputs are left as they are, for readers that skip them too (a
+  // frame kept for reuse, BufferLifetime::kKeepForReuse).
+  bool leaveSkippedTiles = false;
 };
 
 struct SsrTraceOutputs {

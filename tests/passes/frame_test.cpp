@@ -71,18 +71,23 @@ TEST_CASE("a frame that frees each buffer after its last reader gives the same i
   CHECK(freed.gbuffer.visibility.triangle.xsize() == 0);
 }
 
-TEST_CASE("a frame with few reflecting pixels makes part of the colour pyramid, with the same image",
-          "[frame][memory][plan]") {
-  // A rough box on rough ground, and a glossy strip in front of the box that reflects it: a small
-  // share of the image, whose cones read levels above 0. Texels the partial pyramid does not make
-  // stay 0, so a cone that read one would change the image.
-  test::TestScene scene = BoxOnGlossyGround(192, 128);
+// A rough box on rough ground, and a glossy strip in front of the box that reflects it: a small
+// share of the image, whose cones read levels above 0.
+test::TestScene GlossyStripBeforeBox(int width, int height) {
+  test::TestScene scene = BoxOnGlossyGround(width, height);
   scene.materials[0].roughness = 0.9f;
   Material glossy = scene.materials[0];
   glossy.roughness = 0.2f;
   glossy.metallic = 1.0f;
   scene.materials.push_back(glossy);
   AddQuad(scene.mesh, {-0.6f, 0.001f, 1.3f}, {1.2f, 0.0f, 0.0f}, {0.0f, 0.0f, -0.5f}, 1u);
+  return scene;
+}
+
+TEST_CASE("a frame with few reflecting pixels makes part of the colour pyramid, with the same image",
+          "[frame][memory][plan]") {
+  // Texels the partial pyramid does not make stay 0, so a cone that read one would change the image.
+  const test::TestScene scene = GlossyStripBeforeBox(192, 128);
   const FrameConfig config = test::ConfigOf(scene);
   const Frame kept = RenderFrame(scene, config, BufferLifetime::kKeepAll);
   const Frame freed = RenderFrame(scene, config, BufferLifetime::kUntilLastReader);
@@ -102,6 +107,23 @@ TEST_CASE("a frame with few reflecting pixels makes part of the colour pyramid, 
     CHECK(reused.stats.colorPyramid->texels < kept.stats.colorPyramid->texels);
     CHECK(reused.display.rgb == kept.display.rgb);
     for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(reused.Result().c[c], kept.Result().c[c]));
+  }
+}
+
+TEST_CASE("a frame kept for reuse renders other scenes into the same buffers, each with its own image",
+          "[frame][memory][plan]") {
+  // Mostly glossy, then a glossy strip: what the second leaves unwritten holds the first's buffers.
+  const test::TestScene scenes[] = {BoxOnGlossyGround(192, 128), GlossyStripBeforeBox(192, 128)};
+  Frame reused;
+  for (int i = 0; i < 4; ++i) {
+    const test::TestScene& scene = scenes[i % 2];
+    const FrameConfig config = test::ConfigOf(scene);
+    const Frame fresh = RenderFrame(scene, config, BufferLifetime::kKeepAll);
+    RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, reused, BufferLifetime::kKeepForReuse);
+    CAPTURE(i);
+    REQUIRE(reused.reflections);
+    CHECK(reused.display.rgb == fresh.display.rgb);
+    for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(reused.Result().c[c], fresh.Result().c[c]));
   }
 }
 
