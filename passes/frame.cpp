@@ -130,9 +130,9 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // only after this run's trace: hits read from a port's file are taken as they are.
     const TileMask* reflectionTiles = &frame.plan.reflectionTiles;
     const TileMask* tracedTiles = runs(FramePass::kSsrTrace) ? reflectionTiles : nullptr;
-    // Kept for reuse, the skipped tiles' hits and reflection are left as they are: the cone trace and
-    // the composite in place read neither there.
-    const bool leaveSkippedTiles = reuse && runs(FramePass::kComposite);
+    // Where no dump reads them, the skipped tiles' hits and reflection are left as they are: the cone
+    // trace and the composite in place read neither there.
+    const bool leaveSkippedTiles = (release || reuse) && runs(FramePass::kComposite);
     if (runs(FramePass::kSsrTrace)) {
       stats.ssrTrace =
           RunSsrTrace({gbuffer, frame.view, frame.hiz, reflectionTiles, leaveSkippedTiles}, config.ssrTrace,

@@ -49,7 +49,7 @@ struct SsrTraceInputs {
   // trace, and the others get "no hit" stored without reading anything (the same bytes).
   const TileMask* tiles = nullptr;
   // With tiles: the other tiles' outputs are left as they are, for readers that skip them too (a
-  // frame kept for reuse, BufferLifetime::kKeepForReuse).
+  // frame that no dump reads: BufferLifetime::kUntilLastReader and kKeepForReuse).
   bool leaveSkippedTiles = false;
 };
 
