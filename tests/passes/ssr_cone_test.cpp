@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -185,6 +187,42 @@ TEST_CASE("Cone trace is finite for every code, h = 0, corners and a 1x1 image",
         CHECK(stats.samples >= stats.pixels);
         CHECK(stats.samples <= stats.pixels * size_t(SsrConeParams{}.maxSamples));
       }
+    }
+  }
+}
+
+TEST_CASE("Cone trace: the pyramid texels it reads are listed, and a pyramid of only those gives its bytes",
+          "[cone][plan]") {
+  const ColorPyramid whole = StepPyramid();
+  const SsrTraceOutputs trace = VerticalHits(0.37f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (const uint32_t code : {0u, 1u, 77u, 200u, 255u}) {
+    CAPTURE(code);
+    const GBuffer gbuffer = UniformRoughness(kStepWidth, kStepHeight, code);
+    const std::optional<ColorPyramidNeeds> needs =
+        SsrConePyramidNeeds(gbuffer.word[1], trace.hitX, trace.hitY, trace.confidence, nullptr, size_t(1) << 30);
+    REQUIRE(needs);
+    size_t texels = 0;
+    for (const std::vector<ColumnSpan>& level : needs->rows)
+      for (const ColumnSpan& span : level) texels += span.Empty() ? 0 : size_t(span.end - span.begin);
+    CHECK((code == 0) == (texels == 0));  // the mirror reads level 0 only
+    // Every texel not listed (nor made from a listed one) NaN: a cone reading one would differ.
+    ColorPyramid partial;
+    for (const Plane3<float>& level : whole.levels)
+      partial.levels.push_back(MakePlane3<float>(level.c[0].xsize(), level.c[0].ysize(), nan));
+    partial.levels[0] = test::CopyOf(whole.levels[0]);
+    RunColorPyramidOnLevelZero(partial, KernelPath::kSimd, &*needs);
+    for (const KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+      SsrConeOutputs expected, actual;
+      const SsrConeInputs fromWhole{gbuffer, whole, trace.hitX, trace.hitY, trace.confidence};
+      const SsrConeInputs fromPartial{gbuffer, partial, trace.hitX, trace.hitY, trace.confidence};
+      RunSsrCone(fromWhole, SsrConeParams{}, expected, kernels);
+      RunSsrCone(fromPartial, SsrConeParams{}, actual, kernels);
+      for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(actual.reflected.c[c], expected.reflected.c[c]));
+    }
+    // Past the limit on listed row spans: none, so the whole pyramid is made.
+    if (code != 0) {
+      CHECK_FALSE(SsrConePyramidNeeds(gbuffer.word[1], trace.hitX, trace.hitY, trace.confidence, nullptr, 10));
     }
   }
 }
