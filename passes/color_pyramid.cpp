@@ -311,21 +311,8 @@ ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out,
 
 }  // namespace
 
-ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels,
-                                  const ColorPyramidNeeds* needs) {
-  if (!needs) return BuildPyramid(&radiance, out, kernels, nullptr);
-  // Level 0 whole first: BuildPyramid sanitises it inside level 1's bands, which needs may skip.
-  const Stopwatch watch;
-  const size_t width = radiance.c[0].xsize(), height = radiance.c[0].ysize();
-  ShapeLevels(width, height, out.levels);
-  const auto sanitizeRow = kernels == KernelPath::kSimd ? ColorPyramidSanitizeRowSimd : ColorPyramidSanitizeRowScalar;
-  ParallelForRowBands("color_pyramid.level0", height, [&](size_t, size_t yBegin, size_t yEnd) {
-    for (size_t y = yBegin; y < yEnd; ++y)
-      for (size_t c = 0; c < 3; ++c) sanitizeRow(radiance.c[c].ConstRow(y), width, out.levels[0].c[c].MutableRow(y));
-  });
-  ColorPyramidStats stats = BuildPyramid(nullptr, out, kernels, needs);
-  stats.ms = watch.Milliseconds();
-  return stats;
+ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out, KernelPath kernels) {
+  return BuildPyramid(&radiance, out, kernels, nullptr);
 }
 
 ColorPyramidStats RunColorPyramidOnLevelZero(ColorPyramid& pyramid, KernelPath kernels,

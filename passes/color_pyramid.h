@@ -57,9 +57,8 @@ struct ColorPyramidNeeds {
 // vertically with clamp-to-edge addressing; each footprint texel weighted by the level-0 area it
 // covers, so a texel is the mean of its own level-0 area at every size. Reuses out's planes when their sizes already match.
 // kernels: which definition of the row kernels runs (the same bytes either way).
-// With `needs`, level 0 is made whole and levels 1 and up as RunColorPyramidOnLevelZero makes them.
 ColorPyramidStats RunColorPyramid(const Plane3<float>& radiance, ColorPyramid& out,
-                                  KernelPath kernels = KernelPath::kSimd, const ColorPyramidNeeds* needs = nullptr);
+                                  KernelPath kernels = KernelPath::kSimd);
 
 // The same pyramid built on a level 0 the caller has put in pyramid.levels[0] (moved in, not
 // copied: the frame's memory-saving mode hands over the direct-light image): levels 1 and up are

@@ -107,37 +107,35 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // reflection's red and green, and the composite writes over the direct image and the
     // reflection. Each pass reads a pixel before it writes over it: the same bytes.
     if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
-    const bool reuse = lifetime == BufferLifetime::kKeepForReuse;
-    // The direct image is the pyramid's level 0 while the pyramid is made and read, where no dump
-    // needs the two apart.
-    const bool directInPyramid = (release || reuse) && runs(FramePass::kColorPyramid);
+    // No dump reads the frame's reflection buffers: it frees them, or keeps them for reuse.
+    const bool undumped = lifetime != BufferLifetime::kKeepAll;
+    // Then the direct image is the pyramid's level 0 while the pyramid is made and read.
+    const bool directInPyramid = undumped && runs(FramePass::kColorPyramid);
     const auto makePyramid = [&](const ColorPyramidNeeds* needs) {
       if (directInPyramid) {
         frame.colorPyramid.levels.resize(std::max<size_t>(frame.colorPyramid.levels.size(), 1));
         frame.colorPyramid.levels[0] = std::move(frame.direct.radiance);
         stats.colorPyramid = RunColorPyramidOnLevelZero(frame.colorPyramid, KernelPath::kSimd, needs);
       } else if (runs(FramePass::kColorPyramid)) {
-        stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid, KernelPath::kSimd, needs);
+        stats.colorPyramid = RunColorPyramid(frame.direct.radiance, frame.colorPyramid);
       }
     };
-    // A frame whose pyramid no dump reads traces first and makes only the texels the cone trace of
-    // those hits reads (docs/pipeline.md §Frame plan), where the hits are few enough for listing
-    // them to pay.
-    const bool pyramidAfterTrace = lifetime != BufferLifetime::kKeepAll && runs(FramePass::kColorPyramid) &&
-                                   runs(FramePass::kSsrTrace) && runs(FramePass::kSsrCone);
+    // And the frame traces first and makes only the texels the cone trace of those hits reads
+    // (docs/pipeline.md §Frame plan), where the hits are few enough for listing them to pay.
+    const bool pyramidAfterTrace = directInPyramid && runs(FramePass::kSsrTrace) && runs(FramePass::kSsrCone);
     if (!pyramidAfterTrace) makePyramid(nullptr);
     // Only the plan's reflection tiles can trace. The cone and the composite skip the other tiles
     // only after this run's trace: hits read from a port's file are taken as they are.
     const TileMask* reflectionTiles = &frame.plan.reflectionTiles;
     const TileMask* tracedTiles = runs(FramePass::kSsrTrace) ? reflectionTiles : nullptr;
-    // Where no dump reads them, the skipped tiles' hits and reflection are left as they are: the cone
-    // trace and the composite in place read neither there.
-    const bool leaveSkippedTiles = (release || reuse) && runs(FramePass::kComposite);
+    // And the skipped tiles' hits and reflection are left as they are: the cone trace and the
+    // composite in place read neither there.
+    const bool leaveSkippedTiles = undumped && runs(FramePass::kComposite);
     if (runs(FramePass::kSsrTrace)) {
       stats.ssrTrace =
           RunSsrTrace({gbuffer, frame.view, frame.hiz, reflectionTiles, leaveSkippedTiles}, config.ssrTrace,
                       frame.ssrTrace, KernelPath::kSimd,
-                      release || reuse ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
+                      undumped ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // steps: for dumps
     }
     drop(frame.hiz);
     if (pyramidAfterTrace) {
@@ -158,7 +156,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       const Plane<float>& hitY = release ? reflected.c[1] : frame.ssrTrace.hitY;
       stats.ssrCone =
           RunSsrCone({gbuffer, frame.colorPyramid, hitX, hitY, frame.ssrTrace.confidence, tracedTiles,
-                      leaveSkippedTiles && tracedTiles != nullptr},
+                      leaveSkippedTiles},
                      config.ssrCone, frame.ssrCone);
     }
     if (directInPyramid) frame.direct.radiance = std::move(frame.colorPyramid.levels[0]);
@@ -168,7 +166,8 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // The composite works in place where no later reader needs the direct image and the reflection
     // apart: freed, they are handed on; kept for reuse, their planes trade places with the result's
     // and the indirect term's, which the next frame writes again.
-    const bool composeInPlace = release || (reuse && runs(FramePass::kComposite));
+    const bool composeInPlace =
+        release || (lifetime == BufferLifetime::kKeepForReuse && runs(FramePass::kComposite));
     if (release) {
       frame.composite.result = std::move(frame.direct.radiance);
       frame.composite.indirect = std::move(frame.ssrCone.reflected);
