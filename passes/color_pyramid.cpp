@@ -74,6 +74,10 @@ struct BandScratch {
   Plane<float> vertical;   // the vertical kernel's scratch
 };
 
+// The first source texel the taps of the footprint starting at source texel `first` reach, along one
+// axis: `first` less the taps' radius, within the level.
+size_t FirstTap(size_t first) { return first > size_t(kRadius) ? first - kRadius : 0; }
+
 // What one parallel item makes of a level: rows [yBegin, yEnd), columns [xBegin, xEnd) (empty when
 // yBegin == yEnd).
 struct BandJob {
@@ -85,7 +89,7 @@ struct BandJob {
 // clamps at the part's ends, so only the footprints' columns are exact (their taps lie inside), or
 // the level's own end is the part's.
 void HorizontalColumns(size_t xBegin, size_t xEnd, size_t width, size_t sourceWidth, size_t& first, size_t& last) {
-  first = 2 * xBegin > size_t(kRadius) ? 2 * xBegin - kRadius : 0;
+  first = FirstTap(2 * xBegin);
   last = std::min(sourceWidth - 1, PyramidFootprintEnd(xEnd - 1, width, sourceWidth) + kRadius);
 }
 
@@ -134,7 +138,7 @@ std::vector<std::vector<BandJob>> PlanJobs(const std::vector<Plane3<float>>& lev
         if (job.yBegin < job.yEnd && k > 1) {
           size_t first = 0, last = 0;
           HorizontalColumns(job.xBegin, job.xEnd, width(k), width(k - 1), first, last);
-          const size_t firstRow = 2 * job.yBegin > size_t(kRadius) ? 2 * job.yBegin - kRadius : 0;
+          const size_t firstRow = FirstTap(2 * job.yBegin);
           const size_t lastRow =
               std::min(height(k - 1) - 1, PyramidFootprintEnd(job.yEnd - 1, rows, height(k - 1)) + kRadius);
           for (size_t sy = firstRow; sy <= lastRow; ++sy) need[k - 1][sy].Add(int(first), int(last));
@@ -236,7 +240,7 @@ ColorPyramidStats BuildPyramid(const Plane3<float>* radiance, ColorPyramid& out,
     HorizontalColumns(xBegin, xEnd, destination.xsize(), sourceWidth, firstColumn, lastColumn);
     // The part's footprints: up to the source's end where the part ends the row.
     const size_t partSourceWidth = xEnd == destination.xsize() ? sourceWidth - 2 * xBegin : 2 * (xEnd - xBegin);
-    const size_t firstTap = 2 * yBegin > size_t(kRadius) ? 2 * yBegin - kRadius : 0;
+    const size_t firstTap = FirstTap(2 * yBegin);
     const size_t lastTap = std::min(sourceHeight - 1, 2 * yEnd + kRadius - 1);
     // Level 1's source, level 0, is sanitised here, in one sweep over the band's taps before any
     // blur: streamed in one go, the reads keep the memory busy, where row by row between blurs each

@@ -122,7 +122,7 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
           }
           const CompositeContext context{view, encoding, cutoff};
           // Runs from the row's start and from a tile edge (a tile mask's runs), of every length.
-          for (const auto [begin, end] : RunsOfRow(kWidth)) {
+          for (const auto& [begin, end] : RunsOfRow(kWidth)) {
             // Every output row is filled past the row's end, which must stay as it is.
             std::vector<float> expected(6 * kWidth, -1.0f), actual(6 * kWidth);
             const auto rowOf = [&](std::vector<float>& out) {
