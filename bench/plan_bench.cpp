@@ -74,12 +74,15 @@ Frame TimeFrames(benchmark::State& state, const Scene& scene, const FrameConfig&
 
 // Times one frame of the scene at kSize x kSize on range(2) threads, its buffers kept for the next
 // frame as a running renderer keeps them (range(3) 1) or each freed after its last reader as
-// `ssgi render` frees them (0); `effect` is set to automatic when range(1) is 1, else switched off.
-Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect) {
+// `ssgi render` frees them (0); `effect` is set to automatic when range(1) is 1 or 2, else switched
+// off; `configure` may change the rest of the configuration.
+Frame TimeFrame(benchmark::State& state, const Scene& scene, EffectMode FrameConfig::*effect,
+                void (*configure)(FrameConfig&) = nullptr) {
   const ThreadLimit threads(int(state.range(2)));
   FrameConfig config;
   config.width = config.height = kSize;
   config.*effect = state.range(1) ? EffectMode::kAuto : EffectMode::kOff;
+  if (configure) configure(config);
   return TimeFrames(state, scene, config,
                     state.range(3) ? BufferLifetime::kKeepForReuse : BufferLifetime::kUntilLastReader);
 }
@@ -105,9 +108,12 @@ BENCHMARK(BM_FrameReflectionShare)->Apply(RegisterShares);
 
 // The same floor, all rough, under suns of growing size: the share of the image the shadow blur
 // runs on grows with the penumbrae. Arguments: the sun's angular diameter in tenths of a degree,
-// shadows (1 auto, 0 off), threads, keep (1). Reports the share of 16x16 tiles the blur ran on.
+// shadows (1 auto, soft; 2 auto with the blur switched off, hard shadows: `--shadow-filter hard`; 0
+// off), threads, keep (1). Reports the share of 16x16 tiles the blur ran on.
 void BM_FramePenumbraShare(benchmark::State& state) {
-  const Frame frame = TimeFrame(state, StripFloor(0, float(state.range(0)) / 10.0f), &FrameConfig::shadows);
+  const auto hard = [](FrameConfig& config) { config.shadowFilter.filter = ShadowFilter::kHard; };
+  const Frame frame = TimeFrame(state, StripFloor(0, float(state.range(0)) / 10.0f), &FrameConfig::shadows,
+                                state.range(1) == 2 ? +hard : nullptr);
   const auto& filter = frame.stats.shadowFilter;
   state.counters["penumbraShare"] =
       filter && filter->tiles > 0 ? double(filter->tilesBlurred) / double(filter->tiles) : 0.0;
@@ -116,6 +122,7 @@ void BM_FramePenumbraShare(benchmark::State& state) {
 void RegisterPenumbrae(benchmark::internal::Benchmark* b) {
   b->ArgNames({"sunTenthsDeg", "shadows", "threads", "keep"});
   for (int tenths : {0, 2, 5, 10, 20, 40, 80, 160}) b->Args({tenths, 1, 2, 1});
+  b->Args({0, 2, 2, 1});
   b->Args({0, 0, 2, 1});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }

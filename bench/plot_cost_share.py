@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Plots frame time against the share of the image that needs reflections (BM_FrameReflectionShare)
 and against the share in penumbra (BM_FramePenumbraShare, bench/plan_bench.cpp), each beside the
-frame with the effect switched off, from ssgi_bench's JSON output.
+frame with the effect switched off (and, for penumbrae, the frame with hard shadows: the blur
+switched off), from ssgi_bench's JSON output.
 
     build/bench/ssgi_bench --benchmark_filter='BM_Frame(Reflection|Penumbra)Share' --benchmark_repetitions=5 \\
         --benchmark_report_aggregates_only=true --benchmark_format=json > share.json
@@ -26,7 +27,8 @@ def main():
         runs = [r for r in medians if r["name"].startswith(name) and "/keep:%d" % keep in r["name"]]
         on = sorted((100.0 * r[counter], r["real_time"]) for r in runs if "/%s:1/" % effect in r["name"])
         off = [r["real_time"] for r in runs if "/%s:0/" % effect in r["name"]]
-        return on, off
+        hard = [r["real_time"] for r in runs if "/%s:2/" % effect in r["name"]]
+        return on, off, hard
 
     panels = [("BM_FrameReflectionShare", "reflectionShare", "reflections", "pixels that need reflections"),
               ("BM_FramePenumbraShare", "penumbraShare", "shadows", "tiles the shadow blur runs on")]
@@ -37,7 +39,7 @@ def main():
     for ax, (name, counter, effect, label) in zip(axes, panels):
         top = 0.0
         for keep, colour, how in [(1, "tab:blue", "buffers kept"), (0, "tab:orange", "freed, as ssgi render")]:
-            on, off = series(name, counter, effect, keep)
+            on, off, hard = series(name, counter, effect, keep)
             if not on or not off:
                 if keep == 1:
                     sys.exit("no %s medians in %s" % (name, args.json))
@@ -45,6 +47,8 @@ def main():
             ax.plot([p[0] for p in on], [p[1] for p in on], "o-", color=colour,
                     label="%s auto (frame plan), %s" % (effect, how))
             ax.axhline(off[0], color=colour, linestyle="--", alpha=0.6, label="%s off, %s" % (effect, how))
+            if hard:
+                ax.axhline(hard[0], color="tab:green", linestyle=":", label="blur off (hard shadows), %s" % how)
             top = max(top, max(p[1] for p in on))
         ax.set_xlabel("%s (%% of the image)" % label)
         ax.set_ylabel("frame time (ms, median)")

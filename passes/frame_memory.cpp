@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/plane.h"
@@ -104,6 +105,18 @@ size_t ResidentBytes() {
   size_t pages = 0, resident = 0;
   if (!(statm >> pages >> resident)) return 0;
   return resident * size_t(::sysconf(_SC_PAGESIZE));
+}
+
+size_t ResidentFileBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  size_t bytes = 0;
+  for (std::string line; std::getline(status, line);) {
+    std::istringstream fields(line);
+    size_t kib = 0;
+    if (fields >> key >> kib && (key == "RssFile:" || key == "RssShmem:")) bytes += kib * 1024;
+  }
+  return bytes;
 }
 
 size_t PeakResidentBytes() {

@@ -40,6 +40,10 @@ size_t AvailableMemoryBytes();
 // The process's resident set now and at its peak so far (Linux), in bytes; 0 where unknown.
 size_t ResidentBytes();
 size_t PeakResidentBytes();
+// The file-backed part of the resident set now (RssFile + RssShmem): mostly the shared libraries'
+// code and read-only data, clean pages the kernel can drop and read again under memory pressure,
+// unlike the anonymous rest (heap, stacks, relocated data). 0 where unknown.
+size_t ResidentFileBytes();
 
 // "1.5 GiB", "730 MiB": for messages.
 std::string FormatBytes(size_t bytes);

@@ -280,6 +280,18 @@ TEST_CASE("render: a frame larger than the memory allowed is refused before rend
     CHECK(std::abs(mib(estimate, estimateUnit) - mib(peak, peakUnit)) <= 0.1 * mib(peak, peakUnit));
     // The part that grows with the image on its own: the frame's buffers against their estimate.
     CHECK(std::abs(mib(buffers, buffersUnit) - mib(frame, frameUnit)) <= 0.1 * mib(frame, frameUnit));
+    // The peak split into what the kernel cannot reclaim, which holds the frame's buffers, and
+    // file-backed pages.
+    double anonymous = 0, fileBacked = 0;
+    char anonymousUnit[8] = {}, fileUnit[8] = {};
+    const size_t split = rendered.output.find("  of the peak, ", line);
+    REQUIRE(split != std::string::npos);
+    REQUIRE(std::sscanf(rendered.output.c_str() + split, "  of the peak, %lf %3s anonymous (%*f bytes per pixel) and %lf %3s",
+                        &anonymous, anonymousUnit, &fileBacked, fileUnit) == 4);
+    CHECK(std::abs(mib(anonymous, anonymousUnit) + mib(fileBacked, fileUnit) - mib(peak, peakUnit)) <=
+          0.05 * mib(peak, peakUnit));
+    CHECK(mib(anonymous, anonymousUnit) >= 0.9 * mib(buffers, buffersUnit));
+    CHECK(mib(fileBacked, fileUnit) > 0);
   }
 }
 
