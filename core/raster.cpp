@@ -73,17 +73,6 @@ int ClipPolygon(const glm::dvec4* in, int count, int plane, const ClipPlanes& pl
   return written;
 }
 
-// A vertex in fixed-point screen space: 8 sub-pixel bits, and the depth key z / w.
-struct Snapped {
-  int64_t x, y;
-  double key;
-};
-
-struct ProjectedVertex {
-  Snapped snapped;  // valid when outside == 0
-  uint8_t outside;  // bit p: outside clip plane p
-};
-
 class Setup {
  public:
   Setup(const ViewProjection& view, int tilesX, int tilesY)
@@ -97,26 +86,15 @@ class Setup {
   ProjectedVertex Project(const glm::vec4& clip) const {
     const glm::dvec4 v(clip);
     const std::array<double, ClipPlanes::kCount> distance = planes_.Distances(v);
-    ProjectedVertex out{};
-    for (int p = 0; p < ClipPlanes::kCount; ++p) out.outside |= uint8_t((distance[p] >= 0.0 ? 0 : 1) << p);
-    if (out.outside == 0) out.snapped = Snap(v);
-    return out;
+    int32_t outside = 0;
+    for (int p = 0; p < ClipPlanes::kCount; ++p) outside |= int32_t(distance[p] >= 0.0 ? 0 : 1) << p;
+    if (outside != 0) return {{outside, ProjectedVertex::kOutsideClipPlanes, 0.0}};
+    return {Snap(v)};
   }
 
-  void Triangle(const glm::vec4* clip, const ProjectedVertex* projected, const uint32_t* index, uint32_t triangle,
-                uint8_t flags, ChunkBins& bins) const {
-    ++bins.stats.trianglesIn;
-    const ProjectedVertex& a = projected[index[0]];
-    const ProjectedVertex& b = projected[index[1]];
-    const ProjectedVertex& c = projected[index[2]];
-    if (a.outside & b.outside & c.outside) {  // all three outside one plane
-      ++bins.stats.trianglesCulled;
-      return;
-    }
-    if ((a.outside | b.outside | c.outside) == 0) {
-      if (!Emit(a.snapped, b.snapped, c.snapped, triangle, flags, bins)) ++bins.stats.trianglesCulled;
-      return;
-    }
+  // A triangle that crosses a clip plane (TriangleSetUp::kClip): clipped in homogeneous space and
+  // set up as a fan of the clipped polygon.
+  void Clip(const glm::vec4* clip, const uint32_t* index, uint32_t triangle, uint8_t flags, ChunkBins& bins) const {
     ++bins.stats.trianglesClipped;
     glm::dvec4 polygon[2][kMaxClippedVertices];
     for (int i = 0; i < 3; ++i) polygon[0][i] = glm::dvec4(clip[index[i]]);
@@ -128,71 +106,25 @@ class Setup {
     }
     bool emitted = false;
     for (int i = 1; i + 1 < count; ++i) {
-      emitted |= Emit(Snap(polygon[current][0]), Snap(polygon[current][i]), Snap(polygon[current][i + 1]), triangle,
-                      flags, bins);
+      ScreenTriangle t;
+      if (!SetUpScreenTriangle(Snap(polygon[current][0]), Snap(polygon[current][i]), Snap(polygon[current][i + 1]),
+                               triangle, flags, width_, height_, t))
+        continue;
+      bins.triangles.push_back(t);
+      ++bins.stats.trianglesSetUp;
+      emitted = true;
     }
     if (!emitted) ++bins.stats.trianglesCulled;
   }
 
  private:
-  Snapped Snap(const glm::dvec4& v) const {
+  SnappedVertex Snap(const glm::dvec4& v) const {
     const double invW = 1.0 / v.w;
     const double sx = (v.x * invW * 0.5 + 0.5) * double(width_);
     const double sy = (0.5 - v.y * invW * 0.5) * double(height_);
-    return {RoundHalfAway(sx * double(kSubPixelScale)), RoundHalfAway(sy * double(kSubPixelScale)), v.z * invW};
-  }
-
-  bool Emit(const Snapped& s0, const Snapped& s1, const Snapped& s2, uint32_t triangle, uint8_t flags,
-            ChunkBins& bins) const {
-    Snapped v[3] = {s0, s1, s2};
-    int64_t area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
-    if (area2 == 0) return false;
-    // Counter-clockwise front faces turn clockwise in y-down screen space, i.e. negative area.
-    const bool backFacing = area2 > 0;
-    if (backFacing && (flags & kTriangleCullBackFace)) return false;
-    if (!backFacing) {
-      std::swap(v[1], v[2]);
-      area2 = -area2;
-    }
-    ScreenTriangle t;
-    const int64_t minSx = std::min({v[0].x, v[1].x, v[2].x});
-    const int64_t maxSx = std::max({v[0].x, v[1].x, v[2].x});
-    const int64_t minSy = std::min({v[0].y, v[1].y, v[2].y});
-    const int64_t maxSy = std::max({v[0].y, v[1].y, v[2].y});
-    // Pixels whose centre sample px * 256 + 128 lies inside the snapped bounds.
-    const int64_t minX = std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
-    const int64_t maxX = std::min<int64_t>(width_ - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale));
-    const int64_t minY = std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
-    const int64_t maxY = std::min<int64_t>(height_ - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale));
-    if (minX > maxX || minY > maxY) return false;
-    t.minX = int16_t(minX);
-    t.maxX = int16_t(maxX);
-    t.minY = int16_t(minY);
-    t.maxY = int16_t(maxY);
-    // Inside the guard band |x|, |y| < 3 * 16384 * 256 (2^23.6): the vertices fit 32 bits.
-    for (int i = 0; i < 3; ++i) {
-      t.x[i] = int32_t(v[i].x);
-      t.y[i] = int32_t(v[i].y);
-    }
-    t.edgesFit32Bits = true;
-    for (int e = 0; e < 3; ++e) {
-      const EdgeFunction edge = t.Edge(e);
-      t.edgesFit32Bits = t.edgesFit32Bits && std::abs(edge.a) + std::abs(edge.b) <= kMaxEdgeSlopeFor32Bits;
-    }
-    // The depth key's plane in pixel units, through the snapped vertices: linear in screen space.
-    const double x10 = double(v[1].x - v[0].x) / kSubPixelScale, y10 = double(v[1].y - v[0].y) / kSubPixelScale;
-    const double x20 = double(v[2].x - v[0].x) / kSubPixelScale, y20 = double(v[2].y - v[0].y) / kSubPixelScale;
-    const double k10 = v[1].key - v[0].key, k20 = v[2].key - v[0].key;
-    const double det = double(area2) / double(kSubPixelScale * kSubPixelScale);
-    t.keyDx = (k10 * y20 - k20 * y10) / det;
-    t.keyDy = (k20 * x10 - k10 * x20) / det;
-    const double x0 = double(v[0].x) / kSubPixelScale, y0 = double(v[0].y) / kSubPixelScale;
-    t.keyAtOrigin = v[0].key + t.keyDx * (0.5 - x0) + t.keyDy * (0.5 - y0);
-    t.triangle = triangle;
-    t.flags = flags;
-    bins.triangles.push_back(t);
-    ++bins.stats.trianglesSetUp;
-    return true;
+    // Inside the guard band: 32 bits hold them.
+    return {int32_t(RoundHalfAway(sx * double(kSubPixelScale))), int32_t(RoundHalfAway(sy * double(kSubPixelScale))),
+            v.z * invW};
   }
 
   ClipPlanes planes_;
@@ -287,6 +219,85 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
 
 }  // namespace
 
+bool SetUpScreenTriangle(const SnappedVertex& s0, const SnappedVertex& s1, const SnappedVertex& s2, uint32_t triangle,
+                         uint8_t flags, int width, int height, ScreenTriangle& t) {
+  struct Vertex {
+    int64_t x, y;
+    double key;
+  };
+  Vertex v[3] = {{s0.x, s0.y, s0.key}, {s1.x, s1.y, s1.key}, {s2.x, s2.y, s2.key}};
+  int64_t area2 = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x);
+  if (area2 == 0) return false;
+  // Counter-clockwise front faces turn clockwise in y-down screen space, i.e. negative area.
+  const bool backFacing = area2 > 0;
+  if (backFacing && (flags & kTriangleCullBackFace)) return false;
+  if (!backFacing) {
+    std::swap(v[1], v[2]);
+    area2 = -area2;
+  }
+  const int64_t minSx = std::min({v[0].x, v[1].x, v[2].x});
+  const int64_t maxSx = std::max({v[0].x, v[1].x, v[2].x});
+  const int64_t minSy = std::min({v[0].y, v[1].y, v[2].y});
+  const int64_t maxSy = std::max({v[0].y, v[1].y, v[2].y});
+  // Pixels whose centre sample px * 256 + 128 lies inside the snapped bounds.
+  const int64_t minX = std::max<int64_t>(0, FloorDiv(minSx - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
+  const int64_t maxX = std::min<int64_t>(width - 1, FloorDiv(maxSx - kHalfPixel, kSubPixelScale));
+  const int64_t minY = std::max<int64_t>(0, FloorDiv(minSy - kHalfPixel + kSubPixelScale - 1, kSubPixelScale));
+  const int64_t maxY = std::min<int64_t>(height - 1, FloorDiv(maxSy - kHalfPixel, kSubPixelScale));
+  if (minX > maxX || minY > maxY) return false;
+  t.minX = int16_t(minX);
+  t.maxX = int16_t(maxX);
+  t.minY = int16_t(minY);
+  t.maxY = int16_t(maxY);
+  // Inside the guard band |x|, |y| < 3 * 16384 * 256 (2^23.6): the vertices fit 32 bits.
+  for (int i = 0; i < 3; ++i) {
+    t.x[i] = int32_t(v[i].x);
+    t.y[i] = int32_t(v[i].y);
+  }
+  t.edgesFit32Bits = true;
+  for (int e = 0; e < 3; ++e) {
+    const EdgeFunction edge = t.Edge(e);
+    t.edgesFit32Bits = t.edgesFit32Bits && std::abs(edge.a) + std::abs(edge.b) <= kMaxEdgeSlopeFor32Bits;
+  }
+  // The depth key's plane in pixel units, through the snapped vertices: linear in screen space.
+  const double x10 = double(v[1].x - v[0].x) / kSubPixelScale, y10 = double(v[1].y - v[0].y) / kSubPixelScale;
+  const double x20 = double(v[2].x - v[0].x) / kSubPixelScale, y20 = double(v[2].y - v[0].y) / kSubPixelScale;
+  const double k10 = v[1].key - v[0].key, k20 = v[2].key - v[0].key;
+  const double det = double(area2) / double(kSubPixelScale * kSubPixelScale);
+  t.keyDx = (k10 * y20 - k20 * y10) / det;
+  t.keyDy = (k20 * x10 - k10 * x20) / det;
+  const double x0 = double(v[0].x) / kSubPixelScale, y0 = double(v[0].y) / kSubPixelScale;
+  t.keyAtOrigin = v[0].key + t.keyDx * (0.5 - x0) + t.keyDy * (0.5 - y0);
+  t.triangle = triangle;
+  t.flags = flags;
+  return true;
+}
+
+size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
+                            uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
+                            TriangleSetUp* status) {
+  size_t setUp = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const uint32_t triangle = first + uint32_t(i);
+    const uint32_t* index = indices + 3 * size_t(triangle);
+    const ProjectedVertex& a = projected[index[0]];
+    const ProjectedVertex& b = projected[index[1]];
+    const ProjectedVertex& c = projected[index[2]];
+    if (a.Outside() & b.Outside() & c.Outside()) {  // all three outside one plane
+      status[i] = TriangleSetUp::kCulled;
+    } else if ((a.Outside() | b.Outside() | c.Outside()) != 0) {
+      status[i] = TriangleSetUp::kClip;
+    } else {
+      const uint8_t triangleFlags = flags ? flags[triangle] : uint8_t(0);
+      const bool kept =
+          SetUpScreenTriangle(a.snapped, b.snapped, c.snapped, triangle, triangleFlags, width, height, out[setUp]);
+      status[i] = kept ? TriangleSetUp::kSetUp : TriangleSetUp::kCulled;
+      setUp += kept;
+    }
+  }
+  return setUp;
+}
+
 void CopyTileOutScalar(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
   for (int y = 0; y < tile.height; ++y) {
     uint8_t* row = firstPixel + size_t(y) * rowBytes;
@@ -331,6 +342,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     }
   });
 
+  const auto setUpTriangles = kernels == KernelPath::kSimd ? SetUpTrianglesSimd : SetUpTrianglesScalar;
   const size_t chunkTriangles =
       std::clamp((input.triangleCount + kMinChunks - 1) / kMinChunks, kMinChunkTriangles, kMaxChunkTriangles);
   std::vector<ChunkBins> chunks((input.triangleCount + chunkTriangles - 1) / chunkTriangles);
@@ -339,10 +351,34 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     const size_t begin = c * chunkTriangles;
     const size_t end = std::min(input.triangleCount, begin + chunkTriangles);
     bins.triangles.reserve(end - begin);
-    for (size_t i = begin; i < end; ++i) {
-      for (int k = 0; k < 3; ++k) SSGI_CHECK_LT(input.indices[3 * i + k], input.vertexCount);
-      const uint8_t flags = input.triangleFlags ? input.triangleFlags[i] : uint8_t(0);
-      setup.Triangle(clip.get(), projected.get(), input.indices + 3 * i, uint32_t(i), flags, bins);
+    // Set up in batches (SIMD across triangles), then taken in submission order: the ones that
+    // cross a clip plane are clipped here.
+    constexpr size_t kBatch = 256;
+    ScreenTriangle batch[kBatch];
+    TriangleSetUp status[kBatch];
+    for (size_t i = begin; i < end; i += kBatch) {
+      const size_t count = std::min(kBatch, end - i);
+      for (size_t k = 3 * i; k < 3 * (i + count); ++k) SSGI_CHECK_LT(input.indices[k], input.vertexCount);
+      const size_t setUp = setUpTriangles(projected.get(), input.indices, input.triangleFlags, uint32_t(i), count,
+                                          view.width, view.height, batch, status);
+      bins.stats.trianglesIn += count;
+      bins.stats.trianglesSetUp += setUp;
+      const size_t clipped = size_t(std::count(status, status + count, TriangleSetUp::kClip));
+      bins.stats.trianglesCulled += count - setUp - clipped;
+      if (clipped == 0) {
+        bins.triangles.insert(bins.triangles.end(), batch, batch + setUp);
+        continue;
+      }
+      size_t next = 0;
+      for (size_t j = 0; j < count; ++j) {
+        if (status[j] == TriangleSetUp::kSetUp) {
+          bins.triangles.push_back(batch[next++]);
+        } else if (status[j] == TriangleSetUp::kClip) {
+          const uint32_t triangle = uint32_t(i + j);
+          setup.Clip(clip.get(), input.indices + 3 * size_t(triangle), triangle,
+                     input.triangleFlags ? input.triangleFlags[triangle] : uint8_t(0), bins);
+        }
+      }
     }
     setup.Bin(bins);
   });

@@ -233,6 +233,127 @@ void CopyTileOut(const TileTarget& tile, const uint32_t* values, uint8_t* firstP
   }
 }
 
+// SetUpTrianglesScalar's twin: lanes are triangles, in doubles. The snapped coordinates (|x| <
+// 2^24), their differences' products and the doubled area are whole numbers below 2^53, so the
+// integer definition's values come out exactly; the rest is the definition's double arithmetic in
+// its order, and its floor divisions by 256 are exact scalings and Floor.
+using DD = hn::ScalableTag<double>;
+using DL = hn::RebindToSigned<DD>;
+
+size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags, uint32_t first,
+                      size_t count, int width, int height, ScreenTriangle* out, TriangleSetUp* status) {
+  const DD dd;
+  const DL dl;
+  using VD = hn::Vec<DD>;
+  using VL = hn::Vec<DL>;
+  using MD = hn::Mask<DD>;
+  constexpr size_t kMaxLanes = hn::MaxLanes(DD());
+  const size_t lanes = hn::Lanes(dd);
+  // ProjectedVertex is two 64-bit words: x and y (low and high halves), and the key.
+  const int64_t* positions = reinterpret_cast<const int64_t*>(projected);
+  const double* keys = reinterpret_cast<const double*>(projected) + 1;
+  const VD zero = hn::Zero(dd), half = hn::Set(dd, 0.5);
+  const VD toPixels = hn::Set(dd, 1.0 / double(kSubPixelScale));
+  const VD toPixelArea = hn::Set(dd, 1.0 / double(kSubPixelScale * kSubPixelScale));
+  const VL outsideMarker = hn::Set(dl, int64_t(ProjectedVertex::kOutsideClipPlanes));
+  size_t setUp = 0;
+  for (size_t i = 0; i < count; i += lanes) {
+    const size_t n = std::min(lanes, count - i);
+    HWY_ALIGN int64_t vertexWord[3][kMaxLanes];
+    HWY_ALIGN int64_t cullsBackFace[kMaxLanes];
+    for (size_t j = 0; j < lanes; ++j) {
+      const size_t triangle = size_t(first) + i + std::min(j, n - 1);  // lanes past the end repeat the last
+      for (int k = 0; k < 3; ++k) vertexWord[k][j] = int64_t(indices[3 * triangle + size_t(k)]) * 2;
+      cullsBackFace[j] = flags && (flags[triangle] & kTriangleCullBackFace) ? 1 : 0;
+    }
+    VD x[3], y[3], key[3];
+    VL outsideAny = hn::Zero(dl), outsideAll = hn::Set(dl, -1);
+    for (int k = 0; k < 3; ++k) {
+      const VL word = hn::Load(dl, vertexWord[k]);
+      const VL position = hn::GatherIndex(dl, positions, word);
+      const VL low = hn::ShiftRight<32>(hn::ShiftLeft<32>(position)), high = hn::ShiftRight<32>(position);
+      x[k] = hn::ConvertTo(dd, low);
+      y[k] = hn::ConvertTo(dd, high);
+      key[k] = hn::GatherIndex(dd, keys, word);
+      const VL outside = hn::IfThenElseZero(hn::Eq(high, outsideMarker), low);  // ProjectedVertex::Outside
+      outsideAny = hn::Or(outsideAny, outside);
+      outsideAll = hn::And(outsideAll, outside);
+    }
+    VD area2 = hn::Sub(hn::Mul(hn::Sub(x[1], x[0]), hn::Sub(y[2], y[0])), hn::Mul(hn::Sub(y[1], y[0]), hn::Sub(x[2], x[0])));
+    // Counter-clockwise front faces turn clockwise in y-down screen space: vertices 1 and 2 swap.
+    const MD backFacing = hn::Gt(area2, zero);
+    MD culled = hn::Or(hn::Eq(area2, zero),
+                       hn::And(backFacing, hn::RebindMask(dd, hn::Ne(hn::Load(dl, cullsBackFace), hn::Zero(dl)))));
+    const VD x1 = hn::IfThenElse(backFacing, x[1], x[2]), x2 = hn::IfThenElse(backFacing, x[2], x[1]);
+    const VD y1 = hn::IfThenElse(backFacing, y[1], y[2]), y2 = hn::IfThenElse(backFacing, y[2], y[1]);
+    const VD key1 = hn::IfThenElse(backFacing, key[1], key[2]), key2 = hn::IfThenElse(backFacing, key[2], key[1]);
+    x[1] = x1, x[2] = x2, y[1] = y1, y[2] = y2, key[1] = key1, key[2] = key2;
+    area2 = hn::IfThenElse(backFacing, area2, hn::Neg(area2));
+    // Pixels whose centre sample lies inside the snapped bounds.
+    const VD minSx = hn::Min(hn::Min(x[0], x[1]), x[2]), maxSx = hn::Max(hn::Max(x[0], x[1]), x[2]);
+    const VD minSy = hn::Min(hn::Min(y[0], y[1]), y[2]), maxSy = hn::Max(hn::Max(y[0], y[1]), y[2]);
+    const VD startOffset = hn::Set(dd, double(kSubPixelScale - 1 - kHalfPixel));
+    const VD halfPixel = hn::Set(dd, double(kHalfPixel));
+    const VD minX = hn::Max(zero, hn::Floor(hn::Mul(hn::Add(minSx, startOffset), toPixels)));
+    const VD maxX = hn::Min(hn::Set(dd, double(width - 1)), hn::Floor(hn::Mul(hn::Sub(maxSx, halfPixel), toPixels)));
+    const VD minY = hn::Max(zero, hn::Floor(hn::Mul(hn::Add(minSy, startOffset), toPixels)));
+    const VD maxY = hn::Min(hn::Set(dd, double(height - 1)), hn::Floor(hn::Mul(hn::Sub(maxSy, halfPixel), toPixels)));
+    culled = hn::Or(culled, hn::Or(hn::Gt(minX, maxX), hn::Gt(minY, maxY)));
+    // ScreenTriangle::Edge(e) runs from vertex e + 1 to e + 2: |a| + |b| = |dy| + |dx|.
+    MD edgesFit = hn::Eq(zero, zero);
+    for (int e = 0; e < 3; ++e) {
+      const int from = (e + 1) % 3, to = (e + 2) % 3;
+      const VD slope = hn::Add(hn::Abs(hn::Sub(y[to], y[from])), hn::Abs(hn::Sub(x[to], x[from])));
+      edgesFit = hn::And(edgesFit, hn::Le(slope, hn::Set(dd, double(kMaxEdgeSlopeFor32Bits))));
+    }
+    // The depth key's plane in pixel units.
+    const VD x10 = hn::Mul(hn::Sub(x[1], x[0]), toPixels), y10 = hn::Mul(hn::Sub(y[1], y[0]), toPixels);
+    const VD x20 = hn::Mul(hn::Sub(x[2], x[0]), toPixels), y20 = hn::Mul(hn::Sub(y[2], y[0]), toPixels);
+    const VD k10 = hn::Sub(key[1], key[0]), k20 = hn::Sub(key[2], key[0]);
+    const VD det = hn::Mul(area2, toPixelArea);
+    const VD keyDx = hn::Div(hn::Sub(hn::Mul(k10, y20), hn::Mul(k20, y10)), det);
+    const VD keyDy = hn::Div(hn::Sub(hn::Mul(k20, x10), hn::Mul(k10, x20)), det);
+    const VD keyAtOrigin = hn::Add(hn::Add(key[0], hn::Mul(keyDx, hn::Sub(half, hn::Mul(x[0], toPixels)))),
+                                   hn::Mul(keyDy, hn::Sub(half, hn::Mul(y[0], toPixels))));
+
+    HWY_ALIGN double lane[15][kMaxLanes];
+    const VD fields[15] = {x[0], x[1], x[2], y[0], y[1], y[2], minX, maxX, minY, maxY, keyDx, keyDy, keyAtOrigin,
+                           hn::VecFromMask(dd, culled), hn::VecFromMask(dd, edgesFit)};
+    for (int f = 0; f < 15; ++f) hn::Store(fields[f], dd, lane[f]);
+    HWY_ALIGN int64_t any[kMaxLanes], all[kMaxLanes];
+    hn::Store(outsideAny, dl, any);
+    hn::Store(outsideAll, dl, all);
+    for (size_t j = 0; j < n; ++j) {
+      TriangleSetUp& result = status[i + j];
+      if (all[j] != 0) {  // all three outside one plane
+        result = TriangleSetUp::kCulled;
+      } else if (any[j] != 0) {
+        result = TriangleSetUp::kClip;
+      } else if (lane[13][j] != 0.0) {  // an all-ones mask is a NaN, not 0
+        result = TriangleSetUp::kCulled;
+      } else {
+        result = TriangleSetUp::kSetUp;
+        ScreenTriangle& t = out[setUp++];
+        for (int k = 0; k < 3; ++k) {
+          t.x[k] = int32_t(lane[k][j]);
+          t.y[k] = int32_t(lane[3 + k][j]);
+        }
+        t.minX = int16_t(lane[6][j]);
+        t.maxX = int16_t(lane[7][j]);
+        t.minY = int16_t(lane[8][j]);
+        t.maxY = int16_t(lane[9][j]);
+        t.keyDx = lane[10][j];
+        t.keyDy = lane[11][j];
+        t.keyAtOrigin = lane[12][j];
+        t.edgesFit32Bits = lane[14][j] != 0.0;
+        t.triangle = first + uint32_t(i + j);
+        t.flags = flags ? flags[t.triangle] : uint8_t(0);
+      }
+    }
+  }
+  return setUp;
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();
@@ -242,6 +363,13 @@ namespace ssgi {
 
 HWY_EXPORT(RasterizeTile);
 HWY_EXPORT(CopyTileOut);
+HWY_EXPORT(SetUpTriangles);
+
+size_t SetUpTrianglesSimd(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
+                          uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
+                          TriangleSetUp* status) {
+  return HWY_DYNAMIC_DISPATCH(SetUpTriangles)(projected, indices, flags, first, count, width, height, out, status);
+}
 
 void CopyTileOutSimd(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {
   HWY_DYNAMIC_DISPATCH(CopyTileOut)(tile, values, firstPixel, rowBytes);

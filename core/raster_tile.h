@@ -57,6 +57,47 @@ struct alignas(64) ScreenTriangle {
 };
 static_assert(sizeof(ScreenTriangle) == 64);
 
+// A vertex in fixed-point screen space: 8 sub-pixel bits (inside the guard band, |x|, |y| < 3 *
+// 16384 * 256 < 2^24), and the depth key z / w.
+struct SnappedVertex {
+  int32_t x, y;
+  double key;
+};
+
+// A vertex projected once for all its triangles: where it lies inside every clip plane, its snapped
+// position; else y is kOutsideClipPlanes and x the mask of the planes it is outside of (bit p: plane
+// p). 16 bytes: the batched set-up gathers a vertex as two 64-bit words.
+struct ProjectedVertex {
+  static constexpr int32_t kOutsideClipPlanes = INT32_MIN;
+  SnappedVertex snapped;
+  int32_t Outside() const { return snapped.y == kOutsideClipPlanes ? snapped.x : 0; }
+};
+static_assert(sizeof(ProjectedVertex) == 2 * sizeof(int64_t));
+
+// The set-up of one triangle from its snapped vertices (docs/pipeline.md §Rasterizer, step 3) into
+// `out`: false, and `out` unspecified, where it is culled (zero area, a back face its flags cull, no
+// pixel centre in the width x height image).
+bool SetUpScreenTriangle(const SnappedVertex& s0, const SnappedVertex& s1, const SnappedVertex& s2, uint32_t triangle,
+                         uint8_t flags, int width, int height, ScreenTriangle& out);
+
+enum class TriangleSetUp : uint8_t {
+  kCulled,  // wholly outside one clip plane, or culled by SetUpScreenTriangle
+  kSetUp,   // set up into its ScreenTriangle
+  kClip,    // crosses a clip plane: the caller clips it
+};
+
+// The set-up of triangles first .. first + count - 1 (`indices` 3 per triangle into `projected`,
+// `flags` one per triangle or null for none): status[i] says what became of triangle first + i, and
+// the ScreenTriangles of those set up (kSetUp) go to out[0], out[1], ... in that order. Returns how
+// many. The scalar definition (core/raster.cpp) and its Highway twin (core/raster_simd.cpp; lanes are
+// triangles), equal field for field on every target.
+size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
+                            uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
+                            TriangleSetUp* status);
+size_t SetUpTrianglesSimd(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
+                          uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
+                          TriangleSetUp* status);
+
 // Index of tile pixel (lx, ly) in a TileTarget's arrays: blocks row by row, and inside a block its
 // 64 samples row by row, so a block is 64 consecutive values (one or a few vectors).
 constexpr int TilePixelIndex(int lx, int ly) {

@@ -1,13 +1,16 @@
 // The rasterizer's Highway tile kernel (core/raster_simd.cpp) against its scalar definition
 // (core/raster.cpp), bit for bit, on every compiled and supported target: depth keys, triangle
 // indices and coverage counts of the default scene from its camera and from its sun (depth only, both
-// faces), with cut-outs, and of triangles whose edges are too long for the kernel's 32-bit lanes.
+// faces), with cut-outs, and of triangles whose edges are too long for the kernel's 32-bit lanes; and
+// the batched triangle set-up against the scalar one.
 #include <cstring>
+#include <random>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
 #include "core/raster.h"
+#include "core/raster_tile.h"
 #include "core/scene_raster_input.h"
 #include "core/texture.h"
 #include "tests/passes/test_scenes.h"
@@ -143,6 +146,79 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
     CAPTURE(size.x, size.y);
     CHECK(CountDrawn(run(KernelPath::kScalar).visibility) == size_t(size.x * size.y));
     CHECK(test::TargetsWhereKernelPathsDiffer(run, SameResult) == "");
+  }
+}
+
+
+// Random projected vertices: most inside a width x height image, some out to the guard band's edge
+// (2^23.6 in sub-pixel units), some outside a clip plane; triangles that share vertices (zero area),
+// lie on a line, face either way, with random flags.
+TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every target", "[raster][simd]") {
+  std::mt19937 rng(12);
+  for (const glm::ivec2 size : kSizes) {
+    CAPTURE(size.x, size.y);
+    constexpr size_t kVertices = 600, kTriangles = 4000;
+    std::vector<ProjectedVertex> vertices(kVertices);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const int32_t guard = 3 * 16384 * int32_t(kSubPixelScale) - 1;
+    for (size_t i = 0; i < kVertices; ++i) {
+      ProjectedVertex& v = vertices[i];
+      const double kind = unit(rng);
+      const auto coordinate = [&](int extent) {
+        if (kind < 0.15) return int32_t((2.0 * unit(rng) - 1.0) * double(guard));
+        return int32_t(unit(rng) * double(extent + 2) * kSubPixelScale) - int32_t(kSubPixelScale);
+      };
+      v.snapped = {coordinate(size.x), coordinate(size.y), unit(rng)};
+      if (i % 50 == 7) v.snapped = vertices[i - 1].snapped;  // a repeated position: zero area
+      if (kind > 0.9) v.snapped = {int32_t(1) << (rng() % 6), ProjectedVertex::kOutsideClipPlanes, 0.0};
+    }
+    std::vector<uint32_t> indices(3 * kTriangles);
+    std::vector<uint8_t> flags(kTriangles);
+    for (size_t t = 0; t < kTriangles; ++t) {
+      for (int k = 0; k < 3; ++k) indices[3 * t + size_t(k)] = uint32_t(rng() % kVertices);
+      if (t % 97 == 3) indices[3 * t + 2] = indices[3 * t];  // a repeated vertex
+      flags[t] = uint8_t(rng() % 4);
+    }
+    // Uneven batches, at an offset, as the rasterizer's chunks make them.
+    const auto setUp = [&](auto function, std::vector<ScreenTriangle>& out, std::vector<TriangleSetUp>& status,
+                           const uint8_t* triangleFlags) {
+      size_t made = 0;
+      for (size_t first = 0; first < kTriangles; first += 333) {
+        const size_t count = std::min<size_t>(333, kTriangles - first);
+        made += function(vertices.data(), indices.data(), triangleFlags, uint32_t(first), count, size.x, size.y,
+                         out.data() + made, status.data() + first);
+      }
+      out.resize(made);
+    };
+    for (const uint8_t* triangleFlags : {static_cast<const uint8_t*>(flags.data()), static_cast<const uint8_t*>(nullptr)}) {
+      std::vector<ScreenTriangle> expected(kTriangles);
+      std::vector<TriangleSetUp> expectedStatus(kTriangles);
+      setUp(SetUpTrianglesScalar, expected, expectedStatus, triangleFlags);
+      size_t statusCount[3] = {};
+      for (const TriangleSetUp status : expectedStatus) ++statusCount[size_t(status)];
+      CHECK(statusCount[size_t(TriangleSetUp::kSetUp)] > kTriangles / 10);
+      CHECK(statusCount[size_t(TriangleSetUp::kCulled)] > kTriangles / 100);
+      CHECK(statusCount[size_t(TriangleSetUp::kClip)] > kTriangles / 10);
+      const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+        std::vector<ScreenTriangle> actual(kTriangles);
+        std::vector<TriangleSetUp> actualStatus(kTriangles);
+        setUp(SetUpTrianglesSimd, actual, actualStatus, triangleFlags);
+        REQUIRE(actualStatus == expectedStatus);
+        REQUIRE(actual.size() == expected.size());
+        for (size_t t = 0; t < expected.size(); ++t) {
+          CAPTURE(target, t);
+          const ScreenTriangle &a = actual[t], &e = expected[t];
+          REQUIRE(std::memcmp(a.x, e.x, sizeof(a.x)) == 0);
+          REQUIRE(std::memcmp(a.y, e.y, sizeof(a.y)) == 0);
+          REQUIRE((a.minX == e.minX && a.minY == e.minY && a.maxX == e.maxX && a.maxY == e.maxY));
+          REQUIRE(std::memcmp(&a.keyAtOrigin, &e.keyAtOrigin, sizeof(double)) == 0);
+          REQUIRE(std::memcmp(&a.keyDx, &e.keyDx, sizeof(double)) == 0);
+          REQUIRE(std::memcmp(&a.keyDy, &e.keyDy, sizeof(double)) == 0);
+          REQUIRE((a.triangle == e.triangle && a.flags == e.flags && a.edgesFit32Bits == e.edgesFit32Bits));
+        }
+      });
+      CHECK(targets >= 2);
+    }
   }
 }
 
