@@ -4,6 +4,9 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <string>
 
@@ -39,11 +42,13 @@ TextureLevel EncodeLevel(int width, int height, const std::vector<float>& linear
   return level;
 }
 
-// log2 for finite x > 0 from frexp and the atanh series of ln, not libm, so every build and SIMD
-// target picks the same mip blend (DESIGN.md §11). |s| < 1/3, so six terms are accurate to ~1e-7.
+// log2 for x > 1 (normal, finite) from its exponent and mantissa bits and the atanh series of ln,
+// not libm, so every build and SIMD target picks the same mip blend (DESIGN.md §11). |s| < 1/3, so
+// six terms are accurate to ~1e-7.
 float Log2(float x) {
-  int exponent = 0;
-  const float mantissa = 2.0f * std::frexp(x, &exponent);  // in [1, 2)
+  const uint32_t bits = std::bit_cast<uint32_t>(x);
+  const int exponent = int((bits >> 23) & 0xFFu) - 126;  // std::frexp's: x = m 2^exponent, m in [0.5, 1)
+  const float mantissa = std::bit_cast<float>((bits & 0x7FFFFFu) | 0x3F800000u);  // 2 m, in [1, 2)
   const float s = (mantissa - 1.0f) / (mantissa + 1.0f);
   const float s2 = s * s;
   const float series =
@@ -57,13 +62,29 @@ float Repeat(float x) { return std::isfinite(x) ? x - std::floor(x) : 0.0f; }
 
 int WrapIndex(int i, int size) { return i < 0 ? i + size : (i >= size ? i - size : i); }
 
-glm::vec4 Texel(const TextureLevel& level, int x, int y, TextureEncoding encoding) {
+// DecodeColor and the alpha's code / 255 as tables, looked up once per sample rather than per
+// channel: the same values, without a call per channel in the resolve's hottest loop.
+struct TexelDecoding {
+  const float* colour;  // per code: DecodeColor(code, encoding)
+  const float* alpha;   // per code: code / 255
+};
+
+TexelDecoding DecodingOf(TextureEncoding encoding) {
+  static const std::array<float, 256> unorm = [] {
+    std::array<float, 256> table{};
+    for (int code = 0; code < 256; ++code) table[size_t(code)] = float(code) / 255.0f;
+    return table;
+  }();
+  return {encoding == TextureEncoding::kSrgb ? SrgbDecodeTableForKernels() : unorm.data(), unorm.data()};
+}
+
+glm::vec4 Texel(const TextureLevel& level, int x, int y, const TexelDecoding& decoding) {
   const uint8_t* t = &level.rgba[(size_t(y) * size_t(level.width) + size_t(x)) * 4];
-  return {DecodeColor(t[0], encoding), DecodeColor(t[1], encoding), DecodeColor(t[2], encoding), float(t[3]) / 255.0f};
+  return {decoding.colour[t[0]], decoding.colour[t[1]], decoding.colour[t[2]], decoding.alpha[t[3]]};
 }
 
 // u, v in [0, 1]; texel centres at (i + 0.5) / size, v = 0 at the bottom row.
-glm::vec4 SampleBilinear(const TextureLevel& level, float u, float v, TextureEncoding encoding) {
+glm::vec4 SampleBilinear(const TextureLevel& level, float u, float v, const TexelDecoding& encoding) {
   const float x = u * float(level.width) - 0.5f;
   const float y = (1.0f - v) * float(level.height) - 0.5f;
   const float x0 = std::floor(x);
@@ -150,9 +171,10 @@ glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
   const float v = Repeat(uv.y);
   const int level = int(lambda);
   const float blend = lambda - float(level);
-  const glm::vec4 fine = SampleBilinear(texture.levels[level], u, v, texture.encoding);
+  const TexelDecoding decoding = DecodingOf(texture.encoding);
+  const glm::vec4 fine = SampleBilinear(texture.levels[level], u, v, decoding);
   if (blend == 0.0f) return fine;
-  const glm::vec4 coarse = SampleBilinear(texture.levels[level + 1], u, v, texture.encoding);
+  const glm::vec4 coarse = SampleBilinear(texture.levels[level + 1], u, v, decoding);
   return fine * (1.0f - blend) + coarse * blend;
 }
 
