@@ -17,7 +17,6 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
   const Scene& scene = context.scene;
   const SurfaceResolver& resolver = context.resolver;
   const uint32_t materialIndex = scene.mesh.materials[triangle];
-  const Material& material = scene.materials[materialIndex];
   const SurfacePoint s = resolver.At(triangle, x, y, context.textured[materialIndex] != 0);
   const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
   const std::vector<glm::vec3>& normals = scene.mesh.normals;
@@ -30,7 +29,15 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
   // A two-sided surface seen from behind shades with the side that faces the camera.
   const glm::vec3 toPoint = context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
   if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
+  GBufferResolveMaterialScalar(context, triangle, s, normal, word0, word1);
+  word2 = PackDepth(context.view.DepthFromKey(depthKey));
+}
 
+void GBufferResolveMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
+                                  const glm::vec3& normal, uint32_t& word0, uint32_t& word1) {
+  const Scene& scene = context.scene;
+  const uint32_t materialIndex = scene.mesh.materials[triangle];
+  const Material& material = scene.materials[materialIndex];
   if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
     word0 = context.constantWord0[materialIndex];
   } else {
@@ -49,7 +56,6 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
         material.roughness * SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
     word1 = PackNormalRoughness(normal, roughness, context.normalEncoding);
   }
-  word2 = PackDepth(context.view.DepthFromKey(depthKey));
 }
 
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,

@@ -62,6 +62,13 @@ struct GBufferResolveContext {
 void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
                                uint32_t& word0, uint32_t& word1, uint32_t& word2);
 
+// Its material part: words 0 (albedo, metallic) and 1 (normal, roughness) of a pixel of `triangle`
+// at surface point `s` (its UV and UV footprint; the weights unused) with the unit shading normal
+// `normal` in the view, textures sampled. The SIMD twin computes s and the normal in vectors and
+// calls this per pixel of a textured material.
+void GBufferResolveMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
+                                  const glm::vec3& normal, uint32_t& word0, uint32_t& word1);
+
 // The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)
 // into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) get the background's

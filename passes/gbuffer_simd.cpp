@@ -4,7 +4,9 @@
 // and the depth are computed with the scalar operations in their order through the core twins
 // (core/*-inl.h), so every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each
 // compiled target).
-// Pixels of textured materials are resolved by GBufferResolvePixelScalar, one at a time.
+// For pixels of textured materials the vectors also give the UV and its footprint (the neighbouring
+// pixels' rays on the plane, as SurfaceResolver::At); the textures are sampled and the words packed
+// per pixel by GBufferResolveMaterialScalar.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -28,6 +30,7 @@ struct GBufferResolveRowInputs {
   const uint32_t* indices;         // three per triangle
   const float* viewPositions;      // x, y, z per vertex, in the view
   const float* normals;            // x, y, z per vertex, world space
+  const float* uvs;                // u, v per vertex
   const uint32_t* materials;       // per triangle
   const uint32_t* constantWord0;   // per material (GBufferResolveContext)
   const uint32_t* constantRoughnessBits;
@@ -102,6 +105,54 @@ TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* tr
   return data;
 }
 
+// Per lane of `lanes`, its triangle's UVs: the first vertex's and the differences to the other two
+// (SurfaceResolver::At's uv0, du1, du2); the other lanes hold some lane's.
+struct TriangleUvs {
+  VF u0, v0, du1, dv1, du2, dv2;
+};
+
+TriangleUvs LoadUvs(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+                    hn::Mask<DU> lanes) {
+  const DF df;
+  const DU du;
+  TriangleUvs uvs{};
+  bool first = true;
+  for (auto remaining = lanes; !hn::AllFalse(du, remaining);) {
+    const uint32_t next = triangles[hn::FindFirstTrue(du, remaining)];
+    const auto covers = hn::Eq(triangle, hn::Set(du, next));
+    remaining = hn::AndNot(covers, remaining);
+    const uint32_t* index = in.indices + 3 * size_t(next);
+    const glm::vec2 uv0(in.uvs[2 * size_t(index[0])], in.uvs[2 * size_t(index[0]) + 1]);
+    const glm::vec2 uv1(in.uvs[2 * size_t(index[1])], in.uvs[2 * size_t(index[1]) + 1]);
+    const glm::vec2 uv2(in.uvs[2 * size_t(index[2])], in.uvs[2 * size_t(index[2]) + 1]);
+    const glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+    const auto take = hn::RebindMask(df, covers);
+    const auto set = [&](VF& lane, float value) {
+      lane = first ? hn::Set(df, value) : hn::IfThenElse(take, hn::Set(df, value), lane);
+    };
+    set(uvs.u0, uv0.x), set(uvs.v0, uv0.y), set(uvs.du1, d1.x), set(uvs.dv1, d1.y), set(uvs.du2, d2.x);
+    set(uvs.dv2, d2.y);
+    first = false;
+  }
+  return uvs;
+}
+
+// RayPlaneBarycentrics (core/surface.cpp) of the rays through (px, py) on the planes p0 + b1 e1 + b2
+// e2: returns the lanes where it succeeds (a finite b off a plane not parallel to the ray), b1 and
+// b2 computed in every lane.
+hn::Mask<DF> RayPlaneBarycentricsV(const RayV<DF>& ray, const Vec3V<DF>& p0, const Vec3V<DF>& e1,
+                                   const Vec3V<DF>& e2, VF& b1, VF& b2) {
+  const DF df;
+  const Vec3V<DF> p = Cross3(ray.direction, e2);
+  const VF det = Dot3(e1, p);
+  const VF invDet = hn::Div(hn::Set(df, 1.0f), det);
+  const Vec3V<DF> s = Sub3(ray.origin, p0);
+  const Vec3V<DF> q = Cross3(s, e1);
+  b1 = hn::Mul(Dot3(s, p), invDet);
+  b2 = hn::Mul(Dot3(ray.direction, q), invDet);
+  return hn::And(hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f)), hn::And(hn::IsFinite(b1), hn::IsFinite(b2)));
+}
+
 size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
                          int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
   const DF df;
@@ -143,9 +194,10 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     const Vec3V<DF> s = Sub3(ray.origin, p0);
     const Vec3V<DF> q = Cross3(s, e1);
     const VF third = hn::Set(df, 1.0f / 3.0f);
-    VF b1 = hn::IfThenElse(hit, hn::Mul(Dot3(s, p), invDet), third);
-    VF b2 = hn::IfThenElse(hit, hn::Mul(Dot3(ray.direction, q), invDet), third);
-    b1 = MinStd(MaxStd(b1, zero), one);  // glm::clamp(b, 0, 1)
+    const VF centerB1 = hn::IfThenElse(hit, hn::Mul(Dot3(s, p), invDet), third);
+    const VF centerB2 = hn::IfThenElse(hit, hn::Mul(Dot3(ray.direction, q), invDet), third);
+    VF b1 = MinStd(MaxStd(centerB1, zero), one);  // glm::clamp(b, 0, 1)
+    VF b2 = centerB2;
     b2 = MinStd(MaxStd(b2, zero), one);
     const VF sum = hn::Add(b1, b2);
     const auto beyond = hn::Gt(sum, one);
@@ -174,13 +226,38 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     storeWords(hn::IfThenElseZero(drawn, words0), hn::IfThenElseZero(drawn, words1),
                hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
 
-    const auto texturedLanes = hn::And(data.textured, hn::VecFromMask(du, drawn));
-    if (hn::AllFalse(du, hn::Ne(texturedLanes, hn::Zero(du)))) continue;
-    hn::Store(texturedLanes, du, textured);
+    const auto texturedLanes = hn::And(hn::Ne(data.textured, hn::Zero(du)), drawn);
+    if (hn::AllFalse(du, texturedLanes)) continue;
+    // SurfaceResolver::At's UV at the clamped barycentrics, and its footprint from the unclamped
+    // ones of this pixel's ray and of the rays one pixel right and one down (0 where any misses).
+    const TriangleUvs uv = LoadUvs(in, triangles + x, triangle, texturedLanes);
+    const VF u = hn::Add(hn::Add(uv.u0, hn::Mul(uv.du1, b1)), hn::Mul(uv.du2, b2));
+    const VF v = hn::Add(hn::Add(uv.v0, hn::Mul(uv.dv1, b1)), hn::Mul(uv.dv2, b2));
+    VF rightB1, rightB2, downB1, downB2;
+    const auto footprintHit = hn::And(
+        hn::And(hn::And(hit, hn::And(hn::IsFinite(centerB1), hn::IsFinite(centerB2))),
+                RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py), p0, e1, e2, rightB1, rightB2)),
+        RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, py + 1.0f), p0, e1, e2, downB1, downB2));
+    const auto uvLength = [&](VF db1, VF db2) {  // glm::length(du1 * db1 + du2 * db2)
+      const VF dU = hn::Add(hn::Mul(uv.du1, db1), hn::Mul(uv.du2, db2));
+      const VF dV = hn::Add(hn::Mul(uv.dv1, db1), hn::Mul(uv.dv2, db2));
+      return hn::Sqrt(hn::Add(hn::Mul(dU, dU), hn::Mul(dV, dV)));
+    };
+    const VF footprint = MaxStd(uvLength(hn::Sub(rightB1, centerB1), hn::Sub(rightB2, centerB2)),
+                                uvLength(hn::Sub(downB1, centerB1), hn::Sub(downB2, centerB2)));
+    const VF uvFootprint = hn::IfThenElseZero(hn::And(footprintHit, hn::IsFinite(footprint)), footprint);
+    HWY_ALIGN float laneValues[6][HWY_MAX_BYTES / sizeof(float)];
+    const VF values[6] = {u, v, uvFootprint, unit.x, unit.y, unit.z};
+    for (int k = 0; k < 6; ++k) hn::Store(values[k], df, laneValues[k]);
+    hn::Store(hn::VecFromMask(du, texturedLanes), du, textured);
     for (size_t lane = 0; lane < lanes && x + lane < count; ++lane) {
+      if (textured[lane] == 0) continue;
       const size_t i = x + lane;
-      if (textured[lane] != 0)
-        GBufferResolvePixelScalar(*in.context, triangles[i], depthKeys[i], int(i), y, word0[i], word1[i], word2[i]);
+      SurfacePoint point{};
+      point.uv = {laneValues[0][lane], laneValues[1][lane]};
+      point.uvFootprint = laneValues[2][lane];
+      const glm::vec3 shadingNormal(laneValues[3][lane], laneValues[4][lane], laneValues[5][lane]);
+      GBufferResolveMaterialScalar(*in.context, triangles[i], point, shadingNormal, word0[i], word1[i]);
     }
   }
   return covered;
@@ -205,6 +282,7 @@ size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_
       mesh.indices.data(),
       reinterpret_cast<const float*>(context.resolver.ViewPositions()),
       reinterpret_cast<const float*>(mesh.normals.data()),
+      reinterpret_cast<const float*>(mesh.uvs.data()),
       mesh.materials.data(),
       context.constantWord0,
       context.constantRoughnessBits,

@@ -144,6 +144,25 @@ TEST_CASE("g-buffer: the SIMD kernels give the scalar bytes on every target, tex
     scene.mesh.uvs[i] = {0.7f * p.x, 0.7f * (p.z + p.y)};
   }
   CheckKernelPathsAgree(scene);
+
+  // Textures of 256 and 64 texels a side at 3 repeats per metre: pixels span several texels, so the
+  // footprint picks and blends mip levels (to the board's grazing far end), and the vectors' UV
+  // footprint must equal SurfaceResolver::At's.
+  std::vector<uint8_t> large(256 * 256 * 4), medium(64 * 64 * 4);
+  for (uint8_t& texel : large) texel = uint8_t(rng());
+  for (uint8_t& texel : medium) texel = uint8_t(rng());
+  scene.textures.push_back(MakeTexture(256, 256, std::move(large), TextureEncoding::kSrgb));
+  scene.textures.push_back(MakeTexture(64, 64, std::move(medium), TextureEncoding::kLinear));
+  for (Material& material : scene.materials) {
+    if (material.baseColorTexture == 0) material.baseColorTexture = 2;
+    if (material.metallicTexture == 1) material.metallicTexture = 3;
+    if (material.roughnessTexture == 1) material.roughnessTexture = 3;
+  }
+  for (size_t i = 0; i < scene.mesh.positions.size(); ++i) {
+    const glm::vec3 p = scene.mesh.positions[i];
+    scene.mesh.uvs[i] = {3.0f * p.x, 3.0f * (p.z + p.y)};
+  }
+  CheckKernelPathsAgree(scene);
 }
 
 }  // namespace
