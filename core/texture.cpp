@@ -21,25 +21,28 @@ float DecodeColor(uint8_t code, TextureEncoding encoding) {
   return encoding == TextureEncoding::kSrgb ? SrgbCodeToLinear(code) : float(code) / 255.0f;
 }
 
-// Linear RGBA floats of 8-bit texels; alpha is linear in every encoding.
-std::vector<float> DecodeLevel(const TextureLevel& level, TextureEncoding encoding) {
-  std::vector<float> linear(level.rgba.size());
-  for (size_t i = 0; i < level.rgba.size(); i += 4) {
-    for (size_t c = 0; c < 3; ++c) linear[i + c] = DecodeColor(level.rgba[i + c], encoding);
-    linear[i + 3] = float(level.rgba[i + 3]) / 255.0f;
+// Linear RGBA floats of `count` 8-bit values (texels times 4); alpha is linear in every encoding.
+std::vector<float> DecodeLevel(const uint8_t* rgba, size_t count, TextureEncoding encoding) {
+  std::vector<float> linear(count);
+  for (size_t i = 0; i < count; i += 4) {
+    for (size_t c = 0; c < 3; ++c) linear[i + c] = DecodeColor(rgba[i + c], encoding);
+    linear[i + 3] = float(rgba[i + 3]) / 255.0f;
   }
   return linear;
 }
 
-TextureLevel EncodeLevel(int width, int height, const std::vector<float>& linear, TextureEncoding encoding) {
-  TextureLevel level{width, height, std::vector<uint8_t>(linear.size())};
+// Appends a level of these linear RGBA values, encoded, to the texture.
+void AppendLevel(Texture& texture, int width, int height, const std::vector<float>& linear) {
+  texture.levels.push_back({width, height, texture.texels.size() / 4});
+  const size_t first = texture.texels.size();
+  texture.texels.resize(first + linear.size());
+  uint8_t* rgba = texture.texels.data() + first;
   for (size_t i = 0; i < linear.size(); i += 4) {
     for (size_t c = 0; c < 3; ++c)
-      level.rgba[i + c] =
-          encoding == TextureEncoding::kSrgb ? LinearToSrgbCode(linear[i + c]) : UnormCode8(linear[i + c]);
-    level.rgba[i + 3] = UnormCode8(linear[i + 3]);
+      rgba[i + c] =
+          texture.encoding == TextureEncoding::kSrgb ? LinearToSrgbCode(linear[i + c]) : UnormCode8(linear[i + c]);
+    rgba[i + 3] = UnormCode8(linear[i + 3]);
   }
-  return level;
 }
 
 // log2 for x > 1 (normal, finite) from its exponent and mantissa bits and the atanh series of ln,
@@ -78,13 +81,15 @@ TexelDecoding DecodingOf(TextureEncoding encoding) {
   return {encoding == TextureEncoding::kSrgb ? SrgbDecodeTableForKernels() : unorm.data(), unorm.data()};
 }
 
-glm::vec4 Texel(const TextureLevel& level, int x, int y, const TexelDecoding& decoding) {
-  const uint8_t* t = &level.rgba[(size_t(y) * size_t(level.width) + size_t(x)) * 4];
+glm::vec4 Texel(const uint8_t* levelTexels, const TextureLevel& level, int x, int y, const TexelDecoding& decoding) {
+  const uint8_t* t = levelTexels + (size_t(y) * size_t(level.width) + size_t(x)) * 4;
   return {decoding.colour[t[0]], decoding.colour[t[1]], decoding.colour[t[2]], decoding.alpha[t[3]]};
 }
 
 // u, v in [0, 1]; texel centres at (i + 0.5) / size, v = 0 at the bottom row.
-glm::vec4 SampleBilinear(const TextureLevel& level, float u, float v, const TexelDecoding& encoding) {
+glm::vec4 SampleBilinear(const Texture& texture, const TextureLevel& level, float u, float v,
+                         const TexelDecoding& encoding) {
+  const uint8_t* texels = texture.Texels(level);
   const float x = u * float(level.width) - 0.5f;
   const float y = (1.0f - v) * float(level.height) - 0.5f;
   const float x0 = std::floor(x);
@@ -95,8 +100,10 @@ glm::vec4 SampleBilinear(const TextureLevel& level, float u, float v, const Texe
   const int ix1 = WrapIndex(int(x0) + 1, level.width);
   const int iy0 = WrapIndex(int(y0), level.height);
   const int iy1 = WrapIndex(int(y0) + 1, level.height);
-  const glm::vec4 top = Texel(level, ix0, iy0, encoding) * (1.0f - fx) + Texel(level, ix1, iy0, encoding) * fx;
-  const glm::vec4 bottom = Texel(level, ix0, iy1, encoding) * (1.0f - fx) + Texel(level, ix1, iy1, encoding) * fx;
+  const glm::vec4 top =
+      Texel(texels, level, ix0, iy0, encoding) * (1.0f - fx) + Texel(texels, level, ix1, iy0, encoding) * fx;
+  const glm::vec4 bottom =
+      Texel(texels, level, ix0, iy1, encoding) * (1.0f - fx) + Texel(texels, level, ix1, iy1, encoding) * fx;
   return top * (1.0f - fy) + bottom * fy;
 }
 
@@ -135,12 +142,13 @@ Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEnc
   SSGI_CHECK_EQ(rgba.size(), size_t(width) * size_t(height) * 4);
   Texture texture;
   texture.encoding = encoding;
-  texture.levels.push_back({width, height, std::move(rgba)});
+  texture.levels.push_back({width, height, 0});
+  texture.texels = std::move(rgba);
 
   // Each level is a box-filtered reduction of the previous one's linear values (not of its 8-bit
   // codes, so rounding does not accumulate down the chain). OIIO's box of one destination texel
   // covers the 2x2 source texels, or 2-3 per axis for odd sizes (5 -> 2 averages texels 0-2 and 2-4).
-  std::vector<float> linear = DecodeLevel(texture.levels[0], encoding);
+  std::vector<float> linear = DecodeLevel(texture.texels.data(), texture.texels.size(), encoding);
   while (width > 1 || height > 1) {
     const int nextWidth = std::max(1, width / 2);
     const int nextHeight = std::max(1, height / 2);
@@ -149,7 +157,7 @@ Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEnc
     OIIO::ImageBuf target(OIIO::ImageSpec(nextWidth, nextHeight, 4, OIIO::TypeDesc::FLOAT), next.data());
     const bool resized = OIIO::ImageBufAlgo::resize(target, source, "box", 1.0f);
     SSGI_CHECK(resized);
-    texture.levels.push_back(EncodeLevel(nextWidth, nextHeight, next, encoding));
+    AppendLevel(texture, nextWidth, nextHeight, next);
     linear = std::move(next);
     width = nextWidth;
     height = nextHeight;
@@ -172,9 +180,9 @@ glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
   const int level = int(lambda);
   const float blend = lambda - float(level);
   const TexelDecoding decoding = DecodingOf(texture.encoding);
-  const glm::vec4 fine = SampleBilinear(texture.levels[level], u, v, decoding);
+  const glm::vec4 fine = SampleBilinear(texture, texture.levels[level], u, v, decoding);
   if (blend == 0.0f) return fine;
-  const glm::vec4 coarse = SampleBilinear(texture.levels[level + 1], u, v, decoding);
+  const glm::vec4 coarse = SampleBilinear(texture, texture.levels[level + 1], u, v, decoding);
   return fine * (1.0f - blend) + coarse * blend;
 }
 

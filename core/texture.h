@@ -18,13 +18,19 @@ enum class TextureEncoding : uint8_t { kSrgb, kLinear };
 struct TextureLevel {
   int width = 0;
   int height = 0;
-  std::vector<uint8_t> rgba;  // row-major, top row first, 4 bytes per texel
+  size_t offset = 0;  // its first texel's index in Texture::texels
 };
 
 struct Texture {
   TextureEncoding encoding = TextureEncoding::kLinear;
   int sourceChannels = 4;             // channels in the file (1 = grey, 3 = RGB, 4 = RGBA)
   std::vector<TextureLevel> levels;   // levels[0] is full size, the last is 1x1
+  // Every level's texels, level after level, each row-major, top row first; a texel is 4 bytes,
+  // R, G, B, A (one 32-bit word, R in its low byte, for a SIMD gather).
+  std::vector<uint8_t> texels;
+
+  // The first byte of a level's texels.
+  const uint8_t* Texels(const TextureLevel& level) const { return texels.data() + 4 * level.offset; }
 };
 
 // Reads an image file into a texture with its mip chain. Throws InputError naming the file when it
