@@ -165,6 +165,24 @@ Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEnc
   return texture;
 }
 
+TextureView ViewOf(const Texture& texture) {
+  SSGI_CHECK_LE(texture.levels.size(), size_t(kMaxTextureLevels));
+  SSGI_CHECK_LE(texture.texels.size() / 4, size_t(INT32_MAX));
+  TextureView view{};
+  view.texels = reinterpret_cast<const uint32_t*>(texture.texels.data());
+  for (size_t k = 0; k < texture.levels.size(); ++k) {
+    view.width[k] = texture.levels[k].width;
+    view.height[k] = texture.levels[k].height;
+    view.offset[k] = int32_t(texture.levels[k].offset);
+  }
+  view.lastLevel = int32_t(texture.levels.size()) - 1;
+  view.baseSide = float(std::max(texture.levels[0].width, texture.levels[0].height));
+  const TexelDecoding decoding = DecodingOf(texture.encoding);
+  view.colour = decoding.colour;
+  view.alpha = decoding.alpha;
+  return view;
+}
+
 glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
   const TextureLevel& base = texture.levels.front();
   const int lastLevel = int(texture.levels.size()) - 1;

@@ -40,6 +40,18 @@ Texture LoadTexture(const std::filesystem::path& file, TextureEncoding encoding)
 // Builds a texture from 8-bit RGBA texels (top row first); used by tests and procedural content.
 Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEncoding encoding);
 
+// What a SIMD kernel reads of a texture (core/texture-inl.h's SampleTextureV): flat arrays.
+inline constexpr int kMaxTextureLevels = 16;  // a 16384-texel side has 15
+struct TextureView {
+  const uint32_t* texels;  // Texture::texels as words, R in the low byte
+  int32_t width[kMaxTextureLevels], height[kMaxTextureLevels], offset[kMaxTextureLevels];  // per level
+  int32_t lastLevel;
+  float baseSide;           // max(width, height) of level 0
+  const float* colour;      // per code: the linear value of an R, G or B code in its encoding
+  const float* alpha;       // per code: code / 255
+};
+TextureView ViewOf(const Texture& texture);
+
 // Trilinear sample with repeat addressing. `footprint` is the larger screen-pixel footprint of the
 // lookup in UV units (max of |dUV/dx|, |dUV/dy|); it picks the mip level. Returns linear values.
 glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint);

@@ -64,10 +64,16 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
 
 // Its material part: words 0 (albedo, metallic) and 1 (normal, roughness) of a pixel of `triangle`
 // at surface point `s` (its UV and UV footprint; the weights unused) with the unit shading normal
-// `normal` in the view, textures sampled. The SIMD twin computes s and the normal in vectors and
-// calls this per pixel of a textured material.
+// `normal` in the view: the material's textures sampled (SampleTexture), then packed by
+// GBufferPackMaterialScalar.
 void GBufferResolveMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
                                   const glm::vec3& normal, uint32_t& word0, uint32_t& word1);
+// The packing: the material's constants times its textures' samples (baseColor's RGB, the metallic
+// and roughness samples' first channel), each used only where the material has that texture. The
+// SIMD twin samples in vectors and packs per pixel with this.
+void GBufferPackMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const glm::vec4& baseColor,
+                               float metallicSample, float roughnessSample, const glm::vec3& normal, uint32_t& word0,
+                               uint32_t& word1);
 
 // The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)

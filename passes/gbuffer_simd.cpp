@@ -5,8 +5,8 @@
 // (core/*-inl.h), so every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each
 // compiled target).
 // For pixels of textured materials the vectors also give the UV and its footprint (the neighbouring
-// pixels' rays on the plane, as SurfaceResolver::At); the textures are sampled and the words packed
-// per pixel by GBufferResolveMaterialScalar.
+// pixels' rays on the plane, as SurfaceResolver::At) and sample the textures (core/texture-inl.h);
+// the words are packed per pixel by GBufferPackMaterialScalar.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -16,6 +16,7 @@
 #include "core/gbuffer-inl.h"
 #include "core/math-inl.h"
 #include "core/row-inl.h"
+#include "core/texture-inl.h"
 #include "passes/gbuffer.h"
 
 #ifndef SSGI_PASSES_GBUFFER_SIMD_ONCE
@@ -165,6 +166,8 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
   size_t covered = 0;
   HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
+  int32_t cachedTexture = kNoTexture;  // the texture cachedView shows
+  TextureView cachedView{};
   for (size_t x = 0; x < count; x += lanes) {
     const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
@@ -246,18 +249,46 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     const VF footprint = MaxStd(uvLength(hn::Sub(rightB1, centerB1), hn::Sub(rightB2, centerB2)),
                                 uvLength(hn::Sub(downB1, centerB1), hn::Sub(downB2, centerB2)));
     const VF uvFootprint = hn::IfThenElseZero(hn::And(footprintHit, hn::IsFinite(footprint)), footprint);
-    HWY_ALIGN float laneValues[6][HWY_MAX_BYTES / sizeof(float)];
-    const VF values[6] = {u, v, uvFootprint, unit.x, unit.y, unit.z};
-    for (int k = 0; k < 6; ++k) hn::Store(values[k], df, laneValues[k]);
+    // The textures sampled in vectors, a texture at a time over the lanes that read it (a vector
+    // mostly meets one material); packed per pixel (GBufferPackMaterialScalar).
     hn::Store(hn::VecFromMask(du, texturedLanes), du, textured);
+    const Scene& scene = in.context->scene;
+    HWY_ALIGN int32_t slotTexture[3][HWY_MAX_BYTES / sizeof(float)];
+    for (size_t lane = 0; lane < lanes; ++lane) {
+      const bool used = textured[lane] != 0;
+      const Material* material = used ? &scene.materials[in.materials[triangles[x + lane]]] : nullptr;
+      slotTexture[0][lane] = used ? material->baseColorTexture : kNoTexture;
+      slotTexture[1][lane] = used ? material->metallicTexture : kNoTexture;
+      slotTexture[2][lane] = used ? material->roughnessTexture : kNoTexture;
+    }
+    Vec4V sample[3] = {{zero, zero, zero, zero}, {zero, zero, zero, zero}, {zero, zero, zero, zero}};
+    for (int slot = 0; slot < 3; ++slot) {
+      auto remaining = hn::Ne(hn::Load(di, slotTexture[slot]), hn::Set(di, kNoTexture));
+      while (!hn::AllFalse(di, remaining)) {
+        const int32_t texture = slotTexture[slot][hn::FindFirstTrue(di, remaining)];
+        const auto reads = hn::And(remaining, hn::Eq(hn::Load(di, slotTexture[slot]), hn::Set(di, texture)));
+        remaining = hn::AndNot(reads, remaining);
+        if (texture != cachedTexture) {
+          cachedView = ViewOf(scene.textures[size_t(texture)]);
+          cachedTexture = texture;
+        }
+        const Vec4V texel = SampleTextureV(cachedView, u, v, uvFootprint);
+        const auto take = hn::RebindMask(df, reads);
+        sample[slot] = {hn::IfThenElse(take, texel.r, sample[slot].r), hn::IfThenElse(take, texel.g, sample[slot].g),
+                        hn::IfThenElse(take, texel.b, sample[slot].b), hn::IfThenElse(take, texel.a, sample[slot].a)};
+      }
+    }
+    HWY_ALIGN float laneValues[9][HWY_MAX_BYTES / sizeof(float)];
+    const VF values[9] = {unit.x,          unit.y,          unit.z,          sample[0].r, sample[0].g,
+                          sample[0].b,     sample[0].a,     sample[1].r,     sample[2].r};
+    for (int k = 0; k < 9; ++k) hn::Store(values[k], df, laneValues[k]);
     for (size_t lane = 0; lane < lanes && x + lane < count; ++lane) {
       if (textured[lane] == 0) continue;
       const size_t i = x + lane;
-      SurfacePoint point{};
-      point.uv = {laneValues[0][lane], laneValues[1][lane]};
-      point.uvFootprint = laneValues[2][lane];
-      const glm::vec3 shadingNormal(laneValues[3][lane], laneValues[4][lane], laneValues[5][lane]);
-      GBufferResolveMaterialScalar(*in.context, triangles[i], point, shadingNormal, word0[i], word1[i]);
+      const glm::vec3 shadingNormal(laneValues[0][lane], laneValues[1][lane], laneValues[2][lane]);
+      const glm::vec4 baseColor(laneValues[3][lane], laneValues[4][lane], laneValues[5][lane], laneValues[6][lane]);
+      GBufferPackMaterialScalar(*in.context, triangles[i], baseColor, laneValues[7][lane], laneValues[8][lane],
+                                shadingNormal, word0[i], word1[i]);
     }
   }
   return covered;

@@ -1,0 +1,128 @@
+// Highway twin of SampleTexture (core/texture.h) for the passes' SIMD kernels: lanes are lookups into
+// one texture, each at its own UV, footprint and so mip level; the same operations in the same order
+// as the scalar sampler (core/texture.cpp), so every target gives its bits (tests/core/
+// texture_simd_test.cpp).
+//
+// A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after
+// hwy/highway.h, once per target through hwy/foreach_target.h, outside any namespace.
+#if defined(SSGI_CORE_TEXTURE_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef SSGI_CORE_TEXTURE_INL_H_
+#undef SSGI_CORE_TEXTURE_INL_H_
+#else
+#define SSGI_CORE_TEXTURE_INL_H_
+#endif
+
+#include "core/math-inl.h"
+#include "core/texture.h"
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// RGBA per lane.
+struct Vec4V {
+  VF r, g, b, a;
+};
+
+// texture.cpp's Log2 for x > 1 (normal, finite): exponent and mantissa from the bits, then the
+// atanh series of ln. Other lanes compute along, unused.
+HWY_INLINE VF Log2V(VF x) {
+  const DF df;
+  const DI di;
+  const VI bits = hn::BitCast(di, x);
+  const VI exponentMinusOne = hn::Sub(hn::And(hn::ShiftRight<23>(bits), hn::Set(di, 0xFF)), hn::Set(di, 127));
+  const VF mantissa = hn::BitCast(df, hn::Or(hn::And(bits, hn::Set(di, 0x7FFFFF)), hn::Set(di, 0x3F800000)));
+  const VF one = hn::Set(df, 1.0f);
+  const VF s = hn::Div(hn::Sub(mantissa, one), hn::Add(mantissa, one));
+  const VF s2 = hn::Mul(s, s);
+  VF series = hn::Mul(s2, hn::Set(df, 1.0f / 11.0f));
+  series = hn::Mul(s2, hn::Add(hn::Set(df, 1.0f / 9.0f), series));
+  series = hn::Mul(s2, hn::Add(hn::Set(df, 1.0f / 7.0f), series));
+  series = hn::Mul(s2, hn::Add(hn::Set(df, 1.0f / 5.0f), series));
+  series = hn::Mul(s2, hn::Add(hn::Set(df, 1.0f / 3.0f), series));
+  series = hn::Add(one, series);
+  constexpr float kInvLn2 = 1.44269504f;
+  return hn::Add(hn::ConvertTo(df, exponentMinusOne),
+                 hn::Mul(hn::Mul(hn::Mul(hn::Set(df, 2.0f), s), series), hn::Set(df, kInvLn2)));
+}
+
+// WrapIndex: i + size below 0, i - size from size on.
+HWY_INLINE VI WrapIndexV(VI i, VI size) {
+  const DI di;
+  return hn::IfThenElse(hn::Lt(i, hn::Zero(di)), hn::Add(i, size),
+                        hn::IfThenElse(hn::Lt(i, size), i, hn::Sub(i, size)));
+}
+
+// The decoded texel (x, y) of the lanes' levels (`offset` their first texel, `width` their rows).
+HWY_INLINE Vec4V TexelV(const TextureView& view, VI offset, VI width, VI x, VI y) {
+  const DF df;
+  const DI di;
+  const hn::RebindToUnsigned<DF> du;
+  const auto word = hn::GatherIndex(du, view.texels, hn::Add(offset, hn::Add(hn::Mul(y, width), x)));
+  const auto byte = hn::Set(du, 0xFFu);
+  const auto code = [&](auto shifted) { return hn::BitCast(di, hn::And(shifted, byte)); };
+  return {hn::GatherIndex(df, view.colour, code(word)), hn::GatherIndex(df, view.colour, code(hn::ShiftRight<8>(word))),
+          hn::GatherIndex(df, view.colour, code(hn::ShiftRight<16>(word))),
+          hn::GatherIndex(df, view.alpha, hn::BitCast(di, hn::ShiftRight<24>(word)))};
+}
+
+// a * (1 - f) + b * f per channel, as glm's vec4 arithmetic.
+HWY_INLINE Vec4V LerpV(const Vec4V& a, const Vec4V& b, VF f) {
+  const VF keep = hn::Sub(hn::Set(DF(), 1.0f), f);
+  const auto lerp = [&](VF x, VF y) { return hn::Add(hn::Mul(x, keep), hn::Mul(y, f)); };
+  return {lerp(a.r, b.r), lerp(a.g, b.g), lerp(a.b, b.b), lerp(a.a, b.a)};
+}
+
+// SampleBilinear at each lane's level (u, v in [0, 1]).
+HWY_INLINE Vec4V SampleBilinearV(const TextureView& view, VI level, VF u, VF v) {
+  const DF df;
+  const DI di;
+  const VI width = hn::GatherIndex(di, view.width, level);
+  const VI height = hn::GatherIndex(di, view.height, level);
+  const VI offset = hn::GatherIndex(di, view.offset, level);
+  const VF half = hn::Set(df, 0.5f);
+  const VF x = hn::Sub(hn::Mul(u, hn::ConvertTo(df, width)), half);
+  const VF y = hn::Sub(hn::Mul(hn::Sub(hn::Set(df, 1.0f), v), hn::ConvertTo(df, height)), half);
+  const VF x0 = hn::Floor(x), y0 = hn::Floor(y);
+  const VF fx = hn::Sub(x, x0), fy = hn::Sub(y, y0);
+  const VI one = hn::Set(di, 1);
+  const VI ix = hn::ConvertTo(di, x0), iy = hn::ConvertTo(di, y0);
+  const VI ix0 = WrapIndexV(ix, width), ix1 = WrapIndexV(hn::Add(ix, one), width);
+  const VI iy0 = WrapIndexV(iy, height), iy1 = WrapIndexV(hn::Add(iy, one), height);
+  const Vec4V top = LerpV(TexelV(view, offset, width, ix0, iy0), TexelV(view, offset, width, ix1, iy0), fx);
+  const Vec4V bottom = LerpV(TexelV(view, offset, width, ix0, iy1), TexelV(view, offset, width, ix1, iy1), fx);
+  return LerpV(top, bottom, fy);
+}
+
+// SampleTexture(texture, (u, v), footprint) per lane, every lane of `view`'s texture.
+HWY_INLINE Vec4V SampleTextureV(const TextureView& view, VF u, VF v, VF footprint) {
+  const DF df;
+  const DI di;
+  const VF zero = hn::Zero(df);
+  const VF scaled = hn::Mul(footprint, hn::Set(df, view.baseSide));
+  // A zero or NaN footprint fails both tests: level 0.
+  VF lambda = hn::IfThenElse(hn::Gt(scaled, hn::Set(df, 1.0f)), Log2V(scaled), zero);
+  lambda = hn::IfThenElse(hn::Ge(scaled, hn::Set(df, float(1 << view.lastLevel))), hn::Set(df, float(view.lastLevel)),
+                          lambda);
+  // Repeat: the fraction, 0 for a non-finite coordinate.
+  u = hn::IfThenElseZero(hn::IsFinite(u), hn::Sub(u, hn::Floor(u)));
+  v = hn::IfThenElseZero(hn::IsFinite(v), hn::Sub(v, hn::Floor(v)));
+  const VI level = hn::ConvertTo(di, lambda);
+  const VF blend = hn::Sub(lambda, hn::ConvertTo(df, level));
+  const Vec4V fine = SampleBilinearV(view, level, u, v);
+  const auto exact = hn::Eq(blend, zero);
+  if (hn::AllTrue(df, exact)) return fine;
+  // Lanes on an exact level take it alone; the others' next level exists (lambda < lastLevel).
+  const VI next = hn::Min(hn::Add(level, hn::Set(di, 1)), hn::Set(di, view.lastLevel));
+  const Vec4V mixed = LerpV(fine, SampleBilinearV(view, next, u, v), blend);
+  return {hn::IfThenElse(exact, fine.r, mixed.r), hn::IfThenElse(exact, fine.g, mixed.g),
+          hn::IfThenElse(exact, fine.b, mixed.b), hn::IfThenElse(exact, fine.a, mixed.a)};
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#endif  // SSGI_CORE_TEXTURE_INL_H_
