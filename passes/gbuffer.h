@@ -49,8 +49,8 @@ struct GBufferResolveContext {
   const SurfaceResolver& resolver;  // the scene's surface seen from `view` (SceneRasterInput::Resolver)
   const uint32_t* constantWord0;    // per material: its word 0 when it has no colour or metallic texture
   // Per material: bits 24-31 of word 1 (the roughness code) when it has no roughness texture, and
-  // whether any texture feeds word 0 or 1 (the SIMD kernel resolves those pixels with
-  // GBufferResolvePixelScalar).
+  // whether any texture feeds word 0 or 1 (the SIMD kernel samples those pixels' textures and packs
+  // their words with GBufferPackMaterialScalar).
   const uint32_t* constantRoughnessBits;
   const uint32_t* textured;  // 1 or 0
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
