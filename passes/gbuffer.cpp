@@ -12,6 +12,38 @@
 
 namespace ssgi {
 
+namespace {
+
+// The material part of a pixel's words: 0 (albedo, metallic) and 1 (normal, roughness) of a pixel of
+// `triangle` at surface point `s` with the unit shading normal `normal`: the material's constants
+// times its textures' samples.
+void ResolveMaterial(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
+                     const glm::vec3& normal, uint32_t& word0, uint32_t& word1) {
+  const Scene& scene = context.scene;
+  const uint32_t materialIndex = scene.mesh.materials[triangle];
+  const Material& material = scene.materials[materialIndex];
+  if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
+    word0 = context.constantWord0[materialIndex];
+  } else {
+    glm::vec3 albedo = material.baseColor;
+    float metallic = material.metallic;
+    if (material.baseColorTexture != kNoTexture)
+      albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
+    if (material.metallicTexture != kNoTexture)
+      metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
+    word0 = PackAlbedoMetallic(albedo, metallic);
+  }
+  if (material.roughnessTexture == kNoTexture) {
+    word1 = EncodeNormal(normal, context.normalEncoding) | context.constantRoughnessBits[materialIndex];
+  } else {
+    const float roughness =
+        material.roughness * SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
+    word1 = PackNormalRoughness(normal, roughness, context.normalEncoding);
+  }
+}
+
+}  // namespace
+
 void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
                                uint32_t& word0, uint32_t& word1, uint32_t& word2) {
   const Scene& scene = context.scene;
@@ -29,41 +61,8 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
   // A two-sided surface seen from behind shades with the side that faces the camera.
   const glm::vec3 toPoint = context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
   if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
-  GBufferResolveMaterialScalar(context, triangle, s, normal, word0, word1);
+  ResolveMaterial(context, triangle, s, normal, word0, word1);
   word2 = PackDepth(context.view.DepthFromKey(depthKey));
-}
-
-void GBufferResolveMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
-                                  const glm::vec3& normal, uint32_t& word0, uint32_t& word1) {
-  const Scene& scene = context.scene;
-  const Material& material = scene.materials[scene.mesh.materials[triangle]];
-  const auto sample = [&](int32_t texture) {
-    return texture == kNoTexture ? glm::vec4(0.0f) : SampleTexture(scene.textures[size_t(texture)], s.uv, s.uvFootprint);
-  };
-  GBufferPackMaterialScalar(context, triangle, sample(material.baseColorTexture), sample(material.metallicTexture).x,
-                            sample(material.roughnessTexture).x, normal, word0, word1);
-}
-
-void GBufferPackMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const glm::vec4& baseColor,
-                               float metallicSample, float roughnessSample, const glm::vec3& normal, uint32_t& word0,
-                               uint32_t& word1) {
-  const Scene& scene = context.scene;
-  const uint32_t materialIndex = scene.mesh.materials[triangle];
-  const Material& material = scene.materials[materialIndex];
-  if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
-    word0 = context.constantWord0[materialIndex];
-  } else {
-    glm::vec3 albedo = material.baseColor;
-    float metallic = material.metallic;
-    if (material.baseColorTexture != kNoTexture) albedo *= glm::vec3(baseColor);
-    if (material.metallicTexture != kNoTexture) metallic *= metallicSample;
-    word0 = PackAlbedoMetallic(albedo, metallic);
-  }
-  if (material.roughnessTexture == kNoTexture) {
-    word1 = EncodeNormal(normal, context.normalEncoding) | context.constantRoughnessBits[materialIndex];
-  } else {
-    word1 = PackNormalRoughness(normal, material.roughness * roughnessSample, context.normalEncoding);
-  }
 }
 
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,

@@ -49,8 +49,7 @@ struct GBufferResolveContext {
   const SurfaceResolver& resolver;  // the scene's surface seen from `view` (SceneRasterInput::Resolver)
   const uint32_t* constantWord0;    // per material: its word 0 when it has no colour or metallic texture
   // Per material: bits 24-31 of word 1 (the roughness code) when it has no roughness texture, and
-  // whether any texture feeds word 0 or 1 (the SIMD kernel samples those pixels' textures and packs
-  // their words with GBufferPackMaterialScalar).
+  // whether any texture feeds word 0 or 1 (the SIMD kernel then also samples the pixel's textures).
   const uint32_t* constantRoughnessBits;
   const uint32_t* textured;  // 1 or 0
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
@@ -61,19 +60,6 @@ struct GBufferResolveContext {
 // words 0-2.
 void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
                                uint32_t& word0, uint32_t& word1, uint32_t& word2);
-
-// Its material part: words 0 (albedo, metallic) and 1 (normal, roughness) of a pixel of `triangle`
-// at surface point `s` (its UV and UV footprint; the weights unused) with the unit shading normal
-// `normal` in the view: the material's textures sampled (SampleTexture), then packed by
-// GBufferPackMaterialScalar.
-void GBufferResolveMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
-                                  const glm::vec3& normal, uint32_t& word0, uint32_t& word1);
-// The packing: the material's constants times its textures' samples (baseColor's RGB, the metallic
-// and roughness samples' first channel), each used only where the material has that texture. The
-// SIMD twin samples in vectors and packs per pixel with this.
-void GBufferPackMaterialScalar(const GBufferResolveContext& context, uint32_t triangle, const glm::vec4& baseColor,
-                               float metallicSample, float roughnessSample, const glm::vec3& normal, uint32_t& word0,
-                               uint32_t& word1);
 
 // The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)

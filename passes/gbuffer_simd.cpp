@@ -5,14 +5,15 @@
 // (core/*-inl.h), so every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each
 // compiled target).
 // For pixels of textured materials the vectors also give the UV and its footprint (the neighbouring
-// pixels' rays on the plane, as SurfaceResolver::At) and sample the textures (core/texture-inl.h);
-// the words are packed per pixel by GBufferPackMaterialScalar.
+// pixels' rays on the plane, as SurfaceResolver::At), sample the textures (core/texture-inl.h) and
+// pack the words (core/color-inl.h).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 
 #include "core/camera-inl.h"
+#include "core/color-inl.h"
 #include "core/gbuffer-inl.h"
 #include "core/math-inl.h"
 #include "core/row-inl.h"
@@ -166,6 +167,7 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
   size_t covered = 0;
   HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
+  const int32_t* encodeTable = SrgbEncodeTableForKernels();
   int32_t cachedTexture = kNoTexture;  // the texture cachedView shows
   TextureView cachedView{};
   for (size_t x = 0; x < count; x += lanes) {
@@ -250,16 +252,20 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
                                 uvLength(hn::Sub(downB1, centerB1), hn::Sub(downB2, centerB2)));
     const VF uvFootprint = hn::IfThenElseZero(hn::And(footprintHit, hn::IsFinite(footprint)), footprint);
     // The textures sampled in vectors, a texture at a time over the lanes that read it (a vector
-    // mostly meets one material); packed per pixel (GBufferPackMaterialScalar).
+    // mostly meets one material).
     hn::Store(hn::VecFromMask(du, texturedLanes), du, textured);
     const Scene& scene = in.context->scene;
     HWY_ALIGN int32_t slotTexture[3][HWY_MAX_BYTES / sizeof(float)];
+    HWY_ALIGN float constant[5][HWY_MAX_BYTES / sizeof(float)];  // the material's colour, metallic, roughness
     for (size_t lane = 0; lane < lanes; ++lane) {
       const bool used = textured[lane] != 0;
-      const Material* material = used ? &scene.materials[in.materials[triangles[x + lane]]] : nullptr;
-      slotTexture[0][lane] = used ? material->baseColorTexture : kNoTexture;
-      slotTexture[1][lane] = used ? material->metallicTexture : kNoTexture;
-      slotTexture[2][lane] = used ? material->roughnessTexture : kNoTexture;
+      const Material& material = scene.materials[used ? in.materials[triangles[x + lane]] : 0];
+      slotTexture[0][lane] = used ? material.baseColorTexture : kNoTexture;
+      slotTexture[1][lane] = used ? material.metallicTexture : kNoTexture;
+      slotTexture[2][lane] = used ? material.roughnessTexture : kNoTexture;
+      const float values[5] = {material.baseColor.x, material.baseColor.y, material.baseColor.z, material.metallic,
+                               material.roughness};
+      for (int k = 0; k < 5; ++k) constant[k][lane] = values[k];
     }
     Vec4V sample[3] = {{zero, zero, zero, zero}, {zero, zero, zero, zero}, {zero, zero, zero, zero}};
     for (int slot = 0; slot < 3; ++slot) {
@@ -278,18 +284,23 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
                         hn::IfThenElse(take, texel.b, sample[slot].b), hn::IfThenElse(take, texel.a, sample[slot].a)};
       }
     }
-    HWY_ALIGN float laneValues[9][HWY_MAX_BYTES / sizeof(float)];
-    const VF values[9] = {unit.x,          unit.y,          unit.z,          sample[0].r, sample[0].g,
-                          sample[0].b,     sample[0].a,     sample[1].r,     sample[2].r};
-    for (int k = 0; k < 9; ++k) hn::Store(values[k], df, laneValues[k]);
-    for (size_t lane = 0; lane < lanes && x + lane < count; ++lane) {
-      if (textured[lane] == 0) continue;
-      const size_t i = x + lane;
-      const glm::vec3 shadingNormal(laneValues[0][lane], laneValues[1][lane], laneValues[2][lane]);
-      const glm::vec4 baseColor(laneValues[3][lane], laneValues[4][lane], laneValues[5][lane], laneValues[6][lane]);
-      GBufferPackMaterialScalar(*in.context, triangles[i], baseColor, laneValues[7][lane], laneValues[8][lane],
-                                shadingNormal, word0[i], word1[i]);
-    }
+    // The scalar resolve's packing: the material's constants times the samples of the textures it has.
+    const auto has = [&](int slot) { return hn::Ne(hn::Load(di, slotTexture[slot]), hn::Set(di, kNoTexture)); };
+    const auto times = [&](int slot, int k, VF sampled) {
+      const VF value = hn::Load(df, constant[k]);
+      return hn::IfThenElse(hn::RebindMask(df, has(slot)), hn::Mul(value, sampled), value);
+    };
+    const auto srgb = [&](VF value) { return LinearToSrgbCodeV(value, encodeTable); };
+    const VI albedoMetallic =
+        hn::Or(hn::Or(srgb(times(0, 0, sample[0].r)), hn::ShiftLeft<8>(srgb(times(0, 1, sample[0].g)))),
+               hn::Or(hn::ShiftLeft<16>(srgb(times(0, 2, sample[0].b))),
+                      hn::ShiftLeft<24>(UnormCode8V(times(1, 3, sample[1].r)))));
+    const VI roughness = hn::ShiftLeft<24>(UnormCode8V(hn::Mul(hn::Load(df, constant[4]), sample[2].r)));
+    const auto packs0 = hn::RebindMask(du, hn::Or(has(0), has(1)));
+    storeWords(hn::IfThenElse(packs0, hn::BitCast(du, albedoMetallic), hn::IfThenElseZero(drawn, words0)),
+               hn::IfThenElse(hn::RebindMask(du, has(2)), hn::Or(EncodeNormalV(df, unit, in.encoding), hn::BitCast(du, roughness)),
+                              hn::IfThenElseZero(drawn, words1)),
+               hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
   }
   return covered;
 }

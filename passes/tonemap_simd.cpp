@@ -6,7 +6,7 @@
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 
-#include "core/color.h"
+#include "core/color-inl.h"
 #include "passes/tonemap.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -15,9 +15,8 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // The sRGB codes of one channel of a vector of pixels, as 8-bit lanes.
-template <class DF, class VF = hn::Vec<DF>>
-hn::Vec<hn::Rebind<uint8_t, DF>> TonemapCodes(DF df, VF x, VF scale, bool aces, const int32_t* encodeTable) {
-  const hn::RebindToSigned<DF> di;
+HWY_INLINE hn::Vec<hn::Rebind<uint8_t, DF>> TonemapCodes(VF x, VF scale, bool aces, const int32_t* encodeTable) {
+  const DF df;
   const auto zero = hn::Zero(df);
   x = hn::Mul(x, scale);
   x = hn::IfThenElse(hn::Eq(x, x), x, zero);  // NaN -> 0
@@ -28,29 +27,20 @@ hn::Vec<hn::Rebind<uint8_t, DF>> TonemapCodes(DF df, VF x, VF scale, bool aces, 
         hn::Add(hn::Mul(x, hn::Add(hn::Mul(hn::Set(df, 2.43f), x), hn::Set(df, 0.59f))), hn::Set(df, 0.14f));
     x = hn::Div(numerator, denominator);
   }
-  // LinearToSrgbCode for x >= 0: clamping the bits to the table's range also maps 0 to 0 and
-  // values >= 1 to 255.
-  const auto bits = hn::Min(hn::Max(hn::BitCast(di, x), hn::Set(di, kSrgbEncodeLowBits)),
-                            hn::Set(di, kSrgbEncodeHighBits));
-  const auto bucket = hn::ShiftRight<kSrgbEncodeShift>(hn::Sub(bits, hn::Set(di, kSrgbEncodeLowBits)));
-  const auto entry = hn::GatherIndex(di, encodeTable, bucket);
-  const auto boundary = hn::ShiftRight<8>(entry);
-  const auto pastBoundary = hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kSrgbEncodeOffsetMask)), boundary));
-  const auto code = hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
-  return hn::DemoteTo(hn::Rebind<uint8_t, DF>(), code);
+  return hn::DemoteTo(hn::Rebind<uint8_t, DF>(), LinearToSrgbCodeV(x, encodeTable));  // of min(x, 1)
 }
 
 void TonemapRow(const float* const radiance[3], size_t count, float scale, bool aces, uint8_t* rgb) {
-  const hn::ScalableTag<float> df;
-  const hn::Rebind<uint8_t, decltype(df)> du8;
+  const DF df;
+  const hn::Rebind<uint8_t, DF> du8;
   const int32_t* encodeTable = SrgbEncodeTableForKernels();
   const size_t lanes = hn::Lanes(df);
   const auto scaleV = hn::Set(df, scale);
   size_t i = 0;
   for (; i + lanes <= count; i += lanes) {
-    const auto r = TonemapCodes(df, hn::LoadU(df, radiance[0] + i), scaleV, aces, encodeTable);
-    const auto g = TonemapCodes(df, hn::LoadU(df, radiance[1] + i), scaleV, aces, encodeTable);
-    const auto b = TonemapCodes(df, hn::LoadU(df, radiance[2] + i), scaleV, aces, encodeTable);
+    const auto r = TonemapCodes(hn::LoadU(df, radiance[0] + i), scaleV, aces, encodeTable);
+    const auto g = TonemapCodes(hn::LoadU(df, radiance[1] + i), scaleV, aces, encodeTable);
+    const auto b = TonemapCodes(hn::LoadU(df, radiance[2] + i), scaleV, aces, encodeTable);
     hn::StoreInterleaved3(r, g, b, du8, rgb + 3 * i);
   }
   const float* const tail[3] = {radiance[0] + i, radiance[1] + i, radiance[2] + i};

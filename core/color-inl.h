@@ -1,0 +1,50 @@
+// Highway twins of the 8-bit encoders of core/color.h for the passes' SIMD kernels: the same codes
+// as LinearToSrgbCode and UnormCode8 on every target (tests/core/color_simd_test.cpp). Lanes are
+// values.
+//
+// A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after
+// hwy/highway.h, once per target through hwy/foreach_target.h, outside any namespace.
+#if defined(SSGI_CORE_COLOR_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef SSGI_CORE_COLOR_INL_H_
+#undef SSGI_CORE_COLOR_INL_H_
+#else
+#define SSGI_CORE_COLOR_INL_H_
+#endif
+
+#include "core/color.h"
+#include "core/math-inl.h"
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace ssgi {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// LinearToSrgbCode: 0 for x <= 0 and NaN; else one gather from the encoder's bucket table
+// (`encodeTable`: SrgbEncodeTableForKernels(), fetched once by the caller); clamping the bits to its
+// range maps values >= 1 to 255.
+HWY_INLINE VI LinearToSrgbCodeV(VF x, const int32_t* encodeTable) {
+  const DI di;
+  const VI bits = hn::Min(hn::Max(hn::BitCast(di, x), hn::Set(di, kSrgbEncodeLowBits)), hn::Set(di, kSrgbEncodeHighBits));
+  const VI bucket = hn::ShiftRight<kSrgbEncodeShift>(hn::Sub(bits, hn::Set(di, kSrgbEncodeLowBits)));
+  const VI entry = hn::GatherIndex(di, encodeTable, bucket);
+  const auto pastBoundary =
+      hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kSrgbEncodeOffsetMask)), hn::ShiftRight<8>(entry)));
+  const VI code = hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
+  return hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(x, hn::Zero(DF()))), code);
+}
+
+// UnormCode8: 0 for x <= 0 and NaN, 255 from 1 on, else x * 255 + 0.5 truncated.
+HWY_INLINE VI UnormCode8V(VF x) {
+  const DF df;
+  const DI di;
+  const VI code = hn::ConvertTo(di, hn::Add(hn::Mul(x, hn::Set(df, 255.0f)), hn::Set(df, 0.5f)));
+  const VI clamped = hn::IfThenElse(hn::RebindMask(di, hn::Ge(x, hn::Set(df, 1.0f))), hn::Set(di, 255), code);
+  return hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(x, hn::Zero(df))), clamped);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace ssgi
+HWY_AFTER_NAMESPACE();
+
+#endif  // SSGI_CORE_COLOR_INL_H_
