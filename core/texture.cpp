@@ -116,6 +116,10 @@ Texture LoadTexture(const std::filesystem::path& file, TextureEncoding encoding)
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
   OIIO::ImageBuf image(file.string(), 0, 0, nullptr, &config);
+  // Checked from the header, before the pixels are read.
+  if (image.spec().width > kMaxTextureSide || image.spec().height > kMaxTextureSide)
+    throw InputError(file, "image is " + std::to_string(image.spec().width) + "x" + std::to_string(image.spec().height) +
+                               "; textures may be at most " + std::to_string(kMaxTextureSide) + " texels a side");
   if (!image.read(0, 0, true, OIIO::TypeDesc::UINT8)) throw InputError(file, "cannot read image: " + image.geterror());
   const int channels = image.nchannels();
   if (channels < 1 || channels > 4)
@@ -139,6 +143,8 @@ Texture LoadTexture(const std::filesystem::path& file, TextureEncoding encoding)
 Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEncoding encoding) {
   SSGI_CHECK_GT(width, 0);
   SSGI_CHECK_GT(height, 0);
+  SSGI_CHECK_LE(width, kMaxTextureSide);
+  SSGI_CHECK_LE(height, kMaxTextureSide);
   SSGI_CHECK_EQ(rgba.size(), size_t(width) * size_t(height) * 4);
   Texture texture;
   texture.encoding = encoding;

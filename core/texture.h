@@ -34,14 +34,17 @@ struct Texture {
 };
 
 // Reads an image file into a texture with its mip chain. Throws InputError naming the file when it
-// is missing or unreadable. Grey images are replicated to RGB; missing alpha reads as 1.
+// is missing or unreadable, or a side is longer than kMaxTextureSide. Grey images are replicated to RGB; missing alpha reads as 1.
 Texture LoadTexture(const std::filesystem::path& file, TextureEncoding encoding);
 
 // Builds a texture from 8-bit RGBA texels (top row first); used by tests and procedural content.
 Texture MakeTexture(int width, int height, std::vector<uint8_t> rgba, TextureEncoding encoding);
 
 // What a SIMD kernel reads of a texture (core/texture-inl.h's SampleTextureV): flat arrays.
-inline constexpr int kMaxTextureLevels = 16;  // a 16384-texel side has 15
+inline constexpr int kMaxTextureLevels = 16;
+// The longest side a texture may have: its mip chain has at most kMaxTextureLevels levels (LoadTexture
+// refuses a larger image; 32768 x 32768 texels with their mips still index in 32 bits).
+inline constexpr int kMaxTextureSide = 1 << (kMaxTextureLevels - 1);
 struct TextureView {
   const uint32_t* texels;  // Texture::texels as words, R in the low byte
   int32_t width[kMaxTextureLevels], height[kMaxTextureLevels], offset[kMaxTextureLevels];  // per level

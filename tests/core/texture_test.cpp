@@ -147,6 +147,12 @@ TEST_CASE("LoadTexture reports missing and unreadable files by name", "[texture]
   test::WriteText(dir / "broken.png", "not a png");
   REQUIRE_THROWS_AS(LoadTexture(dir / "broken.png", TextureEncoding::kSrgb), InputError);
   REQUIRE_THROWS_WITH(LoadTexture(dir / "broken.png", TextureEncoding::kSrgb), Catch::Contains("broken.png"));
+  // One texel past the longest side a mip chain of kMaxTextureLevels levels holds; the longest loads.
+  WriteImage(dir / "wide.png", kMaxTextureSide + 1, 1, 1, std::vector<uint8_t>(size_t(kMaxTextureSide) + 1, 7));
+  REQUIRE_THROWS_WITH(LoadTexture(dir / "wide.png", TextureEncoding::kLinear),
+                      Catch::Contains("wide.png") && Catch::Contains("image is 32769x1; textures may be at most 32768"));
+  WriteImage(dir / "longest.png", 1, kMaxTextureSide, 1, std::vector<uint8_t>(size_t(kMaxTextureSide), 7));
+  CHECK(LoadTexture(dir / "longest.png", TextureEncoding::kLinear).levels.size() == size_t(kMaxTextureLevels));
 }
 
 }  // namespace
