@@ -78,6 +78,20 @@ TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t trian
   return data;
 }
 
+// Calls visit(value, holding) for each distinct value of `values` among the lanes `among`, in the
+// order of the first lane holding it; `stored` holds the same values lane by lane, and `holding` is
+// the lanes of `among` that hold `value`.
+template <class D, class Visit>
+HWY_INLINE void ForEachDistinctValue(D d, hn::Vec<D> values, hn::Mask<D> among, const hn::TFromD<D>* stored,
+                                     const Visit& visit) {
+  for (auto remaining = among; !hn::AllFalse(d, remaining);) {
+    const hn::TFromD<D> value = stored[hn::FindFirstTrue(d, remaining)];
+    const auto holding = hn::And(remaining, hn::Eq(values, hn::Set(d, value)));
+    remaining = hn::AndNot(holding, remaining);
+    visit(value, holding);
+  }
+}
+
 // The triangle data of the lanes of `drawn` (`triangle` per lane, as in `triangles`); the other
 // lanes hold some lane's data, never stored. A vector of a row meets few triangles, mostly one, and
 // each is broadcast into the lanes it covers: even at about a triangle per lane (the 1M-triangle
@@ -86,15 +100,15 @@ TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t trian
 TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                            hn::Mask<DU> drawn) {
   const DF df;
-  const DU du;
-  uint32_t next = triangles[hn::FindFirstTrue(du, drawn)];
-  auto remaining = hn::AndNot(hn::Eq(triangle, hn::Set(du, next)), drawn);
-  TriangleData data = BroadcastTriangle(in, next);
-  while (!hn::AllFalse(du, remaining)) {
-    next = triangles[hn::FindFirstTrue(du, remaining)];
-    const auto covers = hn::Eq(triangle, hn::Set(du, next));
-    remaining = hn::AndNot(covers, remaining);
+  TriangleData data;
+  bool first = true;
+  ForEachDistinctValue(DU(), triangle, drawn, triangles, [&](uint32_t next, hn::Mask<DU> covers) {
     const TriangleData more = BroadcastTriangle(in, next);
+    if (first) {
+      data = more;
+      first = false;
+      return;
+    }
     const auto lanes = hn::RebindMask(df, covers);
     data.word0 = hn::IfThenElse(covers, more.word0, data.word0);
     data.roughnessBits = hn::IfThenElse(covers, more.roughnessBits, data.roughnessBits);
@@ -103,7 +117,7 @@ TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* tr
       data.position[v] = IfThenElse3(lanes, more.position[v], data.position[v]);
       data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
     }
-  }
+  });
   return data;
 }
 
@@ -116,13 +130,9 @@ struct TriangleUvs {
 TriangleUvs LoadUvs(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                     hn::Mask<DU> lanes) {
   const DF df;
-  const DU du;
   TriangleUvs uvs{};
   bool first = true;
-  for (auto remaining = lanes; !hn::AllFalse(du, remaining);) {
-    const uint32_t next = triangles[hn::FindFirstTrue(du, remaining)];
-    const auto covers = hn::Eq(triangle, hn::Set(du, next));
-    remaining = hn::AndNot(covers, remaining);
+  ForEachDistinctValue(DU(), triangle, lanes, triangles, [&](uint32_t next, hn::Mask<DU> covers) {
     const uint32_t* index = in.indices + 3 * size_t(next);
     const glm::vec2 uv0(in.uvs[2 * size_t(index[0])], in.uvs[2 * size_t(index[0]) + 1]);
     const glm::vec2 uv1(in.uvs[2 * size_t(index[1])], in.uvs[2 * size_t(index[1]) + 1]);
@@ -135,24 +145,33 @@ TriangleUvs LoadUvs(const GBufferResolveRowInputs& in, const uint32_t* triangles
     set(uvs.u0, uv0.x), set(uvs.v0, uv0.y), set(uvs.du1, d1.x), set(uvs.dv1, d1.y), set(uvs.du2, d2.x);
     set(uvs.dv2, d2.y);
     first = false;
-  }
+  });
   return uvs;
 }
 
-// RayPlaneBarycentrics (core/surface.cpp) of the rays through (px, py) on the planes p0 + b1 e1 + b2
-// e2: returns the lanes where it succeeds (a finite b off a plane not parallel to the ray), b1 and
-// b2 computed in every lane.
-hn::Mask<DF> RayPlaneBarycentricsV(const RayV<DF>& ray, const Vec3V<DF>& p0, const Vec3V<DF>& e1,
-                                   const Vec3V<DF>& e2, VF& b1, VF& b2) {
+// RayPlaneBarycentrics (core/surface.cpp) of the rays through the lanes' pixel positions on the
+// planes p0 + b1 e1 + b2 e2, in its operations and order: b1 and b2 in every lane; `plane` the lanes
+// where the ray is not parallel to the plane (the scalar function writes b there), `hit` those of them
+// where b is also finite (it returns true).
+struct RayPlaneLanes {
+  hn::Mask<DF> plane, hit;
+  VF b1, b2;
+};
+
+RayPlaneLanes RayPlaneBarycentricsV(const RayV<DF>& ray, const Vec3V<DF>& p0, const Vec3V<DF>& e1,
+                                    const Vec3V<DF>& e2) {
   const DF df;
   const Vec3V<DF> p = Cross3(ray.direction, e2);
   const VF det = Dot3(e1, p);
   const VF invDet = hn::Div(hn::Set(df, 1.0f), det);
   const Vec3V<DF> s = Sub3(ray.origin, p0);
   const Vec3V<DF> q = Cross3(s, e1);
-  b1 = hn::Mul(Dot3(s, p), invDet);
-  b2 = hn::Mul(Dot3(ray.direction, q), invDet);
-  return hn::And(hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f)), hn::And(hn::IsFinite(b1), hn::IsFinite(b2)));
+  RayPlaneLanes lanes;
+  lanes.b1 = hn::Mul(Dot3(s, p), invDet);
+  lanes.b2 = hn::Mul(Dot3(ray.direction, q), invDet);
+  lanes.plane = hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f));
+  lanes.hit = hn::And(lanes.plane, hn::And(hn::IsFinite(lanes.b1), hn::IsFinite(lanes.b2)));
+  return lanes;
 }
 
 size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
@@ -192,18 +211,12 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     const Vec3V<DF> e2 = Sub3(data.position[2], p0);
     const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
     const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
-    const Vec3V<DF> p = Cross3(ray.direction, e2);
-    const VF det = Dot3(e1, p);
-    const auto hit = hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f));
-    const VF invDet = hn::Div(one, det);
-    const Vec3V<DF> s = Sub3(ray.origin, p0);
-    const Vec3V<DF> q = Cross3(s, e1);
-    const VF third = hn::Set(df, 1.0f / 3.0f);
-    const VF centerB1 = hn::IfThenElse(hit, hn::Mul(Dot3(s, p), invDet), third);
-    const VF centerB2 = hn::IfThenElse(hit, hn::Mul(Dot3(ray.direction, q), invDet), third);
+    const RayPlaneLanes center = RayPlaneBarycentricsV(ray, p0, e1, e2);
+    const VF third = hn::Set(df, 1.0f / 3.0f);  // where the ray misses the plane
+    const VF centerB1 = hn::IfThenElse(center.plane, center.b1, third);
+    const VF centerB2 = hn::IfThenElse(center.plane, center.b2, third);
     VF b1 = MinStd(MaxStd(centerB1, zero), one);  // glm::clamp(b, 0, 1)
-    VF b2 = centerB2;
-    b2 = MinStd(MaxStd(b2, zero), one);
+    VF b2 = MinStd(MaxStd(centerB2, zero), one);
     const VF sum = hn::Add(b1, b2);
     const auto beyond = hn::Gt(sum, one);
     if (!hn::AllFalse(df, beyond)) {  // rare: only rounding puts a covered pixel beyond an edge
@@ -225,31 +238,30 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
 
     const auto depthKey = LoadRow(df, depthKeys, x, count, 1.0f);
     const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
-    const auto words0 = data.word0;
-    const auto words1 =
-        hn::Or(EncodeNormalV(df, unit, in.encoding), data.roughnessBits);
-    storeWords(hn::IfThenElseZero(drawn, words0), hn::IfThenElseZero(drawn, words1),
-               hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
-
+    const auto words0 = hn::IfThenElseZero(drawn, data.word0);
+    const auto normalCode = EncodeNormalV(df, unit, in.encoding);
+    const auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, data.roughnessBits));
+    const auto words2 = hn::IfThenElse(drawn, hn::BitCast(du, depth), background);
     const auto texturedLanes = hn::And(hn::Ne(data.textured, hn::Zero(du)), drawn);
-    if (hn::AllFalse(du, texturedLanes)) continue;
+    if (hn::AllFalse(du, texturedLanes)) {
+      storeWords(words0, words1, words2);
+      continue;
+    }
     // SurfaceResolver::At's UV at the clamped barycentrics, and its footprint from the unclamped
     // ones of this pixel's ray and of the rays one pixel right and one down (0 where any misses).
     const TriangleUvs uv = LoadUvs(in, triangles + x, triangle, texturedLanes);
     const VF u = hn::Add(hn::Add(uv.u0, hn::Mul(uv.du1, b1)), hn::Mul(uv.du2, b2));
     const VF v = hn::Add(hn::Add(uv.v0, hn::Mul(uv.dv1, b1)), hn::Mul(uv.dv2, b2));
-    VF rightB1, rightB2, downB1, downB2;
-    const auto footprintHit = hn::And(
-        hn::And(hn::And(hit, hn::And(hn::IsFinite(centerB1), hn::IsFinite(centerB2))),
-                RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py), p0, e1, e2, rightB1, rightB2)),
-        RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, py + 1.0f), p0, e1, e2, downB1, downB2));
+    const RayPlaneLanes right = RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py), p0, e1, e2);
+    const RayPlaneLanes down = RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, py + 1.0f), p0, e1, e2);
+    const auto footprintHit = hn::And(center.hit, hn::And(right.hit, down.hit));
     const auto uvLength = [&](VF db1, VF db2) {  // glm::length(du1 * db1 + du2 * db2)
       const VF dU = hn::Add(hn::Mul(uv.du1, db1), hn::Mul(uv.du2, db2));
       const VF dV = hn::Add(hn::Mul(uv.dv1, db1), hn::Mul(uv.dv2, db2));
       return hn::Sqrt(hn::Add(hn::Mul(dU, dU), hn::Mul(dV, dV)));
     };
-    const VF footprint = MaxStd(uvLength(hn::Sub(rightB1, centerB1), hn::Sub(rightB2, centerB2)),
-                                uvLength(hn::Sub(downB1, centerB1), hn::Sub(downB2, centerB2)));
+    const VF footprint = MaxStd(uvLength(hn::Sub(right.b1, centerB1), hn::Sub(right.b2, centerB2)),
+                                uvLength(hn::Sub(down.b1, centerB1), hn::Sub(down.b2, centerB2)));
     const VF uvFootprint = hn::IfThenElseZero(hn::And(footprintHit, hn::IsFinite(footprint)), footprint);
     // The textures sampled in vectors, a texture at a time over the lanes that read it (a vector
     // mostly meets one material).
@@ -267,13 +279,12 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
                                material.roughness};
       for (int k = 0; k < 5; ++k) constant[k][lane] = values[k];
     }
+    hn::Mask<DI> has[3];  // the lanes whose material has the slot's texture
     Vec4V sample[3] = {{zero, zero, zero, zero}, {zero, zero, zero, zero}, {zero, zero, zero, zero}};
     for (int slot = 0; slot < 3; ++slot) {
-      auto remaining = hn::Ne(hn::Load(di, slotTexture[slot]), hn::Set(di, kNoTexture));
-      while (!hn::AllFalse(di, remaining)) {
-        const int32_t texture = slotTexture[slot][hn::FindFirstTrue(di, remaining)];
-        const auto reads = hn::And(remaining, hn::Eq(hn::Load(di, slotTexture[slot]), hn::Set(di, texture)));
-        remaining = hn::AndNot(reads, remaining);
+      const VI textures = hn::Load(di, slotTexture[slot]);
+      has[slot] = hn::Ne(textures, hn::Set(di, kNoTexture));
+      ForEachDistinctValue(di, textures, has[slot], slotTexture[slot], [&](int32_t texture, hn::Mask<DI> reads) {
         if (texture != cachedTexture) {
           cachedView = ViewOf(scene.textures[size_t(texture)]);
           cachedTexture = texture;
@@ -282,13 +293,12 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
         const auto take = hn::RebindMask(df, reads);
         sample[slot] = {hn::IfThenElse(take, texel.r, sample[slot].r), hn::IfThenElse(take, texel.g, sample[slot].g),
                         hn::IfThenElse(take, texel.b, sample[slot].b), hn::IfThenElse(take, texel.a, sample[slot].a)};
-      }
+      });
     }
     // The scalar resolve's packing: the material's constants times the samples of the textures it has.
-    const auto has = [&](int slot) { return hn::Ne(hn::Load(di, slotTexture[slot]), hn::Set(di, kNoTexture)); };
     const auto times = [&](int slot, int k, VF sampled) {
       const VF value = hn::Load(df, constant[k]);
-      return hn::IfThenElse(hn::RebindMask(df, has(slot)), hn::Mul(value, sampled), value);
+      return hn::IfThenElse(hn::RebindMask(df, has[slot]), hn::Mul(value, sampled), value);
     };
     const auto srgb = [&](VF value) { return LinearToSrgbCodeV(value, encodeTable); };
     const VI albedoMetallic =
@@ -296,11 +306,10 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
                hn::Or(hn::ShiftLeft<16>(srgb(times(0, 2, sample[0].b))),
                       hn::ShiftLeft<24>(UnormCode8V(times(1, 3, sample[1].r)))));
     const VI roughness = hn::ShiftLeft<24>(UnormCode8V(hn::Mul(hn::Load(df, constant[4]), sample[2].r)));
-    const auto packs0 = hn::RebindMask(du, hn::Or(has(0), has(1)));
-    storeWords(hn::IfThenElse(packs0, hn::BitCast(du, albedoMetallic), hn::IfThenElseZero(drawn, words0)),
-               hn::IfThenElse(hn::RebindMask(du, has(2)), hn::Or(EncodeNormalV(df, unit, in.encoding), hn::BitCast(du, roughness)),
-                              hn::IfThenElseZero(drawn, words1)),
-               hn::IfThenElse(drawn, hn::BitCast(du, depth), background));
+    storeWords(hn::IfThenElse(hn::RebindMask(du, hn::Or(has[0], has[1])), hn::BitCast(du, albedoMetallic), words0),
+               hn::IfThenElse(hn::RebindMask(du, has[2]),
+                              hn::Or(normalCode, hn::BitCast(du, roughness)), words1),
+               words2);
   }
   return covered;
 }
