@@ -316,10 +316,14 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
     const VD keyAtOrigin = hn::Add(hn::Add(key[0], hn::Mul(keyDx, hn::Sub(half, hn::Mul(x[0], toPixels)))),
                                    hn::Mul(keyDy, hn::Sub(half, hn::Mul(y[0], toPixels))));
 
-    HWY_ALIGN double lane[15][kMaxLanes];
-    const VD fields[15] = {x[0], x[1], x[2], y[0], y[1], y[2], minX, maxX, minY, maxY, keyDx, keyDy, keyAtOrigin,
-                           hn::VecFromMask(dd, culled), hn::VecFromMask(dd, edgesFit)};
-    for (int f = 0; f < 15; ++f) hn::Store(fields[f], dd, lane[f]);
+    // The lanes' results, a row per field, read back per triangle below.
+    enum Field {
+      kX0, kY0 = kX0 + 3, kMinX = kY0 + 3, kMaxX, kMinY, kMaxY, kKeyDx, kKeyDy, kKeyAtOrigin, kCulled, kEdgesFit, kFields
+    };
+    HWY_ALIGN double lane[kFields][kMaxLanes];
+    const VD fields[kFields] = {x[0], x[1], x[2], y[0], y[1], y[2], minX, maxX, minY, maxY, keyDx, keyDy, keyAtOrigin,
+                                hn::VecFromMask(dd, culled), hn::VecFromMask(dd, edgesFit)};
+    for (int f = 0; f < kFields; ++f) hn::Store(fields[f], dd, lane[f]);
     HWY_ALIGN int64_t any[kMaxLanes], all[kMaxLanes];
     hn::Store(outsideAny, dl, any);
     hn::Store(outsideAll, dl, all);
@@ -329,23 +333,23 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
         result = TriangleSetUp::kCulled;
       } else if (any[j] != 0) {
         result = TriangleSetUp::kClip;
-      } else if (lane[13][j] != 0.0) {  // an all-ones mask is a NaN, not 0
+      } else if (lane[kCulled][j] != 0.0) {  // an all-ones mask is a NaN, not 0
         result = TriangleSetUp::kCulled;
       } else {
         result = TriangleSetUp::kSetUp;
         ScreenTriangle& t = out[setUp++];
         for (int k = 0; k < 3; ++k) {
-          t.x[k] = int32_t(lane[k][j]);
-          t.y[k] = int32_t(lane[3 + k][j]);
+          t.x[k] = int32_t(lane[kX0 + k][j]);
+          t.y[k] = int32_t(lane[kY0 + k][j]);
         }
-        t.minX = int16_t(lane[6][j]);
-        t.maxX = int16_t(lane[7][j]);
-        t.minY = int16_t(lane[8][j]);
-        t.maxY = int16_t(lane[9][j]);
-        t.keyDx = lane[10][j];
-        t.keyDy = lane[11][j];
-        t.keyAtOrigin = lane[12][j];
-        t.edgesFit32Bits = lane[14][j] != 0.0;
+        t.minX = int16_t(lane[kMinX][j]);
+        t.maxX = int16_t(lane[kMaxX][j]);
+        t.minY = int16_t(lane[kMinY][j]);
+        t.maxY = int16_t(lane[kMaxY][j]);
+        t.keyDx = lane[kKeyDx][j];
+        t.keyDy = lane[kKeyDy][j];
+        t.keyAtOrigin = lane[kKeyAtOrigin][j];
+        t.edgesFit32Bits = lane[kEdgesFit][j] != 0.0;
         t.triangle = first + uint32_t(i + j);
         t.flags = flags ? flags[t.triangle] : uint8_t(0);
       }
