@@ -7,7 +7,6 @@
 #include <cctype>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/plane.h"
@@ -25,6 +24,15 @@ size_t PlaneBytes(size_t width, size_t height) {
 
 // What the rasterizer keeps per submitted triangle: the set-up triangle and its tile-bin entries.
 constexpr size_t kRasterBytesPerTriangle = 160;
+
+// Field `field` (0 the size, 1 the resident set, 2 its file-backed part: RssFile + RssShmem) of
+// /proc/self/statm, in bytes; 0 where unknown.
+size_t StatmBytes(int field) {
+  std::ifstream statm("/proc/self/statm");
+  size_t pages[3] = {};
+  if (!(statm >> pages[0] >> pages[1] >> pages[2])) return 0;
+  return pages[field] * size_t(::sysconf(_SC_PAGESIZE));
+}
 
 }  // namespace
 
@@ -100,24 +108,9 @@ size_t AvailableMemoryBytes() {
   return 0;
 }
 
-size_t ResidentBytes() {
-  std::ifstream statm("/proc/self/statm");
-  size_t pages = 0, resident = 0;
-  if (!(statm >> pages >> resident)) return 0;
-  return resident * size_t(::sysconf(_SC_PAGESIZE));
-}
+size_t ResidentBytes() { return StatmBytes(1); }
 
-size_t ResidentFileBytes() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  size_t bytes = 0;
-  for (std::string line; std::getline(status, line);) {
-    std::istringstream fields(line);
-    size_t kib = 0;
-    if (fields >> key >> kib && (key == "RssFile:" || key == "RssShmem:")) bytes += kib * 1024;
-  }
-  return bytes;
-}
+size_t ResidentFileBytes() { return StatmBytes(2); }
 
 size_t PeakResidentBytes() {
   rusage usage{};
