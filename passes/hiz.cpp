@@ -26,6 +26,8 @@ void ShapeLevels(size_t width, size_t height, std::vector<Plane<float>>& levels)
 // Levels per parallel region: a band of the first region is 16 rows of level 0 (kRowsPerBand,
 // core/parallel.h) and the levels 1..4 they make.
 constexpr size_t kLevelsPerRegion = 5;
+// About 2 us of downsampling (128 x 128 texels), below the cost of a parallel region.
+constexpr size_t kTexelsMadeInline = size_t(128) * 128;
 
 }  // namespace
 
@@ -76,13 +78,19 @@ HiZStats RunHiZ(const Plane<uint32_t>& depthWord, HiZ& out, KernelPath kernels) 
   for (size_t first = 0; first < levels;) {
     const size_t last = std::min(levels - 1, first + kLevelsPerRegion - 1);
     const size_t bands = out.levels[last].ysize();
-    ParallelFor("hiz.levels", bands, [&](size_t band) {
+    const auto makeBand = [&](size_t band) {
       for (size_t k = first; k <= last; ++k) {
         const size_t shift = last - k;
         const size_t yEnd = band + 1 == bands ? out.levels[k].ysize() : (band + 1) << shift;
         for (size_t y = band << shift; y < yEnd; ++y) makeRow(k, y);
       }
-    });
+    };
+    // A region this small takes less time than waking a worker: the calling thread makes it.
+    if (out.levels[first].xsize() * out.levels[first].ysize() <= kTexelsMadeInline) {
+      for (size_t band = 0; band < bands; ++band) makeBand(band);
+    } else {
+      ParallelFor("hiz.levels", bands, makeBand);
+    }
     for (size_t k = first; k <= last; ++k) stats.texels += out.levels[k].xsize() * out.levels[k].ysize();
     first = last + 1;
   }
