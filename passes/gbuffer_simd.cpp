@@ -189,6 +189,11 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   const int32_t* encodeTable = SrgbEncodeTableForKernels();
   int32_t cachedTexture = kNoTexture;  // the texture cachedView shows
   TextureView cachedView{};
+  // A triangle mostly covers several vectors of a row in a run: the last one broadcast alone is
+  // kept for the next vector that meets only it.
+  uint32_t broadcastTriangle = kNoTriangle;
+  TriangleData broadcast;
+  TriangleData mixed;
   for (size_t x = 0; x < count; x += lanes) {
     const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
@@ -202,7 +207,14 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
       continue;
     }
     covered += hn::CountTrue(du, drawn);
-    const TriangleData data = LoadTriangles(in, triangles + x, triangle, drawn);
+    const uint32_t firstTriangle = triangles[x + hn::FindFirstTrue(du, drawn)];
+    const bool oneTriangle = hn::AllFalse(du, hn::AndNot(hn::Eq(triangle, hn::Set(du, firstTriangle)), drawn));
+    if (oneTriangle && firstTriangle != broadcastTriangle) {
+      broadcast = BroadcastTriangle(in, firstTriangle);
+      broadcastTriangle = firstTriangle;
+    }
+    if (!oneTriangle) mixed = LoadTriangles(in, triangles + x, triangle, drawn);
+    const TriangleData& data = oneTriangle ? broadcast : mixed;
 
     // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
     // (Moller-Trumbore without the bounds test), clamped into the triangle.
