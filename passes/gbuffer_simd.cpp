@@ -60,7 +60,7 @@ struct TriangleData {
 };
 
 // The data of one triangle in every lane.
-TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
+HWY_INLINE TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
   const DF df;
   const DU du;
   TriangleData data;
