@@ -158,7 +158,7 @@ struct RayPlaneLanes {
   VF b1, b2;
 };
 
-RayPlaneLanes RayPlaneBarycentricsV(const RayV<DF>& ray, const Vec3V<DF>& p0, const Vec3V<DF>& e1,
+HWY_INLINE RayPlaneLanes RayPlaneBarycentricsV(const RayV<DF>& ray, const Vec3V<DF>& p0, const Vec3V<DF>& e1,
                                     const Vec3V<DF>& e2) {
   const DF df;
   const Vec3V<DF> p = Cross3(ray.direction, e2);
