@@ -149,26 +149,44 @@ TriangleUvs LoadUvs(const GBufferResolveRowInputs& in, const uint32_t* triangles
   return uvs;
 }
 
-// RayPlaneBarycentrics (core/surface.cpp) of the rays through the lanes' pixel positions on the
-// planes p0 + b1 e1 + b2 e2, in its operations and order: b1 and b2 in every lane; `plane` the lanes
-// where the ray is not parallel to the plane (the scalar function writes b there), `hit` those of them
-// where b is also finite (it returns true).
+// What RayPlaneBarycentrics (core/surface.cpp) and the normal's face test compute of the lanes'
+// planes p0 + b1 e1 + b2 e2 alone: the edges, the face normal e1 x e2, and for rays from the camera
+// centre (RunGBuffer's views are perspective) the offset s = 0 - p0 and q = s x e1. So a triangle's
+// terms serve every vector it alone covers.
+struct PlaneTerms {
+  Vec3V<DF> e1, e2, face, s, q;
+};
+
+HWY_INLINE PlaneTerms PlaneTermsOf(const TriangleData& data) {
+  const DF df;
+  const Vec3V<DF> origin = {hn::Zero(df), hn::Zero(df), hn::Zero(df)};  // PixelRayV's perspective origin
+  const Vec3V<DF>& p0 = data.position[0];
+  PlaneTerms terms;
+  terms.e1 = Sub3(data.position[1], p0);
+  terms.e2 = Sub3(data.position[2], p0);
+  terms.face = Cross3(terms.e1, terms.e2);
+  terms.s = Sub3(origin, p0);
+  terms.q = Cross3(terms.s, terms.e1);
+  return terms;
+}
+
+// RayPlaneBarycentrics of the rays from the camera centre with direction `direction`, in its
+// operations and order: b1 and b2 in every lane; `plane` the lanes where the ray is not parallel to
+// the plane (the scalar function writes b there), `hit` those of them where b is also finite (it
+// returns true).
 struct RayPlaneLanes {
   hn::Mask<DF> plane, hit;
   VF b1, b2;
 };
 
-HWY_INLINE RayPlaneLanes RayPlaneBarycentricsV(const RayV<DF>& ray, const Vec3V<DF>& p0, const Vec3V<DF>& e1,
-                                    const Vec3V<DF>& e2) {
+HWY_INLINE RayPlaneLanes RayPlaneBarycentricsV(const Vec3V<DF>& direction, const PlaneTerms& terms) {
   const DF df;
-  const Vec3V<DF> p = Cross3(ray.direction, e2);
-  const VF det = Dot3(e1, p);
+  const Vec3V<DF> p = Cross3(direction, terms.e2);
+  const VF det = Dot3(terms.e1, p);
   const VF invDet = hn::Div(hn::Set(df, 1.0f), det);
-  const Vec3V<DF> s = Sub3(ray.origin, p0);
-  const Vec3V<DF> q = Cross3(s, e1);
   RayPlaneLanes lanes;
-  lanes.b1 = hn::Mul(Dot3(s, p), invDet);
-  lanes.b2 = hn::Mul(Dot3(ray.direction, q), invDet);
+  lanes.b1 = hn::Mul(Dot3(terms.s, p), invDet);
+  lanes.b2 = hn::Mul(Dot3(direction, terms.q), invDet);
   lanes.plane = hn::Gt(hn::Abs(det), hn::Set(df, 1e-30f));
   lanes.hit = hn::And(lanes.plane, hn::And(hn::IsFinite(lanes.b1), hn::IsFinite(lanes.b2)));
   return lanes;
@@ -193,7 +211,9 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   // kept for the next vector that meets only it.
   uint32_t broadcastTriangle = kNoTriangle;
   TriangleData broadcast;
+  PlaneTerms broadcastTerms;
   TriangleData mixed;
+  PlaneTerms mixedTerms;
   for (size_t x = 0; x < count; x += lanes) {
     const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
@@ -209,21 +229,23 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     covered += hn::CountTrue(du, drawn);
     const uint32_t firstTriangle = triangles[x + hn::FindFirstTrue(du, drawn)];
     const bool oneTriangle = hn::AllFalse(du, hn::AndNot(hn::Eq(triangle, hn::Set(du, firstTriangle)), drawn));
+    const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
+    const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
     if (oneTriangle && firstTriangle != broadcastTriangle) {
       broadcast = BroadcastTriangle(in, firstTriangle);
+      broadcastTerms = PlaneTermsOf(broadcast);
       broadcastTriangle = firstTriangle;
     }
-    if (!oneTriangle) mixed = LoadTriangles(in, triangles + x, triangle, drawn);
+    if (!oneTriangle) {
+      mixed = LoadTriangles(in, triangles + x, triangle, drawn);
+      mixedTerms = PlaneTermsOf(mixed);
+    }
     const TriangleData& data = oneTriangle ? broadcast : mixed;
+    const PlaneTerms& terms = oneTriangle ? broadcastTerms : mixedTerms;
 
     // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
     // (Moller-Trumbore without the bounds test), clamped into the triangle.
-    const Vec3V<DF>& p0 = data.position[0];
-    const Vec3V<DF> e1 = Sub3(data.position[1], p0);
-    const Vec3V<DF> e2 = Sub3(data.position[2], p0);
-    const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
-    const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
-    const RayPlaneLanes center = RayPlaneBarycentricsV(ray, p0, e1, e2);
+    const RayPlaneLanes center = RayPlaneBarycentricsV(ray.direction, terms);
     const VF third = hn::Set(df, 1.0f / 3.0f);  // where the ray misses the plane
     const VF centerB1 = hn::IfThenElse(center.plane, center.b1, third);
     const VF centerB2 = hn::IfThenElse(center.plane, center.b2, third);
@@ -242,7 +264,7 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
                                         Scale3(data.normal[2], b2));
     const Vec3V<DF> normal = MulMat3(df, in.normalToView, interpolated);
     const VF length = Length3(normal);
-    const Vec3V<DF> faceNormal = Cross3(e1, e2);
+    const Vec3V<DF>& faceNormal = terms.face;
     const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
     Vec3V<DF> unit = Div3(normal, length);
     if (!hn::AllTrue(df, usable)) unit = IfThenElse3(usable, unit, Normalize3(df, faceNormal));
@@ -264,8 +286,8 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
     const TriangleUvs uv = LoadUvs(in, triangles + x, triangle, texturedLanes);
     const VF u = hn::Add(hn::Add(uv.u0, hn::Mul(uv.du1, b1)), hn::Mul(uv.du2, b2));
     const VF v = hn::Add(hn::Add(uv.v0, hn::Mul(uv.dv1, b1)), hn::Mul(uv.dv2, b2));
-    const RayPlaneLanes right = RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py), p0, e1, e2);
-    const RayPlaneLanes down = RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, py + 1.0f), p0, e1, e2);
+    const RayPlaneLanes right = RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py).direction, terms);
+    const RayPlaneLanes down = RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, py + 1.0f).direction, terms);
     const auto footprintHit = hn::And(center.hit, hn::And(right.hit, down.hit));
     const auto uvLength = [&](VF db1, VF db2) {  // glm::length(du1 * db1 + du2 * db2)
       const VF dU = hn::Add(hn::Mul(uv.du1, db1), hn::Mul(uv.du2, db2));
