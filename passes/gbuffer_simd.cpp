@@ -13,6 +13,7 @@
 #include "hwy/highway.h"
 
 #include "core/camera-inl.h"
+#include "core/check.h"
 #include "core/color-inl.h"
 #include "core/gbuffer-inl.h"
 #include "core/math-inl.h"
@@ -360,6 +361,8 @@ HWY_EXPORT(GBufferResolveRow);
 
 size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
                              int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+  // The twin's rays all start at the camera centre (PlaneTermsOf); the scalar kernel's would not.
+  SSGI_CHECK(!context.view.orthographic);
   const Mesh& mesh = context.scene.mesh;
   const GBufferResolveRowInputs in{
       &context,
