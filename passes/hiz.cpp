@@ -26,7 +26,9 @@ void ShapeLevels(size_t width, size_t height, std::vector<Plane<float>>& levels)
 // Levels per parallel region: a band of the first region is 16 rows of level 0 (kRowsPerBand,
 // core/parallel.h) and the levels 1..4 they make.
 constexpr size_t kLevelsPerRegion = 5;
-// About 2 us of downsampling (128 x 128 texels), below the cost of a parallel region.
+// A region of levels from one this small (the last two of a 1024 or 2048 image) is microseconds of
+// downsampling, less than waking a worker for it: 0.077 -> 0.069 ms for the 1024 pyramid at 2
+// threads when made inline.
 constexpr size_t kTexelsMadeInline = size_t(128) * 128;
 
 }  // namespace
