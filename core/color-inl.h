@@ -20,18 +20,22 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// LinearToSrgbCode: 0 for x <= 0 and NaN; else one gather from the encoder's bucket table
-// (`encodeTable`: SrgbEncodeTableForKernels(), fetched once by the caller); clamping the bits to its
-// range maps values >= 1 to 255.
-HWY_INLINE VI LinearToSrgbCodeV(VF x, const int32_t* encodeTable) {
+// BucketCode (core/color.h) of each lane's bits: one gather from the table's entries.
+HWY_INLINE VI BucketCodeV(VI bits, const int32_t* entries, int32_t lowBits, int32_t highBits) {
   const DI di;
-  const VI bits = hn::Min(hn::Max(hn::BitCast(di, x), hn::Set(di, kSrgbEncodeLowBits)), hn::Set(di, kSrgbEncodeHighBits));
-  const VI bucket = hn::ShiftRight<kSrgbEncodeShift>(hn::Sub(bits, hn::Set(di, kSrgbEncodeLowBits)));
-  const VI entry = hn::GatherIndex(di, encodeTable, bucket);
-  const auto pastBoundary =
-      hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kSrgbEncodeOffsetMask)), hn::ShiftRight<8>(entry)));
-  const VI code = hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
-  return hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(x, hn::Zero(DF()))), code);
+  bits = hn::Min(hn::Max(bits, hn::Set(di, lowBits)), hn::Set(di, highBits));
+  const VI bucket = hn::ShiftRight<kCodeBucketShift>(hn::Sub(bits, hn::Set(di, lowBits)));
+  const VI entry = hn::GatherIndex(di, entries, bucket);
+  const auto pastBoundary = hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::ShiftRight<8>(entry)));
+  return hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
+}
+
+// LinearToSrgbCode: 0 for x <= 0 and NaN; else BucketCodeV of the encoder's buckets
+// (`encodeTable`: SrgbEncodeTableForKernels(), fetched once by the caller); clamping the bits to
+// their range maps values >= 1 to 255.
+HWY_INLINE VI LinearToSrgbCodeV(VF x, const int32_t* encodeTable) {
+  const VI code = BucketCodeV(hn::BitCast(DI(), x), encodeTable, kSrgbEncodeLowBits, kSrgbEncodeHighBits);
+  return hn::IfThenElseZero(hn::RebindMask(DI(), hn::Gt(x, hn::Zero(DF()))), code);
 }
 
 // UnormCode8: 0 for x <= 0 and NaN, 255 from 1 on, else x * 255 + 0.5 truncated.

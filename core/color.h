@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <vector>
 
 namespace ssgi {
 
@@ -24,18 +25,37 @@ const float* SrgbDecodeTableForKernels();
 // Values below 0 (and NaN) give 0, above 1 give 255.
 uint8_t LinearToSrgbCode(float linear);
 
-// The table behind LinearToSrgbCode, for SIMD kernels that must give the same codes with one
-// gather. With b = clamp(bits(x), kSrgbEncodeLowBits, kSrgbEncodeHighBits) and
-// e = entries[(b - kSrgbEncodeLowBits) >> kSrgbEncodeShift]:
-//   code = (e & 0xFF) + ((b & kSrgbEncodeOffsetMask) >= (e >> 8)).
-// A bucket (2^kSrgbEncodeShift consecutive floats) holds at most one code boundary; the entry packs
-// the code of the bucket's smallest float and the boundary's position inside the bucket
-// (2^kSrgbEncodeShift, never reached, when there is none). Valid for x >= 0 and not NaN.
-inline constexpr int kSrgbEncodeShift = 16;
-inline constexpr int32_t kSrgbEncodeLowBits = 0x39000000;   // 2^-13, below the first boundary
-inline constexpr int32_t kSrgbEncodeHighBits = 0x3F7FFFFF;  // the largest float below 1
-inline constexpr int32_t kSrgbEncodeOffsetMask = (1 << kSrgbEncodeShift) - 1;
-const int32_t* SrgbEncodeTableForKernels();
+// A non-decreasing map from floats to 8-bit codes as a table that SIMD kernels read with one gather:
+// code(x) = the number of the 255 increasing `boundaries` at or below x. With
+// b = clamp(bits(x), lowBits, highBits) and e = entries[(b - lowBits) >> kCodeBucketShift]:
+//   code = (e & 0xFF) + ((b & kCodeBucketOffsetMask) >= (e >> 8)).
+// Positive floats order like their bit patterns. A bucket (2^kCodeBucketShift consecutive floats)
+// holds at most one boundary (checked as the table is built); the entry packs the code of the
+// bucket's smallest float and the boundary's position inside it (2^kCodeBucketShift, never reached,
+// when there is none). Exact for x >= 0 and not NaN when lowBits lies below the first boundary
+// (negative floats clamp to it: code 0) and highBits at or above the last (code 255 from there).
+inline constexpr int kCodeBucketShift = 16;
+inline constexpr int32_t kCodeBucketOffsetMask = (1 << kCodeBucketShift) - 1;
+struct CodeBuckets {
+  std::vector<int32_t> entries;  // 32-bit so SIMD kernels can gather them
+  int32_t lowBits = 0, highBits = 0;
+};
+CodeBuckets MakeCodeBuckets(const float* boundaries, int32_t lowBits, int32_t highBits);
+inline uint8_t BucketCode(const CodeBuckets& buckets, int32_t bits) {
+  bits = std::min(std::max(bits, buckets.lowBits), buckets.highBits);
+  const int32_t entry = buckets.entries[size_t((bits - buckets.lowBits) >> kCodeBucketShift)];
+  return uint8_t((entry & 0xFF) + ((bits & kCodeBucketOffsetMask) >= (entry >> 8)));
+}
+
+// The buckets behind LinearToSrgbCode (boundaries: the linear values halfway between codes in
+// encoded space), from 2^-13 (below the first boundary) to the largest float below 1.
+inline constexpr int32_t kSrgbEncodeLowBits = 0x39000000;
+inline constexpr int32_t kSrgbEncodeHighBits = 0x3F7FFFFF;
+const CodeBuckets& SrgbEncodeBuckets();
+// Its boundaries: thresholds[k] = SrgbToLinear((k + 0.5) / 255), k = 0..254, where code k rounds up
+// to k + 1.
+const float* SrgbEncodeThresholds();
+const int32_t* SrgbEncodeTableForKernels();  // SrgbEncodeBuckets().entries
 
 // The largest half float. The frame's radiance buffers (direct light, the colour pyramid, the
 // cone-traced reflection) hold finite values in [0, kMaxRadiance]: they fit a GPU port's half-float

@@ -1,6 +1,8 @@
 #include "passes/tonemap.h"
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -10,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/color.h"
+#include "core/parallel.h"
 #include "passes/frame.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
@@ -63,6 +66,50 @@ TEST_CASE("tonemap: the SIMD kernel equals the scalar definition on every compil
     }
   }
   CHECK(targets >= 6);
+}
+
+TEST_CASE("tonemap: ACES codes count the thresholds the curve reaches, for every float up to the largest input",
+          "[tonemap]") {
+  // Walks every float from 0 to kTonemapMaxInput in order: AcesCurve must never decrease (so each
+  // code boundary is unique), and the table's code must be the number of the encoder's thresholds
+  // the curve reaches. (In float arithmetic the curve is not monotone: it crosses code boundaries
+  // back and forth at 131 floats, which is why the definition evaluates it in double.)
+  const int32_t maxBits = std::bit_cast<int32_t>(kTonemapMaxInput);
+  const float* thresholds = SrgbEncodeThresholds();
+  std::atomic<int64_t> decreases{0}, mismatches{0}, firstMismatch{std::numeric_limits<int64_t>::max()};
+  constexpr int32_t kChunk = 1 << 22;
+  ParallelFor("test.tonemap_aces_codes", size_t(maxBits / kChunk) + 1, [&](size_t chunk) {
+    const int32_t begin = int32_t(chunk) * kChunk, end = std::min(begin + kChunk - 1, maxBits);
+    double previous = AcesCurve(begin > 0 ? std::bit_cast<float>(begin - 1) : 0.0f);
+    int code = int(std::upper_bound(thresholds, thresholds + 255, previous,
+                                    [](double value, float threshold) { return value < double(threshold); }) -
+                   thresholds);
+    int64_t chunkDecreases = 0, chunkMismatches = 0;
+    for (int32_t bits = begin;; ++bits) {
+      const float x = std::bit_cast<float>(bits);
+      const double curve = AcesCurve(x);
+      chunkDecreases += curve < previous;
+      previous = curve;
+      while (code < 255 && curve >= double(thresholds[code])) ++code;
+      if (int(TonemapCode(x, Tonemap::kAces)) != (x > 0.0f ? code : 0)) {
+        ++chunkMismatches;
+        int64_t first = firstMismatch.load();
+        while (bits < first && !firstMismatch.compare_exchange_weak(first, bits)) {
+        }
+      }
+      if (bits == end) break;
+    }
+    decreases += chunkDecreases;
+    mismatches += chunkMismatches;
+  });
+  CAPTURE(firstMismatch.load());
+  CHECK(decreases.load() == 0);
+  CHECK(mismatches.load() == 0);
+  // The clamp curve is the sRGB encoder of min(x, 1).
+  for (uint32_t bits = 0; bits <= uint32_t(maxBits); bits += 4099) {
+    const float x = std::bit_cast<float>(bits);
+    CHECK(TonemapCode(x, Tonemap::kClamp) == LinearToSrgbCode(std::min(x, 1.0f)));
+  }
 }
 
 TEST_CASE("tonemap: special values encode as documented", "[tonemap]") {
