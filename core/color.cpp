@@ -69,8 +69,6 @@ const CodeBuckets& SrgbEncodeBuckets() { return Tables().encode; }
 
 const float* SrgbEncodeThresholds() { return Tables().thresholds.data(); }
 
-const int32_t* SrgbEncodeTableForKernels() { return Tables().encode.entries.data(); }
-
 float SrgbCodeToLinear(uint8_t code) { return Tables().codeToLinear[code]; }
 
 const float* SrgbDecodeTableForKernels() { return Tables().codeToLinear.data(); }

@@ -55,7 +55,6 @@ const CodeBuckets& SrgbEncodeBuckets();
 // Its boundaries: thresholds[k] = SrgbToLinear((k + 0.5) / 255), k = 0..254, where code k rounds up
 // to k + 1.
 const float* SrgbEncodeThresholds();
-const int32_t* SrgbEncodeTableForKernels();  // SrgbEncodeBuckets().entries
 
 // The largest half float. The frame's radiance buffers (direct light, the colour pyramid, the
 // cone-traced reflection) hold finite values in [0, kMaxRadiance]: they fit a GPU port's half-float

@@ -205,7 +205,7 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
   size_t covered = 0;
   HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
-  const int32_t* encodeTable = SrgbEncodeTableForKernels();
+  const CodeBuckets& encode = SrgbEncodeBuckets();
   int32_t cachedTexture = kNoTexture;  // the texture cachedView shows
   TextureView cachedView{};
   // A triangle mostly covers several vectors of a row in a run: the last one broadcast alone is
@@ -335,7 +335,7 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
       const VF value = hn::Load(df, constant[k]);
       return hn::IfThenElse(hn::RebindMask(df, has[slot]), hn::Mul(value, sampled), value);
     };
-    const auto srgb = [&](VF value) { return LinearToSrgbCodeV(value, encodeTable); };
+    const auto srgb = [&](VF value) { return LinearToSrgbCodeV(value, encode); };
     const VI albedoMetallic =
         hn::Or(hn::Or(srgb(times(0, 0, sample[0].r)), hn::ShiftLeft<8>(srgb(times(0, 1, sample[0].g)))),
                hn::Or(hn::ShiftLeft<16>(srgb(times(0, 2, sample[0].b))),

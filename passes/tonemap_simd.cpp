@@ -20,7 +20,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 HWY_INLINE hn::Vec<hn::Rebind<uint8_t, DF>> TonemapCodes(VF x, VF scale, const CodeBuckets& buckets) {
   x = hn::Mul(x, scale);
   x = hn::IfThenElseZero(hn::Eq(x, x), x);  // NaN -> 0
-  const VI codes = BucketCodeV(hn::BitCast(DI(), x), buckets.entries.data(), buckets.lowBits, buckets.highBits);
+  const VI codes = BucketCodeV(hn::BitCast(DI(), x), buckets);
   return hn::DemoteTo(hn::Rebind<uint8_t, DF>(), codes);
 }
 

@@ -1,6 +1,8 @@
 // The Highway twins of LinearToSrgbCode and UnormCode8 (core/color-inl.h) against the scalar
 // encoders, on every compiled and supported target: values across every exponent from 0 past 1 (and
-// each code boundary's neighbours), negatives, infinities and NaN.
+// each code boundary's neighbours), negatives, infinities and NaN. The sweep's vectors fall into
+// nearby buckets (BucketCodeV's in-register window) and the boundaries' neighbours, listed code by
+// code, far apart (its gather).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tests/core/color_simd_test.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -17,10 +19,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 // in: values; out: their sRGB codes and unorm codes, as floats.
 void EncodeValues(const float* const* in, size_t count, float* const* out) {
   const DF df;
-  const int32_t* encodeTable = SrgbEncodeTableForKernels();
+  const CodeBuckets& encode = SrgbEncodeBuckets();
   for (size_t i = 0; i < count; i += hn::Lanes(df)) {
     const VF value = LoadRow(df, in[0], i, count, 0.0f);
-    StoreRow(hn::ConvertTo(df, LinearToSrgbCodeV(value, encodeTable)), df, out[0], i, count);
+    StoreRow(hn::ConvertTo(df, LinearToSrgbCodeV(value, encode)), df, out[0], i, count);
     StoreRow(hn::ConvertTo(df, UnormCode8V(value)), df, out[1], i, count);
   }
 }
