@@ -101,7 +101,8 @@ Vec3V<D> SpecularWeightV(D d, const Vec3V<D>& f0, hn::Vec<D> nDotV, hn::Vec<D> r
   };
   const auto oneIndex = hn::Set(di, 1);
   const auto at = [&](hn::Vec<decltype(di)> index) -> AbV {
-    return {hn::GatherIndex(d, dfgTable, index), hn::GatherIndex(d, dfgTable, hn::Add(index, oneIndex))};
+    constexpr int32_t kFloats = 2 * kDfgSize * kDfgSize;
+    return {GatherNearIndex(d, dfgTable, kFloats, index), GatherNearIndex(d, dfgTable, kFloats, hn::Add(index, oneIndex))};
   };
   const auto lerp = [](const AbV& p, const AbV& q, hn::Vec<D> t) -> AbV {
     return {hn::Add(p.a, hn::Mul(hn::Sub(q.a, p.a), t)), hn::Add(p.b, hn::Mul(hn::Sub(q.b, p.b), t))};

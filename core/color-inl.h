@@ -11,8 +11,6 @@
 #define SSGI_CORE_COLOR_INL_H_
 #endif
 
-#include <algorithm>
-
 #include "core/color.h"
 #include "core/math-inl.h"
 #include "hwy/highway.h"
@@ -22,24 +20,13 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// BucketCode (core/color.h) of each lane's bits. Neighbouring pixels mostly fall into nearby
-// buckets: when every lane's bucket lies in the window of one vector of entries around lane 0's,
-// the entries come from one load and one in-register table lookup; otherwise from a gather, which
-// costs several times more (a 16-lane gather takes about 24 cycles on Zen 5). Both read the same
-// entries, so the codes do not depend on the path.
+// BucketCode (core/color.h) of each lane's bits: one GatherNearIndex of the entries.
 HWY_INLINE VI BucketCodeV(VI bits, const CodeBuckets& buckets) {
   const DI di;
-  const int32_t* entries = buckets.entries.data();
   bits = hn::Min(hn::Max(bits, hn::Set(di, buckets.lowBits)), hn::Set(di, buckets.highBits));
   const VI bucket = hn::ShiftRight<kCodeBucketShift>(hn::Sub(bits, hn::Set(di, buckets.lowBits)));
-  const int32_t lanes = int32_t(hn::Lanes(di));
-  const int32_t lastWindow = int32_t(buckets.entries.size()) - lanes;  // tables are longer than a vector
-  const int32_t window = std::min(std::max(hn::GetLane(bucket) - lanes / 2, 0), lastWindow);
-  const VI inWindow = hn::Sub(bucket, hn::Set(di, window));
-  const auto fits = hn::And(hn::Gt(inWindow, hn::Set(di, -1)), hn::Lt(inWindow, hn::Set(di, lanes)));
-  const VI entry = hn::AllTrue(di, fits)
-                       ? hn::TableLookupLanes(hn::LoadU(di, entries + window), hn::IndicesFromVec(di, inWindow))
-                       : hn::GatherIndex(di, entries, bucket);
+  // (Every table is longer than a vector.)
+  const VI entry = GatherNearIndex(di, buckets.entries.data(), int32_t(buckets.entries.size()), bucket);
   const auto pastBoundary = hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::ShiftRight<8>(entry)));
   return hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
 }

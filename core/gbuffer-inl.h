@@ -92,9 +92,9 @@ Vec3V<D> UnpackAlbedoV(D d, hn::Vec<hn::RebindToUnsigned<D>> word0, const float*
   const hn::RebindToSigned<D> di;
   const auto byte = hn::Set(di, 0xFF);
   const auto codes = hn::BitCast(di, word0);
-  return {hn::GatherIndex(d, srgbDecodeTable, hn::And(codes, byte)),
-          hn::GatherIndex(d, srgbDecodeTable, hn::And(hn::ShiftRight<8>(codes), byte)),
-          hn::GatherIndex(d, srgbDecodeTable, hn::And(hn::ShiftRight<16>(codes), byte))};
+  return {GatherNearIndex(d, srgbDecodeTable, 256, hn::And(codes, byte)),
+          GatherNearIndex(d, srgbDecodeTable, 256, hn::And(hn::ShiftRight<8>(codes), byte)),
+          GatherNearIndex(d, srgbDecodeTable, 256, hn::And(hn::ShiftRight<16>(codes), byte))};
 }
 
 // UnpackMetallic: float(word0 >> 24) / 255.

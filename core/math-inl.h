@@ -14,6 +14,8 @@
 #define SSGI_CORE_MATH_INL_H_
 #endif
 
+#include <algorithm>
+
 #include <glm/glm.hpp>
 
 #include "core/color.h"
@@ -32,6 +34,23 @@ using DU = hn::RebindToUnsigned<DF>;
 using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
+
+// GatherIndex(d, table, index) for a table of `size` >= Lanes(d) entries. Neighbouring pixels
+// mostly read nearby entries: when every lane's index lies within the vector of entries around lane
+// 0's, they come from one load and one in-register lookup, several times cheaper than a gather (a
+// 16-lane gather takes about 24 cycles on Zen 5). Both read the same entries, so the values do not
+// depend on the path.
+template <class D>
+HWY_INLINE hn::Vec<D> GatherNearIndex(D d, const hn::TFromD<D>* table, int32_t size,
+                                      hn::Vec<hn::RebindToSigned<D>> index) {
+  const hn::RebindToSigned<D> di;
+  const int32_t lanes = int32_t(hn::Lanes(d));
+  const int32_t window = std::min(std::max(hn::GetLane(index) - lanes / 2, 0), size - lanes);
+  const auto inWindow = hn::Sub(index, hn::Set(di, window));
+  const auto fits = hn::And(hn::Gt(inWindow, hn::Set(di, -1)), hn::Lt(inWindow, hn::Set(di, lanes)));
+  if (hn::AllTrue(di, fits)) return hn::TableLookupLanes(hn::LoadU(d, table + window), hn::IndicesFromVec(d, inWindow));
+  return hn::GatherIndex(d, table, index);
+}
 
 // A glm::vec3 per pixel: a vector per component.
 template <class D>
