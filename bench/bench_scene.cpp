@@ -13,16 +13,27 @@
 
 namespace ssgi {
 
+namespace {
+
+BenchScene LoadBenchScene(const char* path) {
+  try {
+    SceneFile file = LoadSceneFile(path);
+    const FrameConfig config = FrameConfigFromSceneFile(file);
+    return BenchScene{std::move(file.scene), config, {}};
+  } catch (const std::exception& e) {
+    return BenchScene{{}, {}, std::string("cannot load ") + path + ": " + e.what()};
+  }
+}
+
+}  // namespace
+
 const BenchScene& DefaultBenchScene() {
-  static const BenchScene scene = [] {
-    try {
-      SceneFile file = LoadSceneFile(SSGI_SOURCE_DATA_DIR "/default.json");
-      const FrameConfig config = FrameConfigFromSceneFile(file);
-      return BenchScene{std::move(file.scene), config, {}};
-    } catch (const std::exception& e) {
-      return BenchScene{{}, {}, std::string("cannot load the default scene: ") + e.what()};
-    }
-  }();
+  static const BenchScene scene = LoadBenchScene(SSGI_SOURCE_DATA_DIR "/default.json");
+  return scene;
+}
+
+const BenchScene& SponzaBenchScene() {
+  static const BenchScene scene = LoadBenchScene(SSGI_SOURCE_DATA_DIR "/scenes/sponza.json");
   return scene;
 }
 

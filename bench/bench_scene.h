@@ -28,6 +28,11 @@ struct BenchScene {
 // needs it reports.
 const BenchScene& DefaultBenchScene();
 
+// data/scenes/sponza.json: Dabrovic Sponza from ../shared/scenes (66k triangles, textured, alpha
+// cut-outs), loaded once; where the shared scenes are absent the error says so and the benchmarks
+// that need it skip.
+const BenchScene& SponzaBenchScene();
+
 // A torus knot (core/procedural_mesh.h) of exactly `triangles` triangles (10k, 30k, 100k, 300k or
 // 1M; 10k, 100k and 1M are the sizes DESIGN.md §13 gives for llvmpipe), default material, seen along
 // its symmetry axis so it fills most of a square image: 68% of it, with many silhouettes and
