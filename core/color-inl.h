@@ -27,8 +27,9 @@ HWY_INLINE VI BucketCodeV(VI bits, const CodeBuckets& buckets) {
   const VI bucket = hn::ShiftRight<kCodeBucketShift>(hn::Sub(bits, hn::Set(di, buckets.lowBits)));
   // (Every table is longer than a vector.)
   const VI entry = GatherNearIndex(di, buckets.entries.data(), int32_t(buckets.entries.size()), bucket);
-  const auto pastBoundary = hn::Not(hn::Lt(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::ShiftRight<8>(entry)));
-  return hn::Sub(hn::And(entry, hn::Set(di, 0xFF)), hn::VecFromMask(di, pastBoundary));
+  // (b & offset mask) - the boundary's offset is negative below the boundary: -1 after the shift.
+  const VI below = hn::ShiftRight<31>(hn::Sub(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::And(entry, hn::Set(di, 0x1FFFF))));
+  return hn::Add(hn::ShiftRight<17>(entry), below);
 }
 
 // LinearToSrgbCode: 0 for x <= 0 and NaN; else BucketCodeV of the encoder's buckets

@@ -47,8 +47,9 @@ HWY_INLINE hn::Vec<D> GatherNearIndex(D d, const hn::TFromD<D>* table, int32_t s
   const int32_t lanes = int32_t(hn::Lanes(d));
   const int32_t window = std::min(std::max(hn::GetLane(index) - lanes / 2, 0), size - lanes);
   const auto inWindow = hn::Sub(index, hn::Set(di, window));
-  const auto fits = hn::And(hn::Gt(inWindow, hn::Set(di, -1)), hn::Lt(inWindow, hn::Set(di, lanes)));
-  if (hn::AllTrue(di, fits)) return hn::TableLookupLanes(hn::LoadU(d, table + window), hn::IndicesFromVec(d, inWindow));
+  const hn::RebindToUnsigned<D> du;
+  const auto fits = hn::Lt(hn::BitCast(du, inWindow), hn::Set(du, uint32_t(lanes)));  // negatives wrap above
+  if (hn::AllTrue(du, fits)) return hn::TableLookupLanes(hn::LoadU(d, table + window), hn::IndicesFromVec(d, inWindow));
   return hn::GatherIndex(d, table, index);
 }
 
