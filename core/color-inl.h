@@ -20,16 +20,31 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// BucketCode (core/color.h) of each lane's bits: one GatherNearIndex of the entries.
-HWY_INLINE VI BucketCodeV(VI bits, const CodeBuckets& buckets) {
+// BucketCode (core/color.h) in two steps: each lane's bits clamped to the table's range, and its
+// bucket; then its code from its bucket's entry.
+struct BucketLanes {
+  VI bits, bucket;
+};
+
+HWY_INLINE BucketLanes BucketsOf(VI bits, const CodeBuckets& buckets) {
   const DI di;
   bits = hn::Min(hn::Max(bits, hn::Set(di, buckets.lowBits)), hn::Set(di, buckets.highBits));
-  const VI bucket = hn::ShiftRight<kCodeBucketShift>(hn::Sub(bits, hn::Set(di, buckets.lowBits)));
-  // (Every table is longer than a vector.)
-  const VI entry = GatherNearIndex(di, buckets.entries.data(), int32_t(buckets.entries.size()), bucket);
+  return {bits, hn::ShiftRight<kCodeBucketShift>(hn::Sub(bits, hn::Set(di, buckets.lowBits)))};
+}
+
+HWY_INLINE VI CodeOfEntry(VI bits, VI entry) {
+  const DI di;
   // (b & offset mask) - the boundary's offset is negative below the boundary: -1 after the shift.
-  const VI below = hn::ShiftRight<31>(hn::Sub(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::And(entry, hn::Set(di, 0x1FFFF))));
+  const VI below = hn::ShiftRight<31>(
+      hn::Sub(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::And(entry, hn::Set(di, 0x1FFFF))));
   return hn::Add(hn::ShiftRight<17>(entry), below);
+}
+
+// BucketCode of each lane's bits: one GatherNearIndex of the entries (every table is longer than a
+// vector).
+HWY_INLINE VI BucketCodeV(VI bits, const CodeBuckets& buckets) {
+  const BucketLanes lanes = BucketsOf(bits, buckets);
+  return CodeOfEntry(lanes.bits, GatherNearIndex(DI(), buckets.entries.data(), int32_t(buckets.entries.size()), lanes.bucket));
 }
 
 // LinearToSrgbCode: 0 for x <= 0 and NaN; else BucketCodeV of the encoder's buckets

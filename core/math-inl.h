@@ -35,22 +35,42 @@ using VF = hn::Vec<DF>;
 using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 
+// The entries a vector of indices into a table of `size` >= Lanes(d) entries reads, when they lie
+// close together: the vector of entries from `first`, centred on lane 0's index, and each lane's
+// place in it; `holdsAll` when every lane's entry is there.
+template <class D>
+struct GatherWindow {
+  int32_t first;
+  hn::Vec<hn::RebindToSigned<D>> place;
+  bool holdsAll;
+};
+
+template <class D>
+HWY_INLINE GatherWindow<D> WindowAround(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index) {
+  const hn::RebindToSigned<D> di;
+  const hn::RebindToUnsigned<D> du;
+  const int32_t lanes = int32_t(hn::Lanes(d));
+  const int32_t first = std::min(std::max(hn::GetLane(index) - lanes / 2, 0), size - lanes);
+  const auto place = hn::Sub(index, hn::Set(di, first));
+  // Places below 0 wrap above every lane's.
+  return {first, place, hn::AllTrue(du, hn::Lt(hn::BitCast(du, place), hn::Set(du, uint32_t(lanes))))};
+}
+
+// The entries of a window that holds all of them: one load and one in-register lookup.
+template <class D>
+HWY_INLINE hn::Vec<D> LookupInWindow(D d, const hn::TFromD<D>* table, const GatherWindow<D>& window) {
+  return hn::TableLookupLanes(hn::LoadU(d, table + window.first), hn::IndicesFromVec(d, window.place));
+}
+
 // GatherIndex(d, table, index) for a table of `size` >= Lanes(d) entries. Neighbouring pixels
-// mostly read nearby entries: when every lane's index lies within the vector of entries around lane
-// 0's, they come from one load and one in-register lookup, several times cheaper than a gather (a
-// 16-lane gather takes about 24 cycles on Zen 5). Both read the same entries, so the values do not
-// depend on the path.
+// mostly read nearby entries: when their window holds them all, they come from LookupInWindow,
+// several times cheaper than a gather (a 16-lane gather takes about 24 cycles on Zen 5). Both read
+// the same entries, so the values do not depend on the path.
 template <class D>
 HWY_INLINE hn::Vec<D> GatherNearIndex(D d, const hn::TFromD<D>* table, int32_t size,
                                       hn::Vec<hn::RebindToSigned<D>> index) {
-  const hn::RebindToSigned<D> di;
-  const int32_t lanes = int32_t(hn::Lanes(d));
-  const int32_t window = std::min(std::max(hn::GetLane(index) - lanes / 2, 0), size - lanes);
-  const auto inWindow = hn::Sub(index, hn::Set(di, window));
-  const hn::RebindToUnsigned<D> du;
-  const auto fits = hn::Lt(hn::BitCast(du, inWindow), hn::Set(du, uint32_t(lanes)));  // negatives wrap above
-  if (hn::AllTrue(du, fits)) return hn::TableLookupLanes(hn::LoadU(d, table + window), hn::IndicesFromVec(d, inWindow));
-  return hn::GatherIndex(d, table, index);
+  const GatherWindow<D> window = WindowAround(d, size, index);
+  return window.holdsAll ? LookupInWindow(d, table, window) : hn::GatherIndex(d, table, index);
 }
 
 // A glm::vec3 per pixel: a vector per component.

@@ -15,12 +15,12 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// The codes of one channel of a vector of pixels, in 32-bit lanes: the bucket lookup of
-// TonemapCodeBuckets, which is TonemapCode for every x >= 0 that is not NaN (NaN is 0 there).
-HWY_INLINE hn::Vec<DU> TonemapCodes(VF x, VF scale, const CodeBuckets& buckets) {
+// The buckets of one channel of a vector of pixels: TonemapCodeBuckets' lookup of x * scale, which
+// is TonemapCode for every product >= 0 that is not NaN (NaN is 0 there).
+HWY_INLINE BucketLanes TonemapBuckets(VF x, VF scale, const CodeBuckets& buckets) {
   x = hn::Mul(x, scale);
   x = hn::IfThenElseZero(hn::Eq(x, x), x);  // NaN -> 0
-  return hn::BitCast(DU(), BucketCodeV(hn::BitCast(DI(), x), buckets));
+  return BucketsOf(hn::BitCast(DI(), x), buckets);
 }
 
 // Stores the pixels' codes as interleaved R, G, B bytes, 3 per lane. Each pixel's codes go into one
@@ -46,14 +46,31 @@ HWY_INLINE void StoreRgb(hn::Vec<DU> r, hn::Vec<DU> g, hn::Vec<DU> b, uint8_t* r
 
 void TonemapRow(const float* const radiance[3], size_t count, float scale, Tonemap curve, uint8_t* rgb) {
   const DF df;
+  const DI di;
   const CodeBuckets& buckets = TonemapCodeBuckets(curve);
+  const int32_t* entries = buckets.entries.data();
+  const int32_t size = int32_t(buckets.entries.size());
   const size_t lanes = hn::Lanes(df);
   const auto scaleV = hn::Set(df, scale);
   size_t i = 0;
   for (; i + lanes <= count; i += lanes) {
-    StoreRgb(TonemapCodes(hn::LoadU(df, radiance[0] + i), scaleV, buckets),
-             TonemapCodes(hn::LoadU(df, radiance[1] + i), scaleV, buckets),
-             TonemapCodes(hn::LoadU(df, radiance[2] + i), scaleV, buckets), rgb + 3 * i);
+    const BucketLanes channel[3] = {TonemapBuckets(hn::LoadU(df, radiance[0] + i), scaleV, buckets),
+                                    TonemapBuckets(hn::LoadU(df, radiance[1] + i), scaleV, buckets),
+                                    TonemapBuckets(hn::LoadU(df, radiance[2] + i), scaleV, buckets)};
+    const GatherWindow<DI> window[3] = {WindowAround(di, size, channel[0].bucket),
+                                        WindowAround(di, size, channel[1].bucket),
+                                        WindowAround(di, size, channel[2].bucket)};
+    VI entry[3];
+    // One branch for the three channels: mostly every window holds its lanes.
+    if (window[0].holdsAll & window[1].holdsAll & window[2].holdsAll) {
+      for (int c = 0; c < 3; ++c) entry[c] = LookupInWindow(di, entries, window[c]);
+    } else {
+      for (int c = 0; c < 3; ++c) {
+        entry[c] = window[c].holdsAll ? LookupInWindow(di, entries, window[c]) : hn::GatherIndex(di, entries, channel[c].bucket);
+      }
+    }
+    const auto code = [&](int c) { return hn::BitCast(DU(), CodeOfEntry(channel[c].bits, entry[c])); };
+    StoreRgb(code(0), code(1), code(2), rgb + 3 * i);
   }
   const float* const tail[3] = {radiance[0] + i, radiance[1] + i, radiance[2] + i};
   TonemapRowScalar(tail, count - i, scale, curve, rgb + 3 * i);
