@@ -99,20 +99,34 @@ Vec3V<D> SpecularWeightV(D d, const Vec3V<D>& f0, hn::Vec<D> nDotV, hn::Vec<D> r
   struct AbV {
     hn::Vec<D> a, b;
   };
-  const auto oneIndex = hn::Set(di, 1);
-  const auto at = [&](hn::Vec<decltype(di)> index) -> AbV {
-    constexpr int32_t kFloats = 2 * kDfgSize * kDfgSize;
-    return {GatherNearIndex(d, dfgTable, kFloats, index), GatherNearIndex(d, dfgTable, kFloats, hn::Add(index, oneIndex))};
-  };
   const auto lerp = [](const AbV& p, const AbV& q, hn::Vec<D> t) -> AbV {
     return {hn::Add(p.a, hn::Mul(hn::Sub(q.a, p.a), t)), hn::Add(p.b, hn::Mul(hn::Sub(q.b, p.b), t))};
   };
+  constexpr int32_t kRow = 2 * kDfgSize;  // floats from (i, j) to (i, j + 1)
   const auto i00 = hn::ShiftLeft<1>(hn::Add(hn::Mul(j0, hn::Set(di, kDfgSize)), i0));
-  const auto i10 = hn::Add(i00, hn::Set(di, 2));
-  const auto i01 = hn::Add(i00, hn::Set(di, 2 * kDfgSize));
-  const auto i11 = hn::Add(i01, hn::Set(di, 2));
-  const AbV top = lerp(at(i00), at(i10), fu);
-  const AbV bottom = lerp(at(i01), at(i11), fu);
+  AbV corner[4];  // (i0, j0), (i0 + 1, j0), (i0, j0 + 1), (i0 + 1, j0 + 1)
+  // The four floats of a row's two corners lie side by side, and the next row's 2 kDfgSize floats
+  // on: when every lane's four fit one window, one test and two loads serve all eight lookups
+  // (GatherWindow, core/math-inl.h), else eight gathers. The same entries either way.
+  const GatherWindow<D> window = WindowAround(d, 2 * kDfgSize * kDfgSize - kRow, i00);
+  const hn::RebindToUnsigned<D> du;
+  const int32_t lanes = int32_t(hn::Lanes(d));
+  if (lanes > 4 && hn::AllTrue(du, hn::Lt(hn::BitCast(du, window.place), hn::Set(du, uint32_t(lanes - 3))))) {
+    const hn::Vec<D> rows[2] = {hn::LoadU(d, dfgTable + window.first), hn::LoadU(d, dfgTable + window.first + kRow)};
+    for (int k = 0; k < 4; ++k) {
+      const auto place = hn::Add(window.place, hn::Set(di, 2 * (k & 1)));
+      const hn::Vec<D>& row = rows[k >> 1];
+      corner[k] = {hn::TableLookupLanes(row, hn::IndicesFromVec(d, place)),
+                   hn::TableLookupLanes(row, hn::IndicesFromVec(d, hn::Add(place, hn::Set(di, 1))))};
+    }
+  } else {
+    for (int k = 0; k < 4; ++k) {
+      const auto index = hn::Add(i00, hn::Set(di, 2 * (k & 1) + kRow * (k >> 1)));
+      corner[k] = {hn::GatherIndex(d, dfgTable, index), hn::GatherIndex(d, dfgTable, hn::Add(index, hn::Set(di, 1)))};
+    }
+  }
+  const AbV top = lerp(corner[0], corner[1], fu);
+  const AbV bottom = lerp(corner[2], corner[3], fu);
   const AbV ab = lerp(top, bottom, fv);
   return Add3(Scale3(f0, ab.a), {ab.b, ab.b, ab.b});
 }
