@@ -92,9 +92,11 @@ Vec3V<D> UnpackAlbedoV(D d, hn::Vec<hn::RebindToUnsigned<D>> word0, const float*
   const hn::RebindToSigned<D> di;
   const auto byte = hn::Set(di, 0xFF);
   const auto codes = hn::BitCast(di, word0);
-  return {GatherNearIndex(d, srgbDecodeTable, 256, hn::And(codes, byte)),
-          GatherNearIndex(d, srgbDecodeTable, 256, hn::And(hn::ShiftRight<8>(codes), byte)),
-          GatherNearIndex(d, srgbDecodeTable, 256, hn::And(hn::ShiftRight<16>(codes), byte))};
+  hn::Vec<D> albedo[3];
+  GatherNearIndex3(d, srgbDecodeTable, 256,
+                   {hn::And(codes, byte), hn::And(hn::ShiftRight<8>(codes), byte), hn::And(hn::ShiftRight<16>(codes), byte)},
+                   albedo);
+  return {albedo[0], albedo[1], albedo[2]};
 }
 
 // UnpackMetallic: float(word0 >> 24) / 255.

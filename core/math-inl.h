@@ -73,6 +73,21 @@ HWY_INLINE hn::Vec<D> GatherNearIndex(D d, const hn::TFromD<D>* table, int32_t s
   return window.holdsAll ? LookupInWindow(d, table, window) : hn::GatherIndex(d, table, index);
 }
 
+// GatherNearIndex of three index vectors into one table, with one branch: mostly all three windows
+// hold their lanes (the R, G and B codes of neighbouring pixels).
+template <class D>
+HWY_INLINE void GatherNearIndex3(D d, const hn::TFromD<D>* table, int32_t size,
+                                 const hn::Vec<hn::RebindToSigned<D>> (&index)[3], hn::Vec<D> (&value)[3]) {
+  const GatherWindow<D> window[3] = {WindowAround(d, size, index[0]), WindowAround(d, size, index[1]),
+                                     WindowAround(d, size, index[2])};
+  if (window[0].holdsAll & window[1].holdsAll & window[2].holdsAll) {
+    for (int c = 0; c < 3; ++c) value[c] = LookupInWindow(d, table, window[c]);
+    return;
+  }
+  for (int c = 0; c < 3; ++c)
+    value[c] = window[c].holdsAll ? LookupInWindow(d, table, window[c]) : hn::GatherIndex(d, table, index[c]);
+}
+
 // A glm::vec3 per pixel: a vector per component.
 template <class D>
 struct Vec3V {

@@ -57,18 +57,8 @@ void TonemapRow(const float* const radiance[3], size_t count, float scale, Tonem
     const BucketLanes channel[3] = {TonemapBuckets(hn::LoadU(df, radiance[0] + i), scaleV, buckets),
                                     TonemapBuckets(hn::LoadU(df, radiance[1] + i), scaleV, buckets),
                                     TonemapBuckets(hn::LoadU(df, radiance[2] + i), scaleV, buckets)};
-    const GatherWindow<DI> window[3] = {WindowAround(di, size, channel[0].bucket),
-                                        WindowAround(di, size, channel[1].bucket),
-                                        WindowAround(di, size, channel[2].bucket)};
     VI entry[3];
-    // One branch for the three channels: mostly every window holds its lanes.
-    if (window[0].holdsAll & window[1].holdsAll & window[2].holdsAll) {
-      for (int c = 0; c < 3; ++c) entry[c] = LookupInWindow(di, entries, window[c]);
-    } else {
-      for (int c = 0; c < 3; ++c) {
-        entry[c] = window[c].holdsAll ? LookupInWindow(di, entries, window[c]) : hn::GatherIndex(di, entries, channel[c].bucket);
-      }
-    }
+    GatherNearIndex3(di, entries, size, {channel[0].bucket, channel[1].bucket, channel[2].bucket}, entry);
     const auto code = [&](int c) { return hn::BitCast(DU(), CodeOfEntry(channel[c].bits, entry[c])); };
     StoreRgb(code(0), code(1), code(2), rgb + 3 * i);
   }
