@@ -36,15 +36,16 @@ HWY_INLINE VI CodeOfEntry(VI bits, VI entry) {
   const DI di;
   // (b & offset mask) - the boundary's offset is negative below the boundary: -1 after the shift.
   const VI below = hn::ShiftRight<31>(
-      hn::Sub(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::And(entry, hn::Set(di, 0x1FFFF))));
-  return hn::Add(hn::ShiftRight<17>(entry), below);
+      hn::Sub(hn::And(bits, hn::Set(di, kCodeBucketOffsetMask)), hn::And(entry, hn::Set(di, kCodeEntryOffsetMask))));
+  return hn::Add(hn::ShiftRight<kCodeEntryCodeShift>(entry), below);
 }
 
 // BucketCode of each lane's bits: one GatherNearIndex of the entries (every table is longer than a
 // vector).
 HWY_INLINE VI BucketCodeV(VI bits, const CodeBuckets& buckets) {
   const BucketLanes lanes = BucketsOf(bits, buckets);
-  return CodeOfEntry(lanes.bits, GatherNearIndex(DI(), buckets.entries.data(), int32_t(buckets.entries.size()), lanes.bucket));
+  const int32_t size = int32_t(buckets.entries.size());
+  return CodeOfEntry(lanes.bits, GatherNearIndex(DI(), buckets.entries.data(), size, lanes.bucket));
 }
 
 // LinearToSrgbCode: 0 for x <= 0 and NaN; else BucketCodeV of the encoder's buckets

@@ -52,7 +52,7 @@ CodeBuckets MakeCodeBuckets(const float* boundaries, int32_t lowBits, int32_t hi
       // A second boundary in the same bucket would need a second compare.
       if (above + 1 != end && std::bit_cast<int32_t>(above[1]) - first < kBucketFloats) std::abort();
     }
-    buckets.entries[b] = (int32_t(above - boundaries) + 1) << 17 | offset;
+    buckets.entries[b] = (int32_t(above - boundaries) + 1) << kCodeEntryCodeShift | offset;
   }
   return buckets;
 }

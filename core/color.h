@@ -28,15 +28,18 @@ uint8_t LinearToSrgbCode(float linear);
 // A non-decreasing map from floats to 8-bit codes as a table that SIMD kernels read with one gather:
 // code(x) = the number of the 255 increasing `boundaries` at or below x. With
 // b = clamp(bits(x), lowBits, highBits) and e = entries[(b - lowBits) >> kCodeBucketShift]:
-//   code = (e >> 17) - ((b & kCodeBucketOffsetMask) < (e & 0x1FFFF)).
+//   code = (e >> kCodeEntryCodeShift) - ((b & kCodeBucketOffsetMask) < (e & kCodeEntryOffsetMask)).
 // Positive floats order like their bit patterns. A bucket (2^kCodeBucketShift consecutive floats)
 // holds at most one boundary (checked as the table is built); the entry packs one more than the code
 // of the bucket's smallest float (bits 17 and up) and the boundary's position inside it (bits 0-16;
 // 2^kCodeBucketShift, never reached, when there is none), so a kernel subtracts the comparison's
-// sign instead of turning a mask into a vector. Exact for x >= 0 and not NaN when lowBits lies below the first boundary
-// (negative floats clamp to it: code 0) and highBits at or above the last (code 255 from there).
+// sign instead of turning a mask into a vector. Exact for x >= 0 and not NaN when lowBits lies below
+// the first boundary (negative floats clamp to it: code 0) and highBits at or above the last (code
+// 255 from there).
 inline constexpr int kCodeBucketShift = 16;
 inline constexpr int32_t kCodeBucketOffsetMask = (1 << kCodeBucketShift) - 1;
+inline constexpr int kCodeEntryCodeShift = kCodeBucketShift + 1;
+inline constexpr int32_t kCodeEntryOffsetMask = (1 << kCodeEntryCodeShift) - 1;
 struct CodeBuckets {
   std::vector<int32_t> entries;  // 32-bit so SIMD kernels can gather them
   int32_t lowBits = 0, highBits = 0;
@@ -45,7 +48,7 @@ CodeBuckets MakeCodeBuckets(const float* boundaries, int32_t lowBits, int32_t hi
 inline uint8_t BucketCode(const CodeBuckets& buckets, int32_t bits) {
   bits = std::min(std::max(bits, buckets.lowBits), buckets.highBits);
   const int32_t entry = buckets.entries[size_t((bits - buckets.lowBits) >> kCodeBucketShift)];
-  return uint8_t((entry >> 17) - ((bits & kCodeBucketOffsetMask) < (entry & 0x1FFFF)));
+  return uint8_t((entry >> kCodeEntryCodeShift) - ((bits & kCodeBucketOffsetMask) < (entry & kCodeEntryOffsetMask)));
 }
 
 // The buckets behind LinearToSrgbCode (boundaries: the linear values halfway between codes in

@@ -93,9 +93,8 @@ Vec3V<D> UnpackAlbedoV(D d, hn::Vec<hn::RebindToUnsigned<D>> word0, const float*
   const auto byte = hn::Set(di, 0xFF);
   const auto codes = hn::BitCast(di, word0);
   hn::Vec<D> albedo[3];
-  GatherNearIndex3(d, srgbDecodeTable, 256,
-                   {hn::And(codes, byte), hn::And(hn::ShiftRight<8>(codes), byte), hn::And(hn::ShiftRight<16>(codes), byte)},
-                   albedo);
+  const auto r = hn::And(codes, byte), g = hn::And(hn::ShiftRight<8>(codes), byte);
+  GatherNearIndex3(d, srgbDecodeTable, 256, {r, g, hn::And(hn::ShiftRight<16>(codes), byte)}, albedo);
   return {albedo[0], albedo[1], albedo[2]};
 }
 

@@ -1,7 +1,7 @@
 // The Highway twin of TonemapRowScalar (tonemap.cpp): the exposure product as the scalar kernel
-// rounds it, then each channel's code from the curve's bucket table (TonemapCodeBuckets) with one
-// gather, so every target gives the scalar bytes (tests/passes/tonemap_test.cpp checks each compiled
-// target and every float).
+// rounds it, then each channel's code from the curve's bucket table (TonemapCodeBuckets): the three
+// channels' entries from one GatherNearIndex3 (core/math-inl.h), so every target gives the scalar
+// bytes (tests/passes/tonemap_test.cpp checks each compiled target and every float).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/tonemap_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
