@@ -106,10 +106,12 @@ TEST_CASE("tonemap: ACES codes count the thresholds the curve reaches, for every
   CHECK(decreases.load() == 0);
   CHECK(mismatches.load() == 0);
   // The clamp curve is the sRGB encoder of min(x, 1).
+  size_t clampMismatches = 0;
   for (uint32_t bits = 0; bits <= uint32_t(maxBits); bits += 4099) {
     const float x = std::bit_cast<float>(bits);
-    CHECK(TonemapCode(x, Tonemap::kClamp) == LinearToSrgbCode(std::min(x, 1.0f)));
+    clampMismatches += TonemapCode(x, Tonemap::kClamp) != LinearToSrgbCode(std::min(x, 1.0f));
   }
+  CHECK(clampMismatches == 0);
 }
 
 TEST_CASE("tonemap: special values encode as documented", "[tonemap]") {
