@@ -52,7 +52,8 @@ double AcesCurve(double x);
 uint8_t TonemapCode(float x, Tonemap curve);
 
 // The bucket tables (core/color.h) behind TonemapCode, one per curve, built once: the SIMD kernel
-// reads them with one gather per channel and needs neither the curve's division nor a clamp.
+// reads them with one lookup per channel (mostly in registers, GatherNearIndex3) and needs neither
+// the curve's division nor a clamp.
 const CodeBuckets& TonemapCodeBuckets(Tonemap curve);
 
 // One row: rgb[3 i + c] = sRGB code of the tonemapped radiance[c][i] * scale.
