@@ -108,10 +108,8 @@ Vec3V<D> SpecularWeightV(D d, const Vec3V<D>& f0, hn::Vec<D> nDotV, hn::Vec<D> r
   // The four floats of a row's two corners lie side by side, and the next row's 2 kDfgSize floats
   // on: when every lane's four fit one window, one test and two loads serve all eight lookups
   // (GatherWindow, core/math-inl.h), else eight gathers. The same entries either way.
-  const GatherWindow<D> window = WindowAround(d, 2 * kDfgSize * kDfgSize - kRow, i00);
-  const hn::RebindToUnsigned<D> du;
-  const int32_t lanes = int32_t(hn::Lanes(d));
-  if (lanes > 4 && hn::AllTrue(du, hn::Lt(hn::BitCast(du, window.place), hn::Set(du, uint32_t(lanes - 3))))) {
+  const GatherWindow<D> window = WindowAround(d, 2 * kDfgSize * kDfgSize - kRow, i00, 3);
+  if (window.holdsAll) {
     const hn::Vec<D> rows[2] = {hn::LoadU(d, dfgTable + window.first), hn::LoadU(d, dfgTable + window.first + kRow)};
     for (int k = 0; k < 4; ++k) {
       const auto place = hn::Add(window.place, hn::Set(di, 2 * (k & 1)));

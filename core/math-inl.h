@@ -37,7 +37,8 @@ using MF = hn::Mask<DF>;
 
 // The entries a vector of indices into a table of `size` >= Lanes(d) entries reads, when they lie
 // close together: the vector of entries from `first`, centred on lane 0's index, and each lane's
-// place in it; `holdsAll` when every lane's entry is there.
+// place in it; `holdsAll` when every lane's entry, and the `reach` entries after it, are there (a
+// lane that also reads its index + 1, ..., + reach).
 template <class D>
 struct GatherWindow {
   int32_t first;
@@ -46,14 +47,17 @@ struct GatherWindow {
 };
 
 template <class D>
-HWY_INLINE GatherWindow<D> WindowAround(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index) {
+HWY_INLINE GatherWindow<D> WindowAround(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index,
+                                        int32_t reach = 0) {
   const hn::RebindToSigned<D> di;
   const hn::RebindToUnsigned<D> du;
   const int32_t lanes = int32_t(hn::Lanes(d));
   const int32_t first = std::min(std::max(hn::GetLane(index) - lanes / 2, 0), size - lanes);
   const auto place = hn::Sub(index, hn::Set(di, first));
   // Places below 0 wrap above every lane's.
-  return {first, place, hn::AllTrue(du, hn::Lt(hn::BitCast(du, place), hn::Set(du, uint32_t(lanes))))};
+  const bool holdsAll =
+      lanes > reach && hn::AllTrue(du, hn::Lt(hn::BitCast(du, place), hn::Set(du, uint32_t(lanes - reach))));
+  return {first, place, holdsAll};
 }
 
 // The entries of a window that holds all of them: one load and one in-register lookup.
