@@ -213,8 +213,6 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   uint32_t broadcastTriangle = kNoTriangle;
   TriangleData broadcast;
   PlaneTerms broadcastTerms;
-  TriangleData mixed;
-  PlaneTerms mixedTerms;
   for (size_t x = 0; x < count; x += lanes) {
     const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
@@ -237,6 +235,8 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
       broadcastTerms = PlaneTermsOf(broadcast);
       broadcastTriangle = firstTriangle;
     }
+    TriangleData mixed;
+    PlaneTerms mixedTerms;
     if (!oneTriangle) {
       mixed = LoadTriangles(in, triangles + x, triangle, drawn);
       mixedTerms = PlaneTermsOf(mixed);
