@@ -10,6 +10,9 @@
 namespace ssgi {
 namespace {
 
+// The encoder's bucket range: 2^-13, below the first boundary, to the largest float below 1.
+constexpr int32_t kSrgbEncodeLowBits = 0x39000000;
+constexpr int32_t kSrgbEncodeHighBits = 0x3F7FFFFF;
 constexpr int32_t kBucketFloats = int32_t(1) << kCodeBucketShift;
 constexpr int32_t kNoBoundary = kBucketFloats;  // an offset no float inside the bucket reaches
 
@@ -21,7 +24,7 @@ struct SrgbTables {
   SrgbTables() {
     for (int k = 0; k < 256; ++k) codeToLinear[k] = SrgbToLinear(float(k) / 255.0f);
     for (int k = 0; k < 255; ++k) thresholds[k] = SrgbToLinear((float(k) + 0.5f) / 255.0f);
-    // From 2^-13 to 1, buckets of 2^16 floats are narrower than the gap between two neighbouring
+    // Over that range, buckets of 2^16 floats are narrower than the gap between two neighbouring
     // boundaries.
     encode = MakeCodeBuckets(thresholds.data(), kSrgbEncodeLowBits, kSrgbEncodeHighBits);
   }

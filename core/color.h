@@ -53,8 +53,6 @@ inline uint8_t BucketCode(const CodeBuckets& buckets, int32_t bits) {
 
 // The buckets behind LinearToSrgbCode (boundaries: the linear values halfway between codes in
 // encoded space), from 2^-13 (below the first boundary) to the largest float below 1.
-inline constexpr int32_t kSrgbEncodeLowBits = 0x39000000;
-inline constexpr int32_t kSrgbEncodeHighBits = 0x3F7FFFFF;
 const CodeBuckets& SrgbEncodeBuckets();
 // Its boundaries: thresholds[k] = SrgbToLinear((k + 0.5) / 255), k = 0..254, where code k rounds up
 // to k + 1.
