@@ -28,11 +28,11 @@ HWY_INLINE BucketLanes TonemapBuckets(VF x, VF scale, const CodeBuckets& buckets
 // bytes, and a lane compress drops every block's fourth lane: a few operations instead of narrowing
 // each channel to bytes and interleaving them.
 HWY_INLINE void StoreRgb(hn::Vec<DU> r, hn::Vec<DU> g, hn::Vec<DU> b, uint8_t* rgb) {
-  const DU du;
 #if HWY_TARGET == HWY_SCALAR
   const hn::Rebind<uint8_t, DU> du8;
   hn::StoreInterleaved3(hn::DemoteTo(du8, r), hn::DemoteTo(du8, g), hn::DemoteTo(du8, b), du8, rgb);
 #else
+  const DU du;
   const hn::Repartition<uint8_t, DU> du8;
   const auto pixels = hn::Or(hn::Or(r, hn::ShiftLeft<8>(g)), hn::ShiftLeft<16>(b));
   alignas(16) static constexpr uint8_t kPackBlock[16] = {0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, 3, 7, 11, 15};
