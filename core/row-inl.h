@@ -55,6 +55,18 @@ HWY_INLINE void StoreRow3(const Vec3V<D>& v, D d, float* const rows[3], size_t x
   StoreRow(v.z, d, rows[2], x, count);
 }
 
+// StoreRow3 with non-temporal stores where a whole vector fits and x is a multiple of the vector's
+// lanes (plane rows are aligned, core/plane.h), so a pass whose outputs are not read back soon
+// writes them without first reading their lines in. Weakly ordered: the kernel ends with
+// hwy::FlushStream() before another thread may read the rows.
+template <class D>
+HWY_INLINE void StreamRow3(const Vec3V<D>& v, D d, float* const rows[3], size_t x, size_t count) {
+  if (x + hn::Lanes(d) > count || x % hn::Lanes(d) != 0) return StoreRow3(v, d, rows, x, count);
+  hn::Stream(v.x, d, rows[0] + x);
+  hn::Stream(v.y, d, rows[1] + x);
+  hn::Stream(v.z, d, rows[2] + x);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();

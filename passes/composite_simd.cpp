@@ -5,6 +5,7 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/composite_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/cache_control.h"
 #include "hwy/highway.h"
 
 #include "core/brdf-inl.h"
@@ -65,17 +66,31 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
     const Vec3V<DF> reflected = Mul3(LoadRow3(d, row.reflected, x, count), weight);
     indirect = IfThenElse3(reflecting, reflected, indirect);
   }
-  StoreRow3(indirect, d, row.indirect, x, count);
-  StoreRow3(Add3(LoadRow3(d, row.direct, x, count), indirect), d, row.result, x, count);
+  StreamRow3(indirect, d, row.indirect, x, count);
+  StreamRow3(Add3(LoadRow3(d, row.direct, x, count), indirect), d, row.result, x, count);
 }
+
+// About 8 vectors ahead: a line from memory takes about as long as 8 vectors of the kernel.
+constexpr size_t kCompositeLookAhead = 128;
 
 void CompositeRowKernel(const CompositeConstants& c, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
   const DF d;
   const auto lane = hn::Iota(d, 0.0f);
   for (size_t x = size_t(xBegin); x < size_t(xEnd); x += hn::Lanes(d)) {
+    // The material and reflection rows are read only under a confident hit, too sparsely for the
+    // hardware's stream prefetch: a vector with a hit kCompositeLookAhead pixels on asks for them
+    // now, so that their lines are in when it is reached (1 thread, 1024: 2.34 -> 1.94 ms).
+    const size_t ahead = x + kCompositeLookAhead;
+    if (ahead + hn::Lanes(d) <= size_t(xEnd) &&
+        !hn::AllFalse(d, hn::Gt(hn::LoadU(d, row.confidence + ahead), hn::Zero(d)))) {
+      hwy::Prefetch(row.word0 + ahead);
+      hwy::Prefetch(row.word1 + ahead);
+      for (const float* reflected : row.reflected) hwy::Prefetch(reflected + ahead);
+    }
     const auto px = hn::Add(hn::Add(lane, hn::Set(d, float(x))), hn::Set(d, 0.5f));
     CompositePixels(c, row, x, size_t(xEnd), float(y) + 0.5f, px);
   }
+  hwy::FlushStream();  // StreamRow3's stores, before the band's end lets another thread read them
 }
 
 }  // namespace HWY_NAMESPACE
