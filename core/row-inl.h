@@ -11,6 +11,7 @@
 #define SSGI_CORE_ROW_INL_H_
 #endif
 
+#include <cstdint>
 #include <cstring>
 
 #include "core/math-inl.h"
@@ -55,13 +56,17 @@ HWY_INLINE void StoreRow3(const Vec3V<D>& v, D d, float* const rows[3], size_t x
   StoreRow(v.z, d, rows[2], x, count);
 }
 
-// StoreRow3 with non-temporal stores where a whole vector fits and x is a multiple of the vector's
-// lanes (plane rows are aligned, core/plane.h), so a pass whose outputs are not read back soon
-// writes them without first reading their lines in. Weakly ordered: the kernel ends with
+// StoreRow3 with non-temporal stores where a whole vector fits at an aligned address (as in the
+// planes' rows, core/plane.h, from a multiple of the lanes), so a pass whose outputs are not read
+// back soon writes them without first reading their lines in. Weakly ordered: the kernel ends with
 // hwy::FlushStream() before another thread may read the rows.
 template <class D>
 HWY_INLINE void StreamRow3(const Vec3V<D>& v, D d, float* const rows[3], size_t x, size_t count) {
-  if (x + hn::Lanes(d) > count || x % hn::Lanes(d) != 0) return StoreRow3(v, d, rows, x, count);
+  const uintptr_t vectorBytes = hn::Lanes(d) * sizeof(float);
+  const auto misaligned = [&](int c) { return reinterpret_cast<uintptr_t>(rows[c] + x) % vectorBytes; };
+  if (x + hn::Lanes(d) > count || (misaligned(0) | misaligned(1) | misaligned(2)) != 0) {
+    return StoreRow3(v, d, rows, x, count);
+  }
   hn::Stream(v.x, d, rows[0] + x);
   hn::Stream(v.y, d, rows[1] + x);
   hn::Stream(v.z, d, rows[2] + x);
