@@ -81,7 +81,7 @@ Vec3V<D> BrdfCosineV(D d, const SurfaceMaterialV<D>& m, hn::Vec<D> alpha, const 
 }
 
 // SpecularWeight(f0, nDotV, roughness), bilinear in `dfgTable` (DfgTableForKernels(), core/brdf.h):
-// the table SpecularWeight reads, its (A, B) pairs as interleaved floats.
+// the table SpecularWeight reads, its A values, then its B values.
 template <class D>
 Vec3V<D> SpecularWeightV(D d, const Vec3V<D>& f0, hn::Vec<D> nDotV, hn::Vec<D> roughness, const float* dfgTable) {
   const hn::RebindToSigned<D> di;
@@ -95,32 +95,34 @@ Vec3V<D> SpecularWeightV(D d, const Vec3V<D>& f0, hn::Vec<D> nDotV, hn::Vec<D> r
   const auto j0 = hn::Min(hn::ConvertTo(di, v), lastCell);
   const auto fu = hn::Sub(u, hn::ConvertTo(d, i0));
   const auto fv = hn::Sub(v, hn::ConvertTo(d, j0));
-  // Entry (i, j) is the (A, B) pair at floats 2 (j kDfgSize + i) and the one after.
   struct AbV {
     hn::Vec<D> a, b;
   };
   const auto lerp = [](const AbV& p, const AbV& q, hn::Vec<D> t) -> AbV {
     return {hn::Add(p.a, hn::Mul(hn::Sub(q.a, p.a), t)), hn::Add(p.b, hn::Mul(hn::Sub(q.b, p.b), t))};
   };
-  constexpr int32_t kRow = 2 * kDfgSize;  // floats from (i, j) to (i, j + 1)
-  const auto i00 = hn::ShiftLeft<1>(hn::Add(hn::Mul(j0, hn::Set(di, kDfgSize)), i0));
+  const float* tableA = dfgTable;
+  const float* tableB = dfgTable + kDfgSize * kDfgSize;
+  const auto entry = hn::Add(hn::Mul(j0, hn::Set(di, kDfgSize)), i0);  // (i0, j0)
   AbV corner[4];  // (i0, j0), (i0 + 1, j0), (i0, j0 + 1), (i0 + 1, j0 + 1)
-  // The four floats of a row's two corners lie side by side, and the next row's 2 kDfgSize floats
-  // on: when every lane's four fit one window, one test and two loads serve all eight lookups
-  // (GatherWindow, core/math-inl.h), else eight gathers. The same entries either way.
-  const GatherWindow<D> window = WindowAround(d, 2 * kDfgSize * kDfgSize - kRow, i00, 3);
+  // The two corners of a row lie side by side in each plane, and the next row's kDfgSize entries
+  // on: when every lane's pair fits one window (one roughness, n.v rising or falling by less than
+  // a vector's lanes), four loads serve all eight lookups (GatherWindow, core/math-inl.h), else
+  // eight gathers. The same entries either way.
+  const GatherWindow<D> window = WindowFromLowest(d, kDfgSize * kDfgSize - kDfgSize, entry, 1);
   if (window.holdsAll) {
-    const hn::Vec<D> rows[2] = {hn::LoadU(d, dfgTable + window.first), hn::LoadU(d, dfgTable + window.first + kRow)};
-    for (int k = 0; k < 4; ++k) {
-      const auto place = hn::Add(window.place, hn::Set(di, 2 * (k & 1)));
-      const hn::Vec<D>& row = rows[k >> 1];
-      corner[k] = {hn::TableLookupLanes(row, hn::IndicesFromVec(d, place)),
-                   hn::TableLookupLanes(row, hn::IndicesFromVec(d, hn::Add(place, hn::Set(di, 1))))};
+    for (int row = 0; row < 2; ++row) {
+      const auto a = hn::LoadU(d, tableA + window.first + row * kDfgSize);
+      const auto b = hn::LoadU(d, tableB + window.first + row * kDfgSize);
+      for (int column = 0; column < 2; ++column) {
+        const auto place = hn::IndicesFromVec(d, hn::Add(window.place, hn::Set(di, column)));
+        corner[2 * row + column] = {hn::TableLookupLanes(a, place), hn::TableLookupLanes(b, place)};
+      }
     }
   } else {
     for (int k = 0; k < 4; ++k) {
-      const auto index = hn::Add(i00, hn::Set(di, 2 * (k & 1) + kRow * (k >> 1)));
-      corner[k] = {hn::GatherIndex(d, dfgTable, index), hn::GatherIndex(d, dfgTable, hn::Add(index, hn::Set(di, 1)))};
+      const auto index = hn::Add(entry, hn::Set(di, (k & 1) + kDfgSize * (k >> 1)));
+      corner[k] = {hn::GatherIndex(d, tableA, index), hn::GatherIndex(d, tableB, index)};
     }
   }
   const AbV top = lerp(corner[0], corner[1], fu);

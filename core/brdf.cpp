@@ -96,8 +96,16 @@ const DfgTable& ShippedDfgTable() {
 }
 
 const float* DfgTableForKernels() {
-  static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
-  return &ShippedDfgTable().ab[0].x;
+  static const std::array<float, 2 * kDfgSize * kDfgSize> planes = [] {
+    const DfgTable& table = ShippedDfgTable();
+    std::array<float, 2 * kDfgSize * kDfgSize> split;
+    for (size_t k = 0; k < table.ab.size(); ++k) {
+      split[k] = table.ab[k].x;
+      split[table.ab.size() + k] = table.ab[k].y;
+    }
+    return split;
+  }();
+  return planes.data();
 }
 
 }  // namespace ssgi

@@ -81,8 +81,9 @@ DfgTable BuildDfgTable();
 const DfgTable& ShippedDfgTable();
 // F0 * A + B for nDotV, roughness (perceptual) in [0, 1] (clamped), bilinear in the shipped table.
 glm::vec3 SpecularWeight(glm::vec3 f0, float nDotV, float roughness);
-// The table SpecularWeight reads, its (A, B) pairs as interleaved floats, for SIMD kernels that
-// gather from it and so give the same values.
+// The table SpecularWeight reads, for SIMD kernels that look it up and so give the same values: its
+// kDfgSize^2 A values, then its B values, each at [j * kDfgSize + i], so that a row of one of them
+// lies in consecutive floats.
 const float* DfgTableForKernels();
 
 }  // namespace ssgi

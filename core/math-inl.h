@@ -46,18 +46,34 @@ struct GatherWindow {
   bool holdsAll;
 };
 
+// The window of the entries from `start` (clamped into the table).
 template <class D>
-HWY_INLINE GatherWindow<D> WindowAround(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index,
-                                        int32_t reach = 0) {
+HWY_INLINE GatherWindow<D> WindowAt(D d, int32_t size, int32_t start, hn::Vec<hn::RebindToSigned<D>> index,
+                                    int32_t reach) {
   const hn::RebindToSigned<D> di;
   const hn::RebindToUnsigned<D> du;
   const int32_t lanes = int32_t(hn::Lanes(d));
-  const int32_t first = std::min(std::max(hn::GetLane(index) - lanes / 2, 0), size - lanes);
+  const int32_t first = std::min(std::max(start, 0), size - lanes);
   const auto place = hn::Sub(index, hn::Set(di, first));
   // Places below 0 wrap above every lane's.
   const bool holdsAll =
       lanes > reach && hn::AllTrue(du, hn::Lt(hn::BitCast(du, place), hn::Set(du, uint32_t(lanes - reach))));
   return {first, place, holdsAll};
+}
+
+template <class D>
+HWY_INLINE GatherWindow<D> WindowAround(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index,
+                                        int32_t reach = 0) {
+  return WindowAt(d, size, hn::GetLane(index) - int32_t(hn::Lanes(d)) / 2, index, reach);
+}
+
+// WindowAround starting at the lowest lane's index: for indices that rise or fall along the lanes
+// (a smooth quantity across neighbouring pixels), whose spread may then be Lanes(d) - 1 - reach
+// whichever way they run.
+template <class D>
+HWY_INLINE GatherWindow<D> WindowFromLowest(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index,
+                                            int32_t reach = 0) {
+  return WindowAt(d, size, hn::GetLane(hn::MinOfLanes(hn::RebindToSigned<D>(), index)), index, reach);
 }
 
 // The entries of a window that holds all of them: one load and one in-register lookup.

@@ -414,7 +414,8 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   SetFrameConstants(program, frame);
   program.Set("roughnessCutoff", roughnessCutoff);
   // The table the spec defines and core builds (core/brdf.h).
-  const Buffer dfg(size_t(2 * kDfgSize * kDfgSize), DfgTableForKernels());
+  static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
+  const Buffer dfg(size_t(2 * kDfgSize * kDfgSize), &ShippedDfgTable().ab[0].x);
   const size_t planes = 3 * size_t(frame.width) * size_t(frame.height);
   CompositeOutput out{Buffer(planes), Buffer(planes)};
   for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
