@@ -127,13 +127,23 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
       glm::mat3(view.view),  // lookAt is a rotation plus a translation
       params.normalEncoding,
   };
-  const auto resolveRow = kernels == KernelPath::kSimd ? GBufferResolveRowSimd : GBufferResolveRowScalar;
-  std::vector<size_t> coveredPerBand(RowBandCount(size_t(view.height)), 0);
-  ParallelForRowBands("gbuffer.resolve", size_t(view.height), [&](size_t band, size_t yBegin, size_t yEnd) {
-    for (int y = int(yBegin); y < int(yEnd); ++y) {
-      coveredPerBand[band] += resolveRow(
-          context, out.visibility.triangle.ConstRow(y), out.visibility.depthKey.ConstRow(y), y, view.width,
-          out.gbuffer.word[0].MutableRow(y), out.gbuffer.word[1].MutableRow(y), out.gbuffer.word[2].MutableRow(y));
+  const VisibilityBuffer& visibility = out.visibility;
+  std::vector<size_t> coveredPerBand(RowBandCount(height), 0);
+  ParallelForRowBands("gbuffer.resolve", height, [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const uint32_t* triangles = visibility.triangle.ConstRow(y);
+      const float* depthKeys = visibility.depthKey.ConstRow(y);
+      uint32_t* words[3] = {out.gbuffer.word[0].MutableRow(y), out.gbuffer.word[1].MutableRow(y),
+                            out.gbuffer.word[2].MutableRow(y)};
+      if (kernels == KernelPath::kSimd) {
+        const size_t next = std::min(y + 1, height - 1);
+        coveredPerBand[band] += GBufferResolveRowSimd(context, triangles, depthKeys, int(y), view.width, words[0],
+                                                      words[1], words[2], visibility.triangle.ConstRow(next),
+                                                      visibility.depthKey.ConstRow(next));
+      } else {
+        coveredPerBand[band] += GBufferResolveRowScalar(context, triangles, depthKeys, int(y), view.width, words[0],
+                                                        words[1], words[2]);
+      }
     }
   });
   for (size_t n : coveredPerBand) stats.coveredPixels += n;

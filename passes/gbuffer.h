@@ -69,7 +69,10 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
                                uint32_t* word2);
+// Its Highway twin; nextTriangles and nextDepthKeys are the next row's (or this one's, at the last),
+// which it asks the cache for ahead of their turn.
 size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
-                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2);
+                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2,
+                             const uint32_t* nextTriangles, const float* nextDepthKeys);
 
 }  // namespace ssgi

@@ -10,6 +10,7 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/gbuffer_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/cache_control.h"
 #include "hwy/highway.h"
 
 #include "core/camera-inl.h"
@@ -194,7 +195,8 @@ HWY_INLINE RayPlaneLanes RayPlaneBarycentricsV(const Vec3V<DF>& direction, const
 }
 
 size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
-                         int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+                         int width, uint32_t* word0, uint32_t* word1, uint32_t* word2, const uint32_t* nextTriangles,
+                         const float* nextDepthKeys) {
   const DF df;
   const DI di;
   const DU du;
@@ -214,6 +216,11 @@ size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* tria
   TriangleData broadcast;
   PlaneTerms broadcastTerms;
   for (size_t x = 0; x < count; x += lanes) {
+    // A row of the visibility buffer is a page of its own at 1024 pixels, where the hardware's
+    // prefetch stops: the next row is asked for along this one (the 10k knot's resolve at 1 thread:
+    // 3.8 -> 3.4 ms).
+    hwy::Prefetch(nextTriangles + x);
+    hwy::Prefetch(nextDepthKeys + x);
     const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
     const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
     const auto storeWords = [&](hn::Vec<DU> w0, hn::Vec<DU> w1, hn::Vec<DU> w2) {
@@ -360,7 +367,8 @@ namespace ssgi {
 HWY_EXPORT(GBufferResolveRow);
 
 size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
-                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2) {
+                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2,
+                             const uint32_t* nextTriangles, const float* nextDepthKeys) {
   // The twin's rays all start at the camera centre (PlaneTermsOf); the scalar kernel's would not.
   SSGI_CHECK(!context.view.orthographic);
   const Mesh& mesh = context.scene.mesh;
@@ -378,7 +386,8 @@ size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_
       context.normalToView,
       context.normalEncoding,
   };
-  return HWY_DYNAMIC_DISPATCH(GBufferResolveRow)(in, triangles, depthKeys, y, width, word0, word1, word2);
+  return HWY_DYNAMIC_DISPATCH(GBufferResolveRow)(in, triangles, depthKeys, y, width, word0, word1, word2,
+                                                 nextTriangles, nextDepthKeys);
 }
 
 }  // namespace ssgi
