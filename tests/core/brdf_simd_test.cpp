@@ -94,11 +94,20 @@ TEST_CASE("BRDF: SpecularWeightV equals SpecularWeight on every target", "[brdf]
   test::SimdRows expected(3, kCount);
   for (size_t i = 0; i < kCount; ++i) {
     const glm::vec3 f0(unit(rng), unit(rng), unit(rng));
-    // Every grid point of the table and every roughness code, then anywhere around [0, 1].
-    const float nDotV = i < 1024 ? float(i % kDfgSize) / (kDfgSize - 1) : wide(rng);
-    const float roughness = i < 1024 ? float(i / kDfgSize) / (kDfgSize - 1)
-                            : i < 2048 ? float(i % 256) / 255.0f
-                                       : wide(rng);
+    // Every grid point of the table and every roughness code; then runs of 16 pixels of one
+    // roughness with n.v rising or falling by steps from 1/2000 to 1/31 (as across a surface,
+    // where the kernel reads the table from a window when the run's entries fit one, to the table's
+    // edges and past them); then anywhere around [0, 1].
+    float nDotV = i < 1024 ? float(i % kDfgSize) / (kDfgSize - 1) : wide(rng);
+    float roughness = i < 1024 ? float(i / kDfgSize) / (kDfgSize - 1)
+                      : i < 2048 ? float(i % 256) / 255.0f
+                                 : wide(rng);
+    if (i >= 2048 && i < 2048 + 16 * 1024) {
+      const size_t run = (i - 2048) / 16, lane = (i - 2048) % 16;
+      const float step = (run % 2 == 0 ? 1.0f : -1.0f) * (1.0f + float(run / 2 % 64)) / 2000.0f;
+      nDotV = -0.05f + 1.1f * float(run % 97) / 96.0f + float(lane) * step;
+      roughness = float(run / 2 % 34) / 32.0f - 0.03f;
+    }
     in.Set3(0, i, f0);
     in.values[3][i] = i == 1024 ? -0.0f : nDotV;
     in.values[4][i] = roughness;
