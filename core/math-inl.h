@@ -36,9 +36,9 @@ using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 
 // The entries a vector of indices into a table of `size` >= Lanes(d) entries reads, when they lie
-// close together: the vector of entries from `first`, centred on lane 0's index, and each lane's
-// place in it; `holdsAll` when every lane's entry, and the `reach` entries after it, are there (a
-// lane that also reads its index + 1, ..., + reach).
+// close together: the vector of entries from `first` (where WindowAround or WindowFromLowest puts
+// it), and each lane's place in it; `holdsAll` when every lane's entry, and the `reach` entries after
+// it, are there (a lane that also reads its index + 1, ..., + reach).
 template <class D>
 struct GatherWindow {
   int32_t first;
@@ -61,6 +61,7 @@ HWY_INLINE GatherWindow<D> WindowAt(D d, int32_t size, int32_t start, hn::Vec<hn
   return {first, place, holdsAll};
 }
 
+// The window centred on lane 0's index: for indices scattered a little around it.
 template <class D>
 HWY_INLINE GatherWindow<D> WindowAround(D d, int32_t size, hn::Vec<hn::RebindToSigned<D>> index,
                                         int32_t reach = 0) {
