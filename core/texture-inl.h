@@ -63,9 +63,9 @@ HWY_INLINE Vec4V TexelV(const TextureView& view, VI offset, VI width, VI x, VI y
   const auto word = hn::GatherIndex(du, view.texels, hn::Add(offset, hn::Add(hn::Mul(y, width), x)));
   const auto byte = hn::Set(du, 0xFFu);
   const auto code = [&](auto shifted) { return hn::BitCast(di, hn::And(shifted, byte)); };
-  return {hn::GatherIndex(df, view.colour, code(word)), hn::GatherIndex(df, view.colour, code(hn::ShiftRight<8>(word))),
-          hn::GatherIndex(df, view.colour, code(hn::ShiftRight<16>(word))),
-          hn::GatherIndex(df, view.alpha, hn::BitCast(di, hn::ShiftRight<24>(word)))};
+  return {LookupTable256(df, view.colour, code(word)), LookupTable256(df, view.colour, code(hn::ShiftRight<8>(word))),
+          LookupTable256(df, view.colour, code(hn::ShiftRight<16>(word))),
+          LookupTable256(df, view.alpha, hn::BitCast(di, hn::ShiftRight<24>(word)))};
 }
 
 // a * (1 - f) + b * f per channel, as glm's vec4 arithmetic.
@@ -79,9 +79,9 @@ HWY_INLINE Vec4V LerpV(const Vec4V& a, const Vec4V& b, VF f) {
 HWY_INLINE Vec4V SampleBilinearV(const TextureView& view, VI level, VF u, VF v) {
   const DF df;
   const DI di;
-  const VI width = hn::GatherIndex(di, view.width, level);
-  const VI height = hn::GatherIndex(di, view.height, level);
-  const VI offset = hn::GatherIndex(di, view.offset, level);
+  const VI width = LookupSmallTable<kMaxTextureLevels>(di, view.width, level);
+  const VI height = LookupSmallTable<kMaxTextureLevels>(di, view.height, level);
+  const VI offset = LookupSmallTable<kMaxTextureLevels>(di, view.offset, level);
   const VF half = hn::Set(df, 0.5f);
   const VF x = hn::Sub(hn::Mul(u, hn::ConvertTo(df, width)), half);
   const VF y = hn::Sub(hn::Mul(hn::Sub(hn::Set(df, 1.0f), v), hn::ConvertTo(df, height)), half);
