@@ -55,17 +55,43 @@ HWY_INLINE VI WrapIndexV(VI i, VI size) {
                         hn::IfThenElse(hn::Lt(i, size), i, hn::Sub(i, size)));
 }
 
-// The decoded texel (x, y) of the lanes' levels (`offset` their first texel, `width` their rows).
-HWY_INLINE Vec4V TexelV(const TextureView& view, VI offset, VI width, VI x, VI y) {
+// The decoded texel of each lane's 32-bit word.
+HWY_INLINE Vec4V DecodeTexelV(const TextureView& view, hn::Vec<DU> word) {
   const DF df;
   const DI di;
-  const hn::RebindToUnsigned<DF> du;
-  const auto word = hn::GatherIndex(du, view.texels, hn::Add(offset, hn::Add(hn::Mul(y, width), x)));
-  const auto byte = hn::Set(du, 0xFFu);
+  const auto byte = hn::Set(DU(), 0xFFu);
   const auto code = [&](auto shifted) { return hn::BitCast(di, hn::And(shifted, byte)); };
   return {LookupTable256(df, view.colour, code(word)), LookupTable256(df, view.colour, code(hn::ShiftRight<8>(word))),
           LookupTable256(df, view.colour, code(hn::ShiftRight<16>(word))),
           LookupTable256(df, view.alpha, hn::BitCast(di, hn::ShiftRight<24>(word)))};
+}
+
+// The words of the texels (x0, y) and (x1, y) of each lane, `rowStart` the index of its (0, y). Where
+// every lane's x1 is x0 + 1 (not wrapped), the two are neighbours in memory: one 64-bit gather of
+// half the lanes reads both, half the elements of two 32-bit gathers (a gather's time goes with its
+// elements).
+HWY_INLINE void TexelWordPairV(const TextureView& view, VI rowStart, VI x0, VI x1, bool neighbours,
+                               hn::Vec<DU>& word0, hn::Vec<DU>& word1) {
+  const DU du;
+#if HWY_TARGET != HWY_SCALAR  // one lane: no halves
+  if (neighbours) {
+    const hn::Half<DI> dh;
+    const hn::Repartition<int64_t, DI> dl;
+    const hn::Repartition<uint64_t, DI> dw;
+    const VI first = hn::Add(rowStart, x0);
+    const auto bytes = [&](auto half) { return hn::ShiftLeft<2>(hn::PromoteTo(dl, half)); };
+    const uint64_t* texels = reinterpret_cast<const uint64_t*>(view.texels);
+    const auto lower = hn::BitCast(du, hn::GatherOffset(dw, texels, bytes(hn::LowerHalf(dh, first))));
+    const auto upper = hn::BitCast(du, hn::GatherOffset(dw, texels, bytes(hn::UpperHalf(dh, first))));
+    word0 = hn::ConcatEven(du, upper, lower);
+    word1 = hn::ConcatOdd(du, upper, lower);
+    return;
+  }
+#else
+  (void)neighbours;
+#endif
+  word0 = hn::GatherIndex(du, view.texels, hn::Add(rowStart, x0));
+  word1 = hn::GatherIndex(du, view.texels, hn::Add(rowStart, x1));
 }
 
 // a * (1 - f) + b * f per channel, as glm's vec4 arithmetic.
@@ -91,8 +117,12 @@ HWY_INLINE Vec4V SampleBilinearV(const TextureView& view, VI level, VF u, VF v) 
   const VI ix = hn::ConvertTo(di, x0), iy = hn::ConvertTo(di, y0);
   const VI ix0 = WrapIndexV(ix, width), ix1 = WrapIndexV(hn::Add(ix, one), width);
   const VI iy0 = WrapIndexV(iy, height), iy1 = WrapIndexV(hn::Add(iy, one), height);
-  const Vec4V top = LerpV(TexelV(view, offset, width, ix0, iy0), TexelV(view, offset, width, ix1, iy0), fx);
-  const Vec4V bottom = LerpV(TexelV(view, offset, width, ix0, iy1), TexelV(view, offset, width, ix1, iy1), fx);
+  const bool neighbours = hn::AllTrue(di, hn::Eq(ix1, hn::Add(ix0, one)));
+  hn::Vec<DU> word[4];  // (ix0, iy0), (ix1, iy0), (ix0, iy1), (ix1, iy1)
+  TexelWordPairV(view, hn::Add(offset, hn::Mul(iy0, width)), ix0, ix1, neighbours, word[0], word[1]);
+  TexelWordPairV(view, hn::Add(offset, hn::Mul(iy1, width)), ix0, ix1, neighbours, word[2], word[3]);
+  const Vec4V top = LerpV(DecodeTexelV(view, word[0]), DecodeTexelV(view, word[1]), fx);
+  const Vec4V bottom = LerpV(DecodeTexelV(view, word[2]), DecodeTexelV(view, word[3]), fx);
   return LerpV(top, bottom, fy);
 }
 

@@ -1,7 +1,8 @@
 // The Highway twin of SampleTexture (core/texture-inl.h) against the scalar sampler, bit for bit, on
 // every compiled and supported target: textures of odd, even, strip and 1x1 sizes in both encodings,
 // lookups anywhere (UVs far outside [0, 1], on texel edges, non-finite) with footprints from none
-// to past the whole texture (every mip level, blends between them, NaN and infinity).
+// to past the whole texture (every mip level, blends between them, NaN and infinity), and runs of
+// lookups as a row of pixels makes them.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tests/core/texture_simd_test.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -75,6 +76,40 @@ TEST_CASE("texture: SampleTextureV equals SampleTexture on every target", "[text
         HWY_DYNAMIC_DISPATCH(SampleTextures)(view, in.in.data(), kCount, out);
       });
     }
+  }
+}
+
+// Lookups as a row of pixels makes them: runs of UVs a fraction of a texel apart, one footprint per
+// run, so that a vector's bilinear pairs are mostly neighbours in memory (read by the paired
+// gathers) and sometimes wrap at the texture's right edge (read one texel at a time).
+TEST_CASE("texture: SampleTextureV equals SampleTexture on every target, coherent rows", "[texture][simd]") {
+  std::mt19937 rng(22);
+  for (const auto& [width, height] : {std::pair{37, 23}, std::pair{256, 64}, std::pair{2, 5}}) {
+    std::vector<uint8_t> rgba(size_t(width) * size_t(height) * 4);
+    for (uint8_t& texel : rgba) texel = uint8_t(rng());
+    const Texture texture = MakeTexture(width, height, rgba, TextureEncoding::kSrgb);
+    const TextureView view = ViewOf(texture);
+    constexpr size_t kRun = 64, kCount = 64 * kRun;
+    test::SimdRows in(3, kCount), expected(4, kCount);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (size_t run = 0; run < kCount / kRun; ++run) {
+      // From level 0 magnified to a few levels down, and a start anywhere (some runs cross u = 1).
+      const float footprint = std::exp2(-2.0f - 10.0f * unit(rng));
+      const float step = footprint * (0.25f + unit(rng));
+      float u = 4.0f * unit(rng) - 1.0f;
+      const float v = unit(rng), vStep = 0.1f * step * unit(rng);
+      for (size_t i = run * kRun; i < (run + 1) * kRun; ++i, u += step) {
+        in.values[0][i] = u;
+        in.values[1][i] = v + vStep * float(i - run * kRun);
+        in.values[2][i] = footprint;
+        const glm::vec4 texel = SampleTexture(texture, {u, in.values[1][i]}, footprint);
+        for (int c = 0; c < 4; ++c) expected.values[size_t(c)][i] = texel[c];
+      }
+    }
+    CAPTURE(width, height);
+    test::CheckEveryTarget(expected, kCount, [&](float* const* out) {
+      HWY_DYNAMIC_DISPATCH(SampleTextures)(view, in.in.data(), kCount, out);
+    });
   }
 }
 
