@@ -393,6 +393,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     tile->width = std::min(kRasterTileSize, view.width - tile->x0);
     tile->height = std::min(kRasterTileSize, view.height - tile->y0);
     std::fill(std::begin(tile->depth), std::end(tile->depth), 0.0f);
+    std::fill(std::begin(tile->blockFarthest), std::end(tile->blockFarthest), 0.0f);
     if (writeTriangle) std::fill(std::begin(tile->triangle), std::end(tile->triangle), kNoTriangle);
     if (coverageCount) std::fill(std::begin(tile->coverage), std::end(tile->coverage), 0u);
     for (const ChunkBins& bins : chunks) {

@@ -18,7 +18,10 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <iterator>
+#include <limits>
 
 #include "core/raster_tile.h"
 
@@ -70,6 +73,41 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   auto edgeAt = [&](int e, int px, int py) {
     return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
   };
+  // Hidden blocks, in depth-only rasters: a block whose farthest key is at or above every key the
+  // triangle can give its samples is passed over, and the triangle where that holds for the whole
+  // tile. A shadow map draws both faces of every caster, and most of its blocks are hidden when a
+  // triangle reaches them (Sponza's 2048 map: 69%; raster 18 -> 11 ms at 1 thread); the camera's
+  // front faces hide few, and there the bookkeeping cost more than it saved (1M knot +13%), as it
+  // would where coverage is counted, before the depth test. Those keys are below the key plane's
+  // highest over the triangle (at a vertex: the samples are inside it) and over the block (at a
+  // corner), plus a margin for the float evaluation's roundings (a few, each within 2^-24 of the
+  // largest term; the margin is 16 times that).
+  constexpr bool kSkipHidden = !kWriteTriangle && !kCountCoverage;
+  double keyCeiling = 0.0, blockCeilingBase = 0.0, blockCeilingDx = 0.0, blockCeilingDy = 0.0;
+  int cornerX = 0, cornerY = 0;
+  if constexpr (kSkipHidden) {
+    const double tileSpan = double(kRasterTileSize);
+    const double margin =
+        0x1p-20 * (std::abs(double(keyBase)) + tileSpan * (std::abs(double(t.keyDx)) + std::abs(double(t.keyDy)))) +
+        0x1p-40 * (std::abs(t.keyAtOrigin) + std::abs(t.keyDx) * (tile.x0 + tileSpan) +
+                   std::abs(t.keyDy) * (tile.y0 + tileSpan));
+    keyCeiling = -std::numeric_limits<double>::infinity();
+    for (int v = 0; v < 3; ++v) {
+      keyCeiling = std::max(keyCeiling, t.keyAtOrigin + t.keyDx * (double(t.x[v]) * (1.0 / kSubPixelScale) - 0.5) +
+                                            t.keyDy * (double(t.y[v]) * (1.0 / kSubPixelScale) - 0.5));
+    }
+    keyCeiling += margin;
+    auto least = hn::Load(dk, tile.blockFarthest);
+    for (size_t k = lanes; k < std::size(tile.blockFarthest); k += lanes)
+      least = hn::Min(least, hn::Load(dk, tile.blockFarthest + k));
+    if (double(hn::GetLane(hn::MinOfLanes(dk, least))) >= keyCeiling) return;
+    // A block's ceiling is the plane at its corner (lx + cornerX, ly + cornerY).
+    blockCeilingBase = double(keyBase) + margin;
+    blockCeilingDx = double(float(t.keyDx));
+    blockCeilingDy = double(float(t.keyDy));
+    cornerX = blockCeilingDx > 0.0 ? kRasterBlockSize - 1 : 0;
+    cornerY = blockCeilingDy > 0.0 ? kRasterBlockSize - 1 : 0;
+  }
 
   // Per edge: its extremes over a block relative to the block's first sample, and (32-bit edges)
   // its change from there to the first kStepSamples samples, and per sample row.
@@ -122,6 +160,13 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
         crossingCount += corner + lowest[e] < 0;
       }
       if (reject) continue;
+      const size_t blockIndex = size_t(TilePixelIndex(lx, ly));
+      float* farthest = tile.blockFarthest + blockIndex / kRasterBlockSamples;
+      if constexpr (kSkipHidden) {
+        const double blockCeiling =
+            blockCeilingBase + blockCeilingDx * (lx + cornerX) + blockCeilingDy * (ly + cornerY);
+        if (double(*farthest) >= std::min(keyCeiling, blockCeiling)) continue;
+      }
       int32_t cornerValue[3];
       HWY_ALIGN int32_t outside[3][kRasterBlockSamples];
       for (int c = 0; c < crossingCount; ++c) {
@@ -140,8 +185,15 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       const bool clipped = lx + kRasterBlockSize > tile.width || ly + kRasterBlockSize > tile.height;
       const auto tileWidth = hn::Set(ds, tile.width - lx), tileHeight = hn::Set(ds, tile.height - ly);
       const auto lxV = hn::Set(dk, float(lx)), lyV = hn::Set(dk, float(ly));
-      const size_t blockIndex = size_t(TilePixelIndex(lx, ly));
       float* depth = tile.depth + blockIndex;
+      // The block's keys after the triangle's: each written key only raises its farthest.
+      const auto updateFarthest = [&] {
+        if constexpr (!kSkipHidden) return;
+        auto least = hn::Load(dk, depth);
+        for (size_t k = lanes; k < kRasterBlockSamples; k += lanes) least = hn::Min(least, hn::Load(dk, depth + k));
+        *farthest = hn::GetLane(hn::MinOfLanes(dk, least));
+      };
+      auto written = hn::FirstN(dk, 0);
       // The key keyBase + keyDx * float(lx) + keyDy * float(ly) in the scalar kernel's order; its
       // first sum depends only on the sample's column (k % 8).
       auto keyOfColumns = [&](size_t k) {
@@ -191,19 +243,26 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
           visible |= laneBits << k;
           continue;
         }
+        written = hn::Or(written, nearer);
         hn::Store(hn::IfThenElse(nearer, key, stored), dk, depth + k);
         if constexpr (kWriteTriangle) {
           uint32_t* triangle = tile.triangle + blockIndex + k;
           hn::Store(hn::IfThenElse(hn::RebindMask(dt, nearer), triangleId, hn::Load(dt, triangle)), dt, triangle);
         }
       }
+      if (!alphaTested) {
+        if (!hn::AllFalse(dk, written)) updateFarthest();
+        continue;
+      }
       if (visible == 0) continue;
       visible = alphaTest.passes(alphaTest.context, t.triangle, bx, by, visible);
+      if (visible == 0) continue;
       for (; visible != 0; visible &= visible - 1) {
         const int sample = std::countr_zero(visible);
         depth[sample] = keys[sample];
         if constexpr (kWriteTriangle) tile.triangle[blockIndex + size_t(sample)] = t.triangle;
       }
+      updateFarthest();
     }
   }
 }

@@ -108,6 +108,10 @@ constexpr int TilePixelIndex(int lx, int ly) {
 struct TileTarget {
   int x0, y0, width, height;  // the tile's pixels in the image
   alignas(64) float depth[kRasterTilePixels];
+  // Per 8x8 block, a key at or below every depth key the block holds (the clear key, 0, at first).
+  // Kept by the SIMD kernel, which passes over a block no key of the triangle can beat: an
+  // optimisation with no effect on the bytes (the scalar kernel, the definition, does not read it).
+  float blockFarthest[kRasterTileBlocks * kRasterTileBlocks];
   alignas(64) uint32_t triangle[kRasterTilePixels];  // written when TileTriangles::writeTriangle
   alignas(64) uint32_t coverage[kRasterTilePixels];  // counted when TileTriangles::countCoverage
 };

@@ -3,6 +3,7 @@
 // indices and coverage counts of the default scene from its camera and from its sun (depth only, both
 // faces), with cut-outs, and of triangles whose edges are too long for the kernel's 32-bit lanes; and
 // the batched triangle set-up against the scalar one.
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -195,6 +196,39 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
       CHECK(left / 2 == 1);
       CHECK(right / 2 == 2);
     }
+  }
+}
+
+// Depth-only rasters pass over the blocks a triangle cannot reach in front of what they hold (the
+// twin's hidden-block test, core/raster_simd.cpp): layers of quads over the whole image, tilted a
+// little each way and a millionth of the depth range apart, in a random order, so that many blocks
+// are hidden and many others are reached by a hair, within the test's margin.
+TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, near-coplanar layers",
+          "[raster][simd]") {
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  for (const glm::ivec2 size : {glm::ivec2(256, 192), glm::ivec2(67, 45)}) {
+    std::vector<glm::vec3> positions;
+    std::vector<uint32_t> indices;
+    std::vector<int> order(48);
+    for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (const int layer : order) {
+      const float depth = -1.0f + 1e-6f * float(layer), tiltX = 2e-6f * unit(rng), tiltY = 2e-6f * unit(rng);
+      const uint32_t first = uint32_t(positions.size());
+      const float hx = 0.6f * float(size.x), hy = 0.6f * float(size.y);
+      for (const glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)})
+        positions.push_back({corner.x * hx, corner.y * hy, depth + tiltX * corner.x + tiltY * corner.y});
+      indices.insert(indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+    }
+    const ViewProjection view = MakeOrthographic({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 1.0f, 0.0f},
+                                                 0.5f * float(size.x), 0.5f * float(size.y), 0.1f, 2.0f, size.x,
+                                                 size.y);
+    const RasterInput input{positions.data(), positions.size(), indices.data(), indices.size() / 3, nullptr, {}};
+    CAPTURE(size.x, size.y);
+    const auto run = RunOf(input, view, RasterOutput::kDepthOnly, false);
+    CHECK(CountDrawn(run(KernelPath::kScalar).visibility) == size_t(size.x * size.y));
+    CHECK(test::TargetsWhereKernelPathsDiffer(run, SameResult) == "");
   }
 }
 
