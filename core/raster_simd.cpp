@@ -186,14 +186,13 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       const auto tileWidth = hn::Set(ds, tile.width - lx), tileHeight = hn::Set(ds, tile.height - ly);
       const auto lxV = hn::Set(dk, float(lx)), lyV = hn::Set(dk, float(ly));
       float* depth = tile.depth + blockIndex;
-      // The block's keys after the triangle's: each written key only raises its farthest.
+      // After the triangle has written keys into the block (which only raise its farthest).
       const auto updateFarthest = [&] {
-        if constexpr (!kSkipHidden) return;
         auto least = hn::Load(dk, depth);
         for (size_t k = lanes; k < kRasterBlockSamples; k += lanes) least = hn::Min(least, hn::Load(dk, depth + k));
         *farthest = hn::GetLane(hn::MinOfLanes(dk, least));
       };
-      auto written = hn::FirstN(dk, 0);
+      auto written = hn::FirstN(dk, 0);  // kSkipHidden: the samples the triangle wrote
       // The key keyBase + keyDx * float(lx) + keyDy * float(ly) in the scalar kernel's order; its
       // first sum depends only on the sample's column (k % 8).
       auto keyOfColumns = [&](size_t k) {
@@ -243,7 +242,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
           visible |= laneBits << k;
           continue;
         }
-        written = hn::Or(written, nearer);
+        if constexpr (kSkipHidden) written = hn::Or(written, nearer);
         hn::Store(hn::IfThenElse(nearer, key, stored), dk, depth + k);
         if constexpr (kWriteTriangle) {
           uint32_t* triangle = tile.triangle + blockIndex + k;
@@ -251,7 +250,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
         }
       }
       if (!alphaTested) {
-        if (!hn::AllFalse(dk, written)) updateFarthest();
+        if (kSkipHidden && !hn::AllFalse(dk, written)) updateFarthest();
         continue;
       }
       if (visible == 0) continue;
@@ -262,7 +261,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
         depth[sample] = keys[sample];
         if constexpr (kWriteTriangle) tile.triangle[blockIndex + size_t(sample)] = t.triangle;
       }
-      updateFarthest();
+      if constexpr (kSkipHidden) updateFarthest();
     }
   }
 }
