@@ -132,17 +132,6 @@ HWY_INLINE VI TruncateSmall(VF v) {
   return hn::Sub(hn::BitCast(di, hn::Add(hn::Floor(v), hn::Set(df, kTwoTo23))), hn::BitCast(di, hn::Set(df, kTwoTo23)));
 }
 
-// Each lane's entry of a per-level table (kMaxHiZLevels + 1 entries): a permutation where a vector
-// holds the whole table, else a gather from it.
-HWY_INLINE VI PerLevel(const int32_t* table, VI level) {
-  const DI di;
-  if constexpr (hn::MaxLanes(DI()) >= kMaxHiZLevels + 1) {
-    return hn::TableLookupLanes(hn::LoadU(di, table), hn::IndicesFromVec(di, level));
-  } else {
-    return hn::GatherIndex(di, table, level);
-  }
-}
-
 // Targets whose gathers are the hardware's, which reads any address the indices give: there the
 // levels, separate planes, are read through one base (SsrTraceFrame::hizOffset).
 constexpr bool kHardwareGather = HWY_TARGET == HWY_AVX2 || HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL;
@@ -159,7 +148,8 @@ HWY_INLINE VF ClosestInverseDepth(const SsrTraceFrame& frame, const MarchLanes& 
   const VI level = hn::IfThenElseZero(live, m.level);
   if (kHardwareGather && frame.hizOffsetsFit) {
     const VI index =
-        hn::Add(PerLevel(frame.hizOffset, level), hn::Add(hn::Mul(cellY, PerLevel(frame.hizStride, level)), cellX));
+        hn::Add(LookupSmallTable<kMaxHiZLevels + 1>(di, frame.hizOffset, level),
+                hn::Add(hn::Mul(cellY, LookupSmallTable<kMaxHiZLevels + 1>(di, frame.hizStride, level)), cellX));
     return hn::GatherIndex(df, frame.hizBase, hn::IfThenElseZero(live, index));
   }
   HWY_ALIGN int32_t laneLevel[hn::MaxLanes(DI())];
