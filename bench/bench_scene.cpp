@@ -25,6 +25,11 @@ BenchScene LoadBenchScene(const char* path) {
   }
 }
 
+const BenchScene& SponzaBenchScene() {
+  static const BenchScene scene = LoadBenchScene(SSGI_SOURCE_DATA_DIR "/scenes/sponza.json");
+  return scene;
+}
+
 }  // namespace
 
 const BenchScene& DefaultBenchScene() {
@@ -32,10 +37,6 @@ const BenchScene& DefaultBenchScene() {
   return scene;
 }
 
-const BenchScene& SponzaBenchScene() {
-  static const BenchScene scene = LoadBenchScene(SSGI_SOURCE_DATA_DIR "/scenes/sponza.json");
-  return scene;
-}
 
 const BenchScene& KnotScene(int64_t triangles) {
   struct Segments {
@@ -61,6 +62,11 @@ const BenchScene& KnotScene(int64_t triangles) {
   }
   static const BenchScene unknown{{}, {}, "no torus knot with that triangle count"};
   return unknown;
+}
+
+const BenchScene& BenchSceneOf(int64_t scene) {
+  if (scene == -1) return SponzaBenchScene();
+  return scene == 0 ? DefaultBenchScene() : KnotScene(scene);
 }
 
 void GBufferPeerArgs(benchmark::internal::Benchmark* benchmark) {

@@ -28,16 +28,17 @@ struct BenchScene {
 // needs it reports.
 const BenchScene& DefaultBenchScene();
 
-// data/scenes/sponza.json: Dabrovic Sponza from ../shared/scenes (66k triangles, textured, alpha
-// cut-outs), loaded once; where the shared scenes are absent the error says so and the benchmarks
-// that need it skip.
-const BenchScene& SponzaBenchScene();
-
 // A torus knot (core/procedural_mesh.h) of exactly `triangles` triangles (10k, 30k, 100k, 300k or
 // 1M; 10k, 100k and 1M are the sizes DESIGN.md §13 gives for llvmpipe), default material, seen along
 // its symmetry axis so it fills most of a square image: 68% of it, with many silhouettes and
 // self-occlusion. Made once per size; another count gives a scene whose error says so.
 const BenchScene& KnotScene(int64_t triangles);
+
+// The scene a benchmark's `scene` argument names: 0 the default scene, -1 data/scenes/sponza.json
+// (Dabrovic Sponza from ../shared/scenes: 66k triangles, textured, alpha cut-outs; loaded once, and
+// where the shared scenes are absent its error says so and the benchmark skips), else the knot of
+// that many triangles.
+const BenchScene& BenchSceneOf(int64_t scene);
 
 // The arguments of the G-buffer comparison with llvmpipe, the same for ssgi (BM_GBufferSsgi) and the
 // peer (BM_GBufferLlvmpipe): scene (a KnotScene's triangle count), threads (1 or 2), size (of the

@@ -129,12 +129,12 @@ void RegisterPenumbrae(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_FramePenumbraShare)->Apply(RegisterPenumbrae);
 
-// The rows of `ssgi figures`' Table 1, with each stage's time: the scene (0 the default scene, -1
-// Dabrovic Sponza, SponzaBenchScene) at its own 1024x1024, row 0 direct light only, 1 with shadows,
+// The rows of `ssgi figures`' Table 1, with each stage's time: the scene (BenchSceneOf: 0 the default
+// scene, -1 Dabrovic Sponza) at its own 1024x1024, row 0 direct light only, 1 with shadows,
 // 2 with shadows and reflections, on `threads` threads, rendered as Table 1 renders them (into the
 // last frame's buffers).
 void BM_Table1Frame(benchmark::State& state) {
-  const BenchScene& bench = state.range(2) == -1 ? SponzaBenchScene() : DefaultBenchScene();
+  const BenchScene& bench = BenchSceneOf(state.range(2));
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const ThreadLimit threads(int(state.range(1)));
   FrameConfig config = bench.config;

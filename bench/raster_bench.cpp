@@ -90,16 +90,10 @@ void GBufferPass(benchmark::State& state, const BenchScene& bench) {
   state.counters["covered"] = double(covered) / double(kPixels);
 }
 
-// range(0): the kernel path (Kernels); range(1): the scene (0 = default scene, -1 = Sponza, else the
-// knot's triangle count); range(2): threads (0 = oneTBB's default, all cores); range(3): 1 = fresh
-// pages every frame (UseFreshPages).
-const BenchScene& SceneFor(const benchmark::State& state) {
-  if (state.range(1) == -1) return SponzaBenchScene();
-  return state.range(1) == 0 ? DefaultBenchScene() : KnotScene(state.range(1));
-}
-
-void BM_Rasterize(benchmark::State& state) { RasterizeOnly(state, SceneFor(state)); }
-void BM_GBuffer(benchmark::State& state) { GBufferPass(state, SceneFor(state)); }
+// range(0): the kernel path (Kernels); range(1): the scene (BenchSceneOf); range(2): threads (0 =
+// oneTBB's default, all cores); range(3): 1 = fresh pages every frame (UseFreshPages).
+void BM_Rasterize(benchmark::State& state) { RasterizeOnly(state, BenchSceneOf(state.range(1))); }
+void BM_GBuffer(benchmark::State& state) { GBufferPass(state, BenchSceneOf(state.range(1))); }
 
 void Configure(benchmark::internal::Benchmark* b) {
   const std::vector<int64_t> scenes = {-1, 0, 10000, 100000, 1000000};

@@ -45,7 +45,7 @@ const ShadowInputs& Inputs(const BenchScene& bench) {
 }
 
 void BM_ShadowMap(benchmark::State& state) {
-  const BenchScene& bench = state.range(3) == -1 ? SponzaBenchScene() : DefaultBenchScene();
+  const BenchScene& bench = BenchSceneOf(state.range(3));
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   // Freed blocks stay in the heap: the set-up's per-frame buffers reuse pages already faulted in.
   if (!RetainFreedMemory()) return state.SkipWithError("cannot set the allocator's page reuse (glibc mallopt)");
@@ -108,8 +108,8 @@ void BM_ShadowFilter(benchmark::State& state) {
 }
 
 // Arguments: the kernel path (1 SIMD, 0 scalar: the raster's tile kernel and the blocker search's
-// row kernel), threads (1, 2), the shadow map resolution, then the scene (0 the default scene, -1
-// Sponza: SponzaBenchScene, skipped where the shared scenes are absent).
+// row kernel), threads (1, 2), the shadow map resolution, then the scene (BenchSceneOf: 0 the default
+// scene, -1 Sponza, skipped where the shared scenes are absent).
 BENCHMARK(BM_ShadowMap)
     ->ArgNames({"simd", "threads", "resolution", "scene"})
     ->ArgsProduct({{0, 1}, {1, 2}, {1024, 2048}, {0}})
