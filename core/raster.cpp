@@ -396,11 +396,15 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     std::fill(std::begin(tile->blockFarthest), std::end(tile->blockFarthest), 0.0f);
     if (writeTriangle) std::fill(std::begin(tile->triangle), std::end(tile->triangle), kNoTriangle);
     if (coverageCount) std::fill(std::begin(tile->coverage), std::end(tile->coverage), 0u);
+    size_t tileTriangles = 0;
+    for (const ChunkBins& bins : chunks) tileTriangles += bins.tileStart[tileIndex + 1] - bins.tileStart[tileIndex];
+    const bool smallTriangles =
+        tileTriangles * kSmallTrianglePixels >= size_t(tile->width) * size_t(tile->height);
     for (const ChunkBins& bins : chunks) {
       const uint32_t begin = bins.tileStart[tileIndex], end = bins.tileStart[tileIndex + 1];
       if (begin == end) continue;
       const TileTriangles batch{bins.triangles.data(), bins.entries.data() + begin, end - begin, &input.alphaTest,
-                                writeTriangle, coverageCount != nullptr};
+                                writeTriangle, coverageCount != nullptr, smallTriangles};
       rasterizeTile(batch, *tile);
     }
     const auto copyOut = [&](const void* values, auto& image) {

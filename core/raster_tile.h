@@ -124,7 +124,13 @@ struct TileTriangles {
   const AlphaTest* alphaTest;
   bool writeTriangle;  // TileTarget::triangle (visibility) or depth only
   bool countCoverage;  // TileTarget::coverage: +1 per covered sample, before the depth test
+  // The tile has at least a triangle per kSmallTrianglePixels pixels (all chunks together), so most
+  // of its triangles are a few pixels: a hint for the SIMD kernel's small-triangle path, which
+  // asking for in every tile would cost mispredicted branches where triangles are mixed. No effect
+  // on the bytes.
+  bool smallTriangles;
 };
+inline constexpr size_t kSmallTrianglePixels = 4;
 
 // Calls draw(triangle, writeTriangle, countCoverage) for the batch's triangles in order, the two
 // flags as std::bool_constant, so a kernel's inner loops are compiled once per output.

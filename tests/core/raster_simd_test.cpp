@@ -232,6 +232,59 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
   }
 }
 
+// A dense mesh of small triangles, as far-away detail or a scanned model gives: more than one per
+// kSmallTrianglePixels pixels in every tile, so the twin takes its small-triangle path
+// (core/raster_simd.cpp), from below a pixel to a few pixels wide, at random depths and facings, with
+// vertices on pixel centres (edges through samples) and repeated triangles (ties), some across tile
+// edges and the image's; and large triangles that reach into a tile by a few pixels only.
+TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, small triangles",
+          "[raster][simd]") {
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (const glm::ivec2 size : {glm::ivec2(256, 192), glm::ivec2(67, 45)}) {
+    std::vector<glm::vec3> positions;
+    std::vector<uint32_t> indices;
+    const size_t triangles = size_t(size.x) * size_t(size.y) / 2;
+    for (size_t i = 0; i < triangles; ++i) {
+      const float extent = i % 4 == 0 ? 0.5f : (i % 4 == 1 ? 2.0f : (i % 4 == 2 ? 4.0f : 6.0f));
+      const glm::vec2 anchor(unit(rng) * float(size.x + 4) - 2.0f, unit(rng) * float(size.y + 4) - 2.0f);
+      const float depth = -1.0f - unit(rng);
+      const uint32_t first = uint32_t(positions.size());
+      for (int v = 0; v < 3; ++v) {
+        glm::vec2 pixel = anchor + extent * glm::vec2(unit(rng), unit(rng));
+        if (i % 5 == 0) pixel = glm::floor(pixel) + 0.5f;  // on a pixel centre
+        positions.push_back({pixel.x - 0.5f * float(size.x), 0.5f * float(size.y) - pixel.y, depth + 0.1f * unit(rng)});
+      }
+      indices.insert(indices.end(), {first, first + 1, first + 2});
+      if (i % 50 == 0) indices.insert(indices.end(), {first, first + 1, first + 2});  // a tie
+    }
+    // Large ones in front, whose part in a tile is a 3x3 corner (cut by the tile's edges or the
+    // image's): their edge values there are far beyond 32 bits.
+    const auto addFront = [&](glm::vec2 a, glm::vec2 b, glm::vec2 c) {
+      const uint32_t first = uint32_t(positions.size());
+      for (const glm::vec2 pixel : {a, b, c})
+        positions.push_back({pixel.x - 0.5f * float(size.x), 0.5f * float(size.y) - pixel.y, -0.5f});
+      indices.insert(indices.end(), {first, first + 1, first + 2});
+    };
+    for (const glm::vec2 corner : {glm::vec2(64, 64), glm::vec2(128, 128), glm::vec2(0, 0)})
+      addFront(corner + 2.6f, corner + glm::vec2(-700.0f, 2.7f), corner + glm::vec2(2.7f, -700.0f));
+    const glm::vec2 end(size);
+    addFront(end - 2.6f, end + glm::vec2(700.0f, -2.7f), end + glm::vec2(-2.7f, 700.0f));
+    const ViewProjection view = MakeOrthographic({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 1.0f, 0.0f},
+                                                 0.5f * float(size.x), 0.5f * float(size.y), 0.1f, 3.0f, size.x,
+                                                 size.y);
+    const RasterInput input{positions.data(), positions.size(), indices.data(), indices.size() / 3, nullptr, {}};
+    CAPTURE(size.x, size.y);
+    for (const RasterOutput output : {RasterOutput::kVisibility, RasterOutput::kDepthOnly}) {
+      for (const bool countCoverage : {false, true}) {
+        const auto run = RunOf(input, view, output, countCoverage);
+        CHECK(CountDrawn(run(KernelPath::kScalar).visibility) > size_t(size.x * size.y) / 2);
+        CHECK(test::TargetsWhereKernelPathsDiffer(run, SameResult) == "");
+      }
+    }
+  }
+}
+
 // Random projected vertices: most inside a width x height image, some out to the guard band's edge
 // (2^23.6 in sub-pixel units), some outside a clip plane; triangles that share vertices (zero area),
 // lie on a line, face either way, with random flags.
