@@ -47,15 +47,6 @@ int64_t FloorDiv(int64_t a, int64_t b) {
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
 }
 
-// Signed distances of a clip-space vertex to the clip planes; inside where >= 0.
-struct ClipPlanes {
-  double guardX, guardY;
-  static constexpr int kCount = 6;
-  std::array<double, kCount> Distances(const glm::dvec4& v) const {
-    return {v.w - v.z, v.z, guardX * v.w - v.x, guardX * v.w + v.x, guardY * v.w - v.y, guardY * v.w + v.y};
-  }
-};
-
 // Sutherland-Hodgman against one plane; returns the new vertex count.
 int ClipPolygon(const glm::dvec4* in, int count, int plane, const ClipPlanes& planes, glm::dvec4* out) {
   int written = 0;
@@ -73,31 +64,29 @@ int ClipPolygon(const glm::dvec4* in, int count, int plane, const ClipPlanes& pl
   return written;
 }
 
+// A clip-space position's screen position snapped to the sub-pixel grid, and its depth key.
+SnappedVertex Snap(const glm::dvec4& v, int width, int height) {
+  const double invW = 1.0 / v.w;
+  const double sx = (v.x * invW * 0.5 + 0.5) * double(width);
+  const double sy = (0.5 - v.y * invW * 0.5) * double(height);
+  // Inside the guard band: 32 bits hold them.
+  return {int32_t(RoundHalfAway(sx * double(kSubPixelScale))), int32_t(RoundHalfAway(sy * double(kSubPixelScale))),
+          v.z * invW};
+}
+
 class Setup {
  public:
   Setup(const ViewProjection& view, int tilesX, int tilesY)
-      : width_(view.width), height_(view.height), tilesX_(tilesX), tilesY_(tilesY) {
-    planes_.guardX = 1.0 + 2.0 * kGuardBandPixels / double(width_);
-    planes_.guardY = 1.0 + 2.0 * kGuardBandPixels / double(height_);
-  }
-
-  // Per vertex, once: which clip planes it is outside of, and its snapped screen position when it is
-  // inside all of them (the common case, whose triangles need no clipping).
-  ProjectedVertex Project(const glm::vec4& clip) const {
-    const glm::dvec4 v(clip);
-    const std::array<double, ClipPlanes::kCount> distance = planes_.Distances(v);
-    int32_t outside = 0;
-    for (int p = 0; p < ClipPlanes::kCount; ++p) outside |= int32_t(distance[p] >= 0.0 ? 0 : 1) << p;
-    if (outside != 0) return {{outside, ProjectedVertex::kOutsideClipPlanes, 0.0}};
-    return {Snap(v)};
-  }
+      : planes_(view.width, view.height), width_(view.width), height_(view.height), tilesX_(tilesX), tilesY_(tilesY) {}
 
   // A triangle that crosses a clip plane (TriangleSetUp::kClip): clipped in homogeneous space and
-  // set up as a fan of the clipped polygon.
-  void Clip(const glm::vec4* clip, const uint32_t* index, uint32_t triangle, uint8_t flags, ChunkBins& bins) const {
+  // set up as a fan of the clipped polygon. Its vertices' clip positions are computed again, as
+  // ProjectVerticesScalar computes them.
+  void Clip(const glm::vec3* positions, const glm::mat4& viewProjection, const uint32_t* index, uint32_t triangle,
+            uint8_t flags, ChunkBins& bins) const {
     ++bins.stats.trianglesClipped;
     glm::dvec4 polygon[2][kMaxClippedVertices];
-    for (int i = 0; i < 3; ++i) polygon[0][i] = glm::dvec4(clip[index[i]]);
+    for (int i = 0; i < 3; ++i) polygon[0][i] = glm::dvec4(ClipPosition(positions[index[i]], viewProjection));
     int count = 3;
     int current = 0;
     for (int p = 0; p < ClipPlanes::kCount && count >= 3; ++p) {
@@ -107,8 +96,8 @@ class Setup {
     bool emitted = false;
     for (int i = 1; i + 1 < count; ++i) {
       ScreenTriangle t;
-      if (!SetUpScreenTriangle(Snap(polygon[current][0]), Snap(polygon[current][i]), Snap(polygon[current][i + 1]),
-                               triangle, flags, width_, height_, t))
+      if (!SetUpScreenTriangle(Snap(polygon[current][0], width_, height_), Snap(polygon[current][i], width_, height_),
+                               Snap(polygon[current][i + 1], width_, height_), triangle, flags, width_, height_, t))
         continue;
       bins.triangles.push_back(t);
       ++bins.stats.trianglesSetUp;
@@ -118,15 +107,6 @@ class Setup {
   }
 
  private:
-  SnappedVertex Snap(const glm::dvec4& v) const {
-    const double invW = 1.0 / v.w;
-    const double sx = (v.x * invW * 0.5 + 0.5) * double(width_);
-    const double sy = (0.5 - v.y * invW * 0.5) * double(height_);
-    // Inside the guard band: 32 bits hold them.
-    return {int32_t(RoundHalfAway(sx * double(kSubPixelScale))), int32_t(RoundHalfAway(sy * double(kSubPixelScale))),
-            v.z * invW};
-  }
-
   ClipPlanes planes_;
   int width_, height_;
   int tilesX_, tilesY_;
@@ -273,6 +253,22 @@ bool SetUpScreenTriangle(const SnappedVertex& s0, const SnappedVertex& s1, const
   return true;
 }
 
+ClipPlanes::ClipPlanes(int width, int height)
+    : guardX(1.0 + 2.0 * kGuardBandPixels / double(width)), guardY(1.0 + 2.0 * kGuardBandPixels / double(height)) {}
+
+void ProjectVerticesScalar(const glm::vec3* positions, size_t count, const glm::mat4& viewProjection, int width,
+                           int height, ProjectedVertex* out) {
+  const ClipPlanes planes(width, height);
+  for (size_t i = 0; i < count; ++i) {
+    const glm::dvec4 v(ClipPosition(positions[i], viewProjection));
+    const std::array<double, ClipPlanes::kCount> distance = planes.Distances(v);
+    int32_t outside = 0;
+    for (int p = 0; p < ClipPlanes::kCount; ++p) outside |= int32_t(distance[p] >= 0.0 ? 0 : 1) << p;
+    out[i] = outside != 0 ? ProjectedVertex{{outside, ProjectedVertex::kOutsideClipPlanes, 0.0}}
+                          : ProjectedVertex{Snap(v, width, height)};
+  }
+}
+
 size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
                             uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
                             TriangleSetUp* status) {
@@ -331,15 +327,13 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
   const int tilesX = (view.width + kRasterTileSize - 1) / kRasterTileSize;
   const int tilesY = (view.height + kRasterTileSize - 1) / kRasterTileSize;
   const Setup setup(view, tilesX, tilesY);
-  // Written in full below: not zeroed first (24 MB a frame for a million-triangle mesh).
-  const auto clip = std::make_unique_for_overwrite<glm::vec4[]>(input.vertexCount);
+  // Written in full below: not zeroed first (16 MB a frame for a million-triangle mesh).
   const auto projected = std::make_unique_for_overwrite<ProjectedVertex[]>(input.vertexCount);
+  const auto projectVertices = kernels == KernelPath::kSimd ? ProjectVerticesSimd : ProjectVerticesScalar;
   ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
-    const size_t end = std::min(input.vertexCount, (chunk + 1) * kChunkVertices);
-    for (size_t i = chunk * kChunkVertices; i < end; ++i) {
-      clip[i] = view.viewProjection * glm::vec4(input.positions[i], 1.0f);
-      projected[i] = setup.Project(clip[i]);
-    }
+    const size_t begin = chunk * kChunkVertices, end = std::min(input.vertexCount, begin + kChunkVertices);
+    projectVertices(input.positions + begin, end - begin, view.viewProjection, view.width, view.height,
+                    projected.get() + begin);
   });
 
   const auto setUpTriangles = kernels == KernelPath::kSimd ? SetUpTrianglesSimd : SetUpTrianglesScalar;
@@ -375,7 +369,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
           bins.triangles.push_back(batch[next++]);
         } else if (status[j] == TriangleSetUp::kClip) {
           const uint32_t triangle = uint32_t(i + j);
-          setup.Clip(clip.get(), input.indices + 3 * size_t(triangle), triangle,
+          setup.Clip(input.positions, view.viewProjection, input.indices + 3 * size_t(triangle), triangle,
                      input.triangleFlags ? input.triangleFlags[triangle] : uint8_t(0), bins);
         }
       }

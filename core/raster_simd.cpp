@@ -376,13 +376,86 @@ void CopyTileOut(const TileTarget& tile, const uint32_t* values, uint8_t* firstP
   }
 }
 
+// The vertex projection and the triangle set-up work in doubles, as their definitions do.
+using DD = hn::ScalableTag<double>;
+using DL = hn::RebindToSigned<DD>;
+
+// ProjectVerticesScalar's twin: lanes are vertices. The clip position in floats with glm's operations
+// in their order (its w = 1 term m3 * 1 is m3 exactly), then the definition's double arithmetic;
+// RoundHalfAway's truncation is ConvertTo's, exact for the snapped range.
+void ProjectVertices(const glm::vec3* positions, size_t count, const glm::mat4& viewProjection, int width, int height,
+                     ProjectedVertex* out) {
+  const DD dd;
+  const DL dl;
+  const hn::Rebind<float, DD> df;
+  using VD = hn::Vec<DD>;
+  using VL = hn::Vec<DL>;
+  constexpr size_t kMaxLanes = hn::MaxLanes(DD());
+  const size_t lanes = hn::Lanes(dd);
+  const ClipPlanes planes(width, height);
+  const VD zero = hn::Zero(dd), half = hn::Set(dd, 0.5), one = hn::Set(dd, 1.0);
+  const VD guardX = hn::Set(dd, planes.guardX), guardY = hn::Set(dd, planes.guardY);
+  const VD widthV = hn::Set(dd, double(width)), heightV = hn::Set(dd, double(height));
+  const VD subPixels = hn::Set(dd, double(kSubPixelScale));
+  const VL lowHalf = hn::Set(dl, int64_t(0xFFFFFFFF));
+  const VL outsideMarker = hn::Set(dl, int64_t(uint64_t(uint32_t(ProjectedVertex::kOutsideClipPlanes)) << 32));
+  const auto roundHalfAway = [&](VD x) {  // RoundHalfAway (core/raster.cpp)
+    const VL truncated = hn::ConvertTo(dl, x);
+    const VD fraction = hn::Sub(x, hn::ConvertTo(dd, truncated));
+    const VL up = hn::IfThenElseZero(hn::RebindMask(dl, hn::Ge(fraction, half)), hn::Set(dl, 1));
+    const VL down = hn::IfThenElseZero(hn::RebindMask(dl, hn::Le(fraction, hn::Neg(half))), hn::Set(dl, 1));
+    return hn::Sub(hn::Add(truncated, up), down);
+  };
+  for (size_t i = 0; i < count; i += lanes) {
+    const size_t n = std::min(lanes, count - i);
+    HWY_ALIGN float staged[3 * kMaxLanes] = {};
+    const float* xyz = &positions[i].x;
+    if (n < lanes) {
+      std::memcpy(staged, xyz, n * sizeof(glm::vec3));
+      xyz = staged;
+    }
+    hn::Vec<decltype(df)> px, py, pz;
+    hn::LoadInterleaved3(df, xyz, px, py, pz);
+    VD clip[4];
+    for (int r = 0; r < 4; ++r) {
+      const auto column = [&](int c) { return hn::Set(df, viewProjection[c][r]); };
+      clip[r] = hn::PromoteTo(dd, hn::Add(hn::Add(hn::Mul(column(0), px), hn::Mul(column(1), py)),
+                                          hn::Add(hn::Mul(column(2), pz), column(3))));
+    }
+    const VD &x = clip[0], &y = clip[1], &z = clip[2], &w = clip[3];
+    const VD distance[ClipPlanes::kCount] = {hn::Sub(w, z),
+                                             z,
+                                             hn::Sub(hn::Mul(guardX, w), x),
+                                             hn::Add(hn::Mul(guardX, w), x),
+                                             hn::Sub(hn::Mul(guardY, w), y),
+                                             hn::Add(hn::Mul(guardY, w), y)};
+    VL outside = hn::Zero(dl);
+    for (int p = 0; p < ClipPlanes::kCount; ++p)
+      outside = hn::Or(outside, hn::IfThenZeroElse(hn::RebindMask(dl, hn::Ge(distance[p], zero)), hn::Set(dl, 1 << p)));
+    // Snap (core/raster.cpp)
+    const VD invW = hn::Div(one, w);
+    const VD sx = hn::Mul(hn::Add(hn::Mul(hn::Mul(x, invW), half), half), widthV);
+    const VD sy = hn::Mul(hn::Sub(half, hn::Mul(hn::Mul(y, invW), half)), heightV);
+    const VL snappedX = roundHalfAway(hn::Mul(sx, subPixels)), snappedY = roundHalfAway(hn::Mul(sy, subPixels));
+    const VD key = hn::Mul(z, invW);
+    const auto inside = hn::Eq(outside, hn::Zero(dl));
+    const VL position = hn::IfThenElse(inside, hn::Or(hn::And(snappedX, lowHalf), hn::ShiftLeft<32>(snappedY)),
+                                       hn::Or(outside, outsideMarker));
+    const VL keyBits = hn::IfThenElseZero(inside, hn::BitCast(dl, key));
+    if (n == lanes) {
+      hn::StoreInterleaved2(position, keyBits, dl, reinterpret_cast<int64_t*>(out + i));
+    } else {
+      HWY_ALIGN int64_t words[2 * kMaxLanes];
+      hn::StoreInterleaved2(position, keyBits, dl, words);
+      std::memcpy(out + i, words, n * sizeof(ProjectedVertex));
+    }
+  }
+}
+
 // SetUpTrianglesScalar's twin: lanes are triangles, in doubles. The snapped coordinates (|x| <
 // 2^24), their differences' products and the doubled area are whole numbers below 2^53, so the
 // integer definition's values come out exactly; the rest is the definition's double arithmetic in
 // its order, and its floor divisions by 256 are exact scalings and Floor.
-using DD = hn::ScalableTag<double>;
-using DL = hn::RebindToSigned<DD>;
-
 size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags, uint32_t first,
                       size_t count, int width, int height, ScreenTriangle* out, TriangleSetUp* status) {
   const DD dd;
@@ -511,6 +584,12 @@ namespace ssgi {
 HWY_EXPORT(RasterizeTile);
 HWY_EXPORT(CopyTileOut);
 HWY_EXPORT(SetUpTriangles);
+HWY_EXPORT(ProjectVertices);
+
+void ProjectVerticesSimd(const glm::vec3* positions, size_t count, const glm::mat4& viewProjection, int width,
+                         int height, ProjectedVertex* out) {
+  HWY_DYNAMIC_DISPATCH(ProjectVertices)(positions, count, viewProjection, width, height, out);
+}
 
 size_t SetUpTrianglesSimd(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
                           uint32_t first, size_t count, int width, int height, ScreenTriangle* out,

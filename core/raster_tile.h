@@ -5,6 +5,7 @@
 // Internal to the rasterizer and its tests.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -73,6 +74,33 @@ struct ProjectedVertex {
   int32_t Outside() const { return snapped.y == kOutsideClipPlanes ? snapped.x : 0; }
 };
 static_assert(sizeof(ProjectedVertex) == 2 * sizeof(int64_t));
+
+// Signed distances of a clip-space vertex to the clip planes (core/raster.h: near, far, and the guard
+// band 16384 pixels beyond each image edge); inside where >= 0.
+struct ClipPlanes {
+  ClipPlanes(int width, int height);
+  double guardX, guardY;
+  static constexpr int kCount = 6;
+  std::array<double, kCount> Distances(const glm::dvec4& v) const {
+    return {v.w - v.z, v.z, guardX * v.w - v.x, guardX * v.w + v.x, guardY * v.w - v.y, guardY * v.w + v.y};
+  }
+};
+
+// A world position in clip space: glm's matrix product, whose float operations (m0 x + m1 y) + (m2 z
+// + m3 1) the twin repeats.
+inline glm::vec4 ClipPosition(const glm::vec3& position, const glm::mat4& viewProjection) {
+  return viewProjection * glm::vec4(position, 1.0f);
+}
+
+// Projects vertices 0 .. count - 1 once for all their triangles (docs/pipeline.md §Rasterizer, steps
+// 1-2): each one's clip position tested against the clip planes, and where it is inside all of them
+// snapped to the width x height image's sub-pixel grid with its depth key. The scalar definition
+// (core/raster.cpp) and its Highway twin (core/raster_simd.cpp; lanes are vertices), equal byte for
+// byte on every target.
+void ProjectVerticesScalar(const glm::vec3* positions, size_t count, const glm::mat4& viewProjection, int width,
+                           int height, ProjectedVertex* out);
+void ProjectVerticesSimd(const glm::vec3* positions, size_t count, const glm::mat4& viewProjection, int width,
+                         int height, ProjectedVertex* out);
 
 // The set-up of one triangle from its snapped vertices (docs/pipeline.md §Rasterizer, step 3) into
 // `out`: false, and `out` unspecified, where it is culled (zero area, a back face its flags cull, no

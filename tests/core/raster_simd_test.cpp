@@ -4,6 +4,8 @@
 // faces), with cut-outs, and of triangles whose edges are too long for the kernel's 32-bit lanes; and
 // the batched triangle set-up against the scalar one.
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -282,6 +284,69 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
         CHECK(test::TargetsWhereKernelPathsDiffer(run, SameResult) == "");
       }
     }
+  }
+}
+
+// Vertices all around two perspective cameras and an orthographic one: in the view, behind the
+// camera, exactly on the near and far planes (distance 0, inside) and near them, beyond the guard band,
+// far away; counts that leave a partial vector.
+TEST_CASE("raster: the vertex projection twin equals the scalar projection on every target", "[raster][simd]") {
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  CameraDesc tilted;
+  tilted.position = {0.3f, 1.2f, 4.0f};
+  tilted.target = {0.0f, 0.2f, 0.0f};
+  CameraDesc axial;  // at the origin, looking down -z: w is -z exactly
+  axial.position = {0.0f, 0.0f, 0.0f};
+  axial.target = {0.0f, 0.0f, -1.0f};
+  for (const glm::ivec2 size : kSizes) {
+    size_t onPlane = 0;
+    for (const ViewProjection& view :
+         {MakePerspective(tilted, size.x, size.y), MakePerspective(axial, size.x, size.y),
+          MakeOrthographic({0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 1.0f, 0.0f}, 2.0f, 1.5f, 0.1f, 6.0f, size.x,
+                           size.y)}) {
+      std::vector<glm::vec3> positions;
+      for (int i = 0; i < 3001; ++i) {
+        const float scale = i % 7 == 0 ? 1e5f : (i % 7 == 1 ? 30.0f : 3.0f);
+        positions.push_back(scale * glm::vec3(unit(rng), unit(rng), unit(rng)));
+      }
+      // The points a few float steps of one coordinate around the near and far planes (the
+      // perspective views' far plane is at infinity) that lie on them.
+      const glm::mat4 toWorld = glm::inverse(view.viewProjection);
+      const ClipPlanes planes(size.x, size.y);
+      for (const float ndcZ : {1.0f, 0.0f}) {
+        const glm::vec4 onPlaneNdc = toWorld * glm::vec4(0.1f, 0.2f, ndcZ, 1.0f);
+        if (!(std::abs(onPlaneNdc.w) > 1e-20f)) continue;
+        for (int c = 0; c < 3; ++c) {
+          glm::vec3 point = glm::vec3(onPlaneNdc) / onPlaneNdc.w;
+          for (int step = 0; step < 64; ++step) point[c] = std::nextafter(point[c], -1e30f);
+          for (int step = 0; step < 128; ++step, point[c] = std::nextafter(point[c], 1e30f)) {
+            const std::array<double, ClipPlanes::kCount> distance =
+                planes.Distances(glm::dvec4(ClipPosition(point, view.viewProjection)));
+            if (distance[0] == 0.0 || distance[1] == 0.0) {
+              positions.push_back(point);
+              ++onPlane;
+            }
+          }
+        }
+      }
+      CAPTURE(size.x, size.y, view.orthographic);
+      for (const size_t count : {positions.size(), size_t(1), size_t(5)}) {
+        std::vector<ProjectedVertex> expected(count);
+        ProjectVerticesScalar(positions.data(), count, view.viewProjection, size.x, size.y, expected.data());
+        size_t inside = 0;
+        for (const ProjectedVertex& v : expected) inside += v.Outside() == 0;
+        if (count == positions.size()) CHECK((inside > count / 5 && inside < count * 9 / 10));
+        const size_t targets = test::ForEachSimdTarget([&](const char* target) {
+          std::vector<ProjectedVertex> actual(count);
+          ProjectVerticesSimd(positions.data(), count, view.viewProjection, size.x, size.y, actual.data());
+          CAPTURE(target, count);
+          CHECK(std::memcmp(actual.data(), expected.data(), count * sizeof(ProjectedVertex)) == 0);
+        });
+        CHECK(targets >= 2);
+      }
+    }
+    CHECK(onPlane > 0);
   }
 }
 
