@@ -473,19 +473,37 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
   const VD toPixelArea = hn::Set(dd, 1.0 / double(kSubPixelScale * kSubPixelScale));
   const VL outsideMarker = hn::Set(dl, int64_t(ProjectedVertex::kOutsideClipPlanes));
   size_t setUp = 0;
+  const hn::Rebind<uint32_t, DD> du32;
+  const hn::Rebind<uint8_t, DD> du8;
   for (size_t i = 0; i < count; i += lanes) {
     const size_t n = std::min(lanes, count - i);
-    HWY_ALIGN int64_t vertexWord[3][kMaxLanes];
-    HWY_ALIGN int64_t cullsBackFace[kMaxLanes];
-    for (size_t j = 0; j < lanes; ++j) {
-      const size_t triangle = size_t(first) + i + std::min(j, n - 1);  // lanes past the end repeat the last
-      for (int k = 0; k < 3; ++k) vertexWord[k][j] = int64_t(indices[3 * triangle + size_t(k)]) * 2;
-      cullsBackFace[j] = flags && (flags[triangle] & kTriangleCullBackFace) ? 1 : 0;
+    // The lanes' corner indices and flags, read as vectors; a last, partial vector's lanes past the
+    // end repeat its last triangle.
+    const uint32_t* corners = indices + 3 * (size_t(first) + i);
+    const uint8_t* triangleFlags = flags ? flags + size_t(first) + i : nullptr;
+    HWY_ALIGN uint32_t stagedCorners[3 * kMaxLanes];
+    HWY_ALIGN uint8_t stagedFlags[kMaxLanes];
+    if (n < lanes) {
+      for (size_t j = 0; j < lanes; ++j) {
+        const size_t from = std::min(j, n - 1);
+        for (int k = 0; k < 3; ++k) stagedCorners[3 * j + size_t(k)] = corners[3 * from + size_t(k)];
+        if (flags) stagedFlags[j] = triangleFlags[from];
+      }
+      corners = stagedCorners;
+      if (flags) triangleFlags = stagedFlags;
     }
+    hn::Vec<decltype(du32)> corner[3];
+    hn::LoadInterleaved3(du32, corners, corner[0], corner[1], corner[2]);
+    const hn::RebindToUnsigned<DL> du64;
+    const VL cullsBackFace =
+        triangleFlags
+            ? hn::BitCast(dl, hn::PromoteTo(du64, hn::PromoteTo(du32, hn::And(hn::LoadU(du8, triangleFlags),
+                                                                              hn::Set(du8, kTriangleCullBackFace)))))
+            : hn::Zero(dl);
     VD x[3], y[3], key[3];
     VL outsideAny = hn::Zero(dl), outsideAll = hn::Set(dl, -1);
     for (int k = 0; k < 3; ++k) {
-      const VL word = hn::Load(dl, vertexWord[k]);
+      const VL word = hn::ShiftLeft<1>(hn::BitCast(dl, hn::PromoteTo(du64, corner[k])));
       const VL position = hn::GatherIndex(dl, positions, word);
       const VL low = hn::ShiftRight<32>(hn::ShiftLeft<32>(position)), high = hn::ShiftRight<32>(position);
       x[k] = hn::ConvertTo(dd, low);
@@ -499,7 +517,7 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
     // Counter-clockwise front faces turn clockwise in y-down screen space: vertices 1 and 2 swap.
     const MD backFacing = hn::Gt(area2, zero);
     MD culled = hn::Or(hn::Eq(area2, zero),
-                       hn::And(backFacing, hn::RebindMask(dd, hn::Ne(hn::Load(dl, cullsBackFace), hn::Zero(dl)))));
+                       hn::And(backFacing, hn::RebindMask(dd, hn::Ne(cullsBackFace, hn::Zero(dl)))));
     const VD x1 = hn::IfThenElse(backFacing, x[1], x[2]), x2 = hn::IfThenElse(backFacing, x[2], x[1]);
     const VD y1 = hn::IfThenElse(backFacing, y[1], y[2]), y2 = hn::IfThenElse(backFacing, y[2], y[1]);
     const VD key1 = hn::IfThenElse(backFacing, key[1], key[2]), key2 = hn::IfThenElse(backFacing, key[2], key[1]);
