@@ -370,6 +370,12 @@ TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every
         return int32_t(unit(rng) * double(extent + 2) * kSubPixelScale) - int32_t(kSubPixelScale);
       };
       v.snapped = {coordinate(size.x), coordinate(size.y), unit(rng)};
+      if (i % 3 != 0 && kind < 0.6) {  // within four pixels of the previous vertex: small triangles
+        const SnappedVertex& previous = vertices[i - 1].snapped;
+        if (previous.y != ProjectedVertex::kOutsideClipPlanes)
+          v.snapped = {previous.x + int32_t((2.0 * unit(rng) - 1.0) * 4.0 * kSubPixelScale),
+                       previous.y + int32_t((2.0 * unit(rng) - 1.0) * 4.0 * kSubPixelScale), unit(rng)};
+      }
       if (i % 50 == 7) v.snapped = vertices[i - 1].snapped;  // a repeated position: zero area
       if (kind > 0.9) v.snapped = {int32_t(1) << (rng() % 6), ProjectedVertex::kOutsideClipPlanes, 0.0};
     }
@@ -377,6 +383,10 @@ TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every
     std::vector<uint8_t> flags(kTriangles);
     for (size_t t = 0; t < kTriangles; ++t) {
       for (int k = 0; k < 3; ++k) indices[3 * t + size_t(k)] = uint32_t(rng() % kVertices);
+      if (t % 3 == 0) {  // three consecutive vertices: often close together
+        const uint32_t firstVertex = uint32_t(rng() % (kVertices / 3)) * 3;
+        for (int k = 0; k < 3; ++k) indices[3 * t + size_t(k)] = firstVertex + uint32_t(k);
+      }
       if (t % 97 == 3) indices[3 * t + 2] = indices[3 * t];  // a repeated vertex
       flags[t] = uint8_t(rng() % 4);
     }
@@ -400,6 +410,10 @@ TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every
       CHECK(statusCount[size_t(TriangleSetUp::kSetUp)] > kTriangles / 10);
       CHECK(statusCount[size_t(TriangleSetUp::kCulled)] > kTriangles / 100);
       CHECK(statusCount[size_t(TriangleSetUp::kClip)] > kTriangles / 10);
+      // Small ones, bounds of a few pixels.
+      CHECK(std::count_if(expected.begin(), expected.end(), [](const ScreenTriangle& t) {
+              return t.maxX - t.minX < 4 && t.maxY - t.minY < 4;
+            }) > kTriangles / 50);
       const size_t targets = test::ForEachSimdTarget([&](const char* target) {
         std::vector<ScreenTriangle> actual(kTriangles);
         std::vector<TriangleSetUp> actualStatus(kTriangles);
