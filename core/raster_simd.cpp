@@ -98,8 +98,8 @@ HWY_INLINE bool RasterizeTinyInTile(const ScreenTriangle& t, const AlphaTest& al
   const DS ds;
   const size_t lanes = hn::Lanes(ds);
   // Edge values at the box's first sample, and their steps per sample along x and y: |a|, |b| <=
-  // kTinyVertexSpan and every sample of the box is within kTinyVertexSpan + kTinyBox pixels of a
-  // vertex, so the values are below 2^23 in magnitude.
+  // kTinyVertexSpan and every sample of the box is within kTinyVertexSpan + kTinyBox * 256 sub-pixel
+  // units of a vertex on each axis, so the values are below 2^23 in magnitude.
   int32_t origin[3], stepX[3], stepY[3];
   for (int e = 0; e < 3; ++e) {
     origin[e] = int32_t(edge[e].a * (x0 * kSubPixelScale + kHalfPixel) +
@@ -408,9 +408,10 @@ void ProjectVertices(const glm::vec3* positions, size_t count, const glm::mat4& 
   };
   for (size_t i = 0; i < count; i += lanes) {
     const size_t n = std::min(lanes, count - i);
-    HWY_ALIGN float staged[3 * kMaxLanes] = {};
+    HWY_ALIGN float staged[3 * kMaxLanes];
     const float* xyz = &positions[i].x;
-    if (n < lanes) {
+    if (n < lanes) {  // the last vector's lanes past the end project the origin, never stored
+      std::fill(std::begin(staged), std::end(staged), 0.0f);
       std::memcpy(staged, xyz, n * sizeof(glm::vec3));
       xyz = staged;
     }
