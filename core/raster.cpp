@@ -270,8 +270,8 @@ void ProjectVerticesScalar(const glm::vec3* positions, size_t count, const glm::
 }
 
 size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
-                            uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
-                            TriangleSetUp* status) {
+                            uint8_t uniformFlags, uint32_t first, size_t count, int width, int height,
+                            ScreenTriangle* out, TriangleSetUp* status) {
   size_t setUp = 0;
   for (size_t i = 0; i < count; ++i) {
     const uint32_t triangle = first + uint32_t(i);
@@ -284,7 +284,7 @@ size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* in
     } else if ((a.Outside() | b.Outside() | c.Outside()) != 0) {
       status[i] = TriangleSetUp::kClip;
     } else {
-      const uint8_t triangleFlags = flags ? flags[triangle] : uint8_t(0);
+      const uint8_t triangleFlags = flags ? flags[triangle] : uniformFlags;
       const bool kept =
           SetUpScreenTriangle(a.snapped, b.snapped, c.snapped, triangle, triangleFlags, width, height, out[setUp]);
       status[i] = kept ? TriangleSetUp::kSetUp : TriangleSetUp::kCulled;
@@ -353,8 +353,8 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
     for (size_t i = begin; i < end; i += kBatch) {
       const size_t count = std::min(kBatch, end - i);
       for (size_t k = 3 * i; k < 3 * (i + count); ++k) SSGI_CHECK_LT(input.indices[k], input.vertexCount);
-      const size_t setUp = setUpTriangles(projected.get(), input.indices, input.triangleFlags, uint32_t(i), count,
-                                          view.width, view.height, batch, status);
+      const size_t setUp = setUpTriangles(projected.get(), input.indices, input.triangleFlags, input.uniformFlags,
+                                          uint32_t(i), count, view.width, view.height, batch, status);
       bins.stats.trianglesIn += count;
       bins.stats.trianglesSetUp += setUp;
       const size_t clipped = size_t(std::count(status, status + count, TriangleSetUp::kClip));
@@ -370,7 +370,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
         } else if (status[j] == TriangleSetUp::kClip) {
           const uint32_t triangle = uint32_t(i + j);
           setup.Clip(input.positions, view.viewProjection, input.indices + 3 * size_t(triangle), triangle,
-                     input.triangleFlags ? input.triangleFlags[triangle] : uint8_t(0), bins);
+                     input.triangleFlags ? input.triangleFlags[triangle] : input.uniformFlags, bins);
         }
       }
     }

@@ -55,8 +55,9 @@ struct RasterInput {
   size_t vertexCount = 0;
   const uint32_t* indices = nullptr;     // 3 per triangle
   size_t triangleCount = 0;
-  const uint8_t* triangleFlags = nullptr;  // one TriangleFlags mask per triangle; null: none set
+  const uint8_t* triangleFlags = nullptr;  // one TriangleFlags mask per triangle; null: uniformFlags for all
   AlphaTest alphaTest;
+  uint8_t uniformFlags = 0;  // every triangle's TriangleFlags mask where triangleFlags is null
 };
 
 struct VisibilityBuffer {

@@ -457,8 +457,9 @@ void ProjectVertices(const glm::vec3* positions, size_t count, const glm::mat4& 
 // 2^24), their differences' products and the doubled area are whole numbers below 2^53, so the
 // integer definition's values come out exactly; the rest is the definition's double arithmetic in
 // its order, and its floor divisions by 256 are exact scalings and Floor.
-size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags, uint32_t first,
-                      size_t count, int width, int height, ScreenTriangle* out, TriangleSetUp* status) {
+size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
+                      uint8_t uniformFlags, uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
+                      TriangleSetUp* status) {
   const DD dd;
   const DL dl;
   using VD = hn::Vec<DD>;
@@ -500,7 +501,7 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
         triangleFlags
             ? hn::BitCast(dl, hn::PromoteTo(du64, hn::PromoteTo(du32, hn::And(hn::LoadU(du8, triangleFlags),
                                                                               hn::Set(du8, kTriangleCullBackFace)))))
-            : hn::Zero(dl);
+            : hn::Set(dl, (uniformFlags & kTriangleCullBackFace) ? 1 : 0);
     VD x[3], y[3], key[3];
     VL outsideAny = hn::Zero(dl), outsideAll = hn::Set(dl, -1);
     for (int k = 0; k < 3; ++k) {
@@ -586,7 +587,7 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
         t.keyAtOrigin = lane[kKeyAtOrigin][j];
         t.edgesFit32Bits = lane[kEdgesFit][j] != 0.0;
         t.triangle = first + uint32_t(i + j);
-        t.flags = flags ? flags[t.triangle] : uint8_t(0);
+        t.flags = flags ? flags[t.triangle] : uniformFlags;
       }
     }
   }
@@ -611,9 +612,10 @@ void ProjectVerticesSimd(const glm::vec3* positions, size_t count, const glm::ma
 }
 
 size_t SetUpTrianglesSimd(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
-                          uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
-                          TriangleSetUp* status) {
-  return HWY_DYNAMIC_DISPATCH(SetUpTriangles)(projected, indices, flags, first, count, width, height, out, status);
+                          uint8_t uniformFlags, uint32_t first, size_t count, int width, int height,
+                          ScreenTriangle* out, TriangleSetUp* status) {
+  return HWY_DYNAMIC_DISPATCH(SetUpTriangles)(projected, indices, flags, uniformFlags, first, count, width, height,
+                                              out, status);
 }
 
 void CopyTileOutSimd(const TileTarget& tile, const uint32_t* values, uint8_t* firstPixel, size_t rowBytes) {

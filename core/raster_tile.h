@@ -115,16 +115,16 @@ enum class TriangleSetUp : uint8_t {
 };
 
 // The set-up of triangles first .. first + count - 1 (`indices` 3 per triangle into `projected`,
-// `flags` one per triangle or null for none): status[i] says what became of triangle first + i, and
-// the ScreenTriangles of those set up (kSetUp) go to out[0], out[1], ... in that order. Returns how
-// many. The scalar definition (core/raster.cpp) and its Highway twin (core/raster_simd.cpp; lanes are
-// triangles), equal field for field on every target.
+// `flags` one per triangle, or null for `uniformFlags` on every one): status[i] says what became of
+// triangle first + i, and the ScreenTriangles of those set up (kSetUp) go to out[0], out[1], ... in
+// that order. Returns how many. The scalar definition (core/raster.cpp) and its Highway twin
+// (core/raster_simd.cpp; lanes are triangles), equal field for field on every target.
 size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
-                            uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
-                            TriangleSetUp* status);
+                            uint8_t uniformFlags, uint32_t first, size_t count, int width, int height,
+                            ScreenTriangle* out, TriangleSetUp* status);
 size_t SetUpTrianglesSimd(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
-                          uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
-                          TriangleSetUp* status);
+                          uint8_t uniformFlags, uint32_t first, size_t count, int width, int height,
+                          ScreenTriangle* out, TriangleSetUp* status);
 
 // Index of tile pixel (lx, ly) in a TileTarget's arrays: blocks row by row, and inside a block its
 // 64 samples row by row, so a block is 64 consecutive values (one or a few vectors).

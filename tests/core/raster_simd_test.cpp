@@ -392,19 +392,23 @@ TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every
     }
     // Uneven batches, at an offset, as the rasterizer's chunks make them.
     const auto setUp = [&](auto function, std::vector<ScreenTriangle>& out, std::vector<TriangleSetUp>& status,
-                           const uint8_t* triangleFlags) {
+                           const uint8_t* triangleFlags, uint8_t uniformFlags) {
       size_t made = 0;
       for (size_t first = 0; first < kTriangles; first += 333) {
         const size_t count = std::min<size_t>(333, kTriangles - first);
-        made += function(vertices.data(), indices.data(), triangleFlags, uint32_t(first), count, size.x, size.y,
-                         out.data() + made, status.data() + first);
+        made += function(vertices.data(), indices.data(), triangleFlags, uniformFlags, uint32_t(first), count, size.x,
+                         size.y, out.data() + made, status.data() + first);
       }
       out.resize(made);
     };
-    for (const uint8_t* triangleFlags : {static_cast<const uint8_t*>(flags.data()), static_cast<const uint8_t*>(nullptr)}) {
+    // Per-triangle flags, and one mask for all: none, or back faces culled and alpha tested.
+    const std::pair<const uint8_t*, uint8_t> flagCases[] = {
+        {flags.data(), 0}, {nullptr, 0}, {nullptr, uint8_t(kTriangleCullBackFace | kTriangleAlphaTested)}};
+    for (const auto& [triangleFlags, uniformFlags] : flagCases) {
+      CAPTURE(triangleFlags != nullptr, int(uniformFlags));
       std::vector<ScreenTriangle> expected(kTriangles);
       std::vector<TriangleSetUp> expectedStatus(kTriangles);
-      setUp(SetUpTrianglesScalar, expected, expectedStatus, triangleFlags);
+      setUp(SetUpTrianglesScalar, expected, expectedStatus, triangleFlags, uniformFlags);
       size_t statusCount[3] = {};
       for (const TriangleSetUp status : expectedStatus) ++statusCount[size_t(status)];
       CHECK(statusCount[size_t(TriangleSetUp::kSetUp)] > kTriangles / 10);
@@ -417,7 +421,7 @@ TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every
       const size_t targets = test::ForEachSimdTarget([&](const char* target) {
         std::vector<ScreenTriangle> actual(kTriangles);
         std::vector<TriangleSetUp> actualStatus(kTriangles);
-        setUp(SetUpTrianglesSimd, actual, actualStatus, triangleFlags);
+        setUp(SetUpTrianglesSimd, actual, actualStatus, triangleFlags, uniformFlags);
         REQUIRE(actualStatus == expectedStatus);
         REQUIRE(actual.size() == expected.size());
         for (size_t t = 0; t < expected.size(); ++t) {

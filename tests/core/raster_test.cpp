@@ -9,6 +9,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/parallel.h"
+#include "core/procedural_mesh.h"
+#include "core/scene_raster_input.h"
 
 namespace ssgi {
 namespace {
@@ -192,19 +194,55 @@ TEST_CASE("back faces are culled only when asked, and the nearer surface wins", 
       mesh.indices.insert(mesh.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
     }
   }
-  for (bool cull : {false, true}) {
-    const std::vector<uint8_t> flags(4, cull ? uint8_t(kTriangleCullBackFace) : uint8_t(0));
-    RasterInput input{mesh.positions.data(), mesh.positions.size(), mesh.indices.data(), 4, flags.data(), {}};
-    VisibilityBuffer target = MakeVisibilityBuffer(32, 32, RasterOutput::kVisibility);
-    Rasterize(input, view, RasterOutput::kVisibility, target);
-    const uint32_t id = target.triangle.ConstRow(16)[16];
-    CAPTURE(cull);
-    if (cull) {
-      CHECK(id < 2u);
-    } else {
-      CHECK(id >= 2u);
+  for (const bool perTriangle : {true, false}) {  // the masks as an array, or one for all triangles
+    for (const bool cull : {false, true}) {
+      const uint8_t mask = cull ? uint8_t(kTriangleCullBackFace) : uint8_t(0);
+      const std::vector<uint8_t> flags(4, mask);
+      RasterInput input{mesh.positions.data(), mesh.positions.size(), mesh.indices.data(), 4, flags.data(), {}};
+      if (!perTriangle) {
+        input.triangleFlags = nullptr;
+        input.uniformFlags = mask;
+      }
+      VisibilityBuffer target = MakeVisibilityBuffer(32, 32, RasterOutput::kVisibility);
+      Rasterize(input, view, RasterOutput::kVisibility, target);
+      const uint32_t id = target.triangle.ConstRow(16)[16];
+      CAPTURE(perTriangle, cull);
+      if (cull) {
+        CHECK(id < 2u);
+      } else {
+        CHECK(id >= 2u);
+      }
+      CHECK(view.DepthFromKey(target.depthKey.ConstRow(16)[16]) == Approx(cull ? 5.0f : 2.0f).epsilon(1e-5));
     }
-    CHECK(view.DepthFromKey(target.depthKey.ConstRow(16)[16]) == Approx(cull ? 5.0f : 2.0f).epsilon(1e-5));
+  }
+}
+
+// Through a scene's raster input, back faces are culled per material: a quad facing away from the
+// camera on each half of the image, of a two-sided material and a one-sided one, or both of one kind
+// (the input then gives one mask for every triangle).
+TEST_CASE("a scene's raster input culls the back faces of one-sided materials only", "[raster]") {
+  for (const bool leftTwoSided : {false, true}) {
+    for (const bool rightTwoSided : {false, true}) {
+      Scene scene;
+      scene.camera.position = {0.0f, 0.0f, 3.0f};
+      scene.camera.target = {0.0f, 0.0f, 0.0f};
+      for (const bool twoSided : {leftTwoSided, rightTwoSided}) {
+        Material material;
+        material.twoSided = twoSided;
+        scene.materials.push_back(material);
+      }
+      // u x v = -z: both face away from the camera.
+      AddQuad(scene.mesh, {-2.0f, 2.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, -4.0f, 0.0f}, 0);
+      AddQuad(scene.mesh, {0.0f, 2.0f, 0.0f}, {2.0f, 0.0f, 0.0f}, {0.0f, -4.0f, 0.0f}, 1);
+      const ViewProjection view = MakePerspective(scene.camera, 32, 32);
+      const SceneRasterInput input(scene, view, true);
+      CHECK((input.Get().triangleFlags == nullptr) == (leftTwoSided == rightTwoSided));
+      VisibilityBuffer target = MakeVisibilityBuffer(32, 32, RasterOutput::kVisibility);
+      Rasterize(input.Get(), view, RasterOutput::kVisibility, target);
+      CAPTURE(leftTwoSided, rightTwoSided);
+      CHECK((target.triangle.ConstRow(16)[8] != kNoTriangle) == leftTwoSided);
+      CHECK((target.triangle.ConstRow(16)[24] != kNoTriangle) == rightTwoSided);
+    }
   }
 }
 
