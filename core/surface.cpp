@@ -26,7 +26,7 @@ bool RayPlaneBarycentrics(const ViewProjection::Ray& ray, const glm::vec3& p0, c
 
 SurfaceResolver::SurfaceResolver(const Scene& scene, const ViewProjection& view) : scene_(scene), view_(view) {
   const Mesh& mesh = scene.mesh;
-  viewPositions_.resize(mesh.positions.size());
+  viewPositions_ = std::make_unique_for_overwrite<glm::vec3[]>(mesh.positions.size());
   constexpr size_t kChunk = 16384;
   ParallelFor("surface.view_positions", (mesh.positions.size() + kChunk - 1) / kChunk, [&](size_t c) {
     const size_t end = std::min(mesh.positions.size(), (c + 1) * kChunk);
