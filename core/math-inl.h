@@ -15,6 +15,7 @@
 #endif
 
 #include <algorithm>
+#include <cstring>
 
 #include <glm/glm.hpp>
 
@@ -143,6 +144,19 @@ HWY_INLINE hn::Vec<D> LookupSmallTable(D d, const hn::TFromD<D>* HWY_RESTRICT ta
   } else {
     return hn::GatherIndex(d, table, index);
   }
+}
+
+// The lanes of `mask` as the bits of a word, lane i at bit i (vectors of at most 64 lanes): for
+// loops over the set lanes.
+template <class D>
+HWY_INLINE uint64_t LaneBits(D d, hn::Mask<D> mask) {
+  uint8_t bytes[8] = {};
+  hn::StoreMaskBits(d, mask, bytes);
+  uint64_t bits;
+  std::memcpy(&bits, bytes, sizeof(bits));
+  constexpr size_t kMaxLanes = hn::MaxLanes(D());
+  static_assert(kMaxLanes <= 64);
+  return hn::Lanes(d) < 64 ? bits & ((uint64_t(1) << hn::Lanes(d)) - 1) : bits;
 }
 
 // A glm::vec3 per pixel: a vector per component.

@@ -24,6 +24,7 @@
 #include <iterator>
 #include <limits>
 
+#include "core/math-inl.h"
 #include "core/raster_tile.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -118,12 +119,7 @@ HWY_INLINE bool RasterizeTinyInTile(const ScreenTriangle& t, const AlphaTest& al
       inside = hn::Or(inside, value);
     }
     const auto covered = hn::And(hn::Gt(inside, minusOne), hn::And(hn::Lt(dx, columns), hn::Lt(dy, rows)));
-    uint8_t bits[8] = {};
-    hn::StoreMaskBits(ds, covered, bits);
-    uint64_t coveredBits;
-    std::memcpy(&coveredBits, bits, sizeof(coveredBits));
-    if (lanes < 64) coveredBits &= (uint64_t(1) << lanes) - 1;
-    for (; coveredBits != 0; coveredBits &= coveredBits - 1) {
+    for (uint64_t coveredBits = LaneBits(ds, covered); coveredBits != 0; coveredBits &= coveredBits - 1) {
       const int sample = int(k) + std::countr_zero(coveredBits);
       const int lx = x0 + sample % kTinyBox - tile.x0, ly = y0 + sample / kTinyBox - tile.y0;
       const int i = TilePixelIndex(lx, ly);
@@ -318,12 +314,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
         const auto nearer = hn::And(hn::RebindMask(dk, covered), hn::Gt(key, stored));
         if (alphaTested) {
           hn::Store(key, dk, keys + k);
-          uint8_t bits[8] = {};
-          hn::StoreMaskBits(dk, nearer, bits);
-          uint64_t laneBits;
-          std::memcpy(&laneBits, bits, sizeof(laneBits));
-          if (lanes < 64) laneBits &= (uint64_t(1) << lanes) - 1;
-          visible |= laneBits << k;
+          visible |= LaneBits(dk, nearer) << k;
           continue;
         }
         if constexpr (kSkipHidden) written = hn::Or(written, nearer);

@@ -298,12 +298,8 @@ HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, const uint3
   const size_t lanes = hn::Lanes(du);
   if (at + lanes > count) return;
   const auto triangle = hn::LoadU(du, triangles + at);
-  uint8_t bits[8] = {};
-  hn::StoreMaskBits(du, hn::Ne(triangle, hn::LoadU(du, triangles + at - 1)), bits);
-  uint64_t runStarts;
-  std::memcpy(&runStarts, bits, sizeof(runStarts));
-  runStarts |= 1;
-  if (lanes < 64) runStarts &= (uint64_t(1) << lanes) - 1;
+  // Lane 0 starts a run whatever the lane before it holds.
+  uint64_t runStarts = LaneBits(du, hn::Ne(triangle, hn::LoadU(du, triangles + at - 1))) | 1;
   for (; runStarts != 0; runStarts &= runStarts - 1) {
     const uint32_t t = triangles[at + size_t(std::countr_zero(runStarts))];
     if (t == kNoTriangle) continue;

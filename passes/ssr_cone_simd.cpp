@@ -100,11 +100,8 @@ HWY_INLINE void LoadTaps(const SsrConeFrame& frame, size_t i, TapLanes& taps) {
 // Calls load(i) for each lane i of mask.
 template <class Load>
 void ForEachLane(MF mask, const Load& load) {
-  uint8_t maskBits[8] = {};
-  hn::StoreMaskBits(DF(), mask, maskBits);
-  uint64_t bits;
-  std::memcpy(&bits, maskBits, sizeof(bits));
-  for (; bits != 0; bits &= bits - 1) load(size_t(hwy::Num0BitsBelowLS1Bit_Nonzero64(bits)));
+  for (uint64_t bits = LaneBits(DF(), mask); bits != 0; bits &= bits - 1)
+    load(size_t(hwy::Num0BitsBelowLS1Bit_Nonzero64(bits)));
 }
 
 // SampleLevel from the loaded taps; lanes out of the mask are 0.
