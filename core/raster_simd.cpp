@@ -37,18 +37,19 @@ using DS = hn::CappedTag<int32_t, kRasterBlockSamples>;
 using DK = hn::Rebind<float, DS>;
 using DT = hn::Rebind<uint32_t, DS>;
 
-// Sample k of a block is its pixel (k % 8, k / 8).
-template <class T>
-constexpr std::array<T, kRasterBlockSamples> SampleOffsets(bool row) {
-  std::array<T, kRasterBlockSamples> offsets{};
-  for (int k = 0; k < kRasterBlockSamples; ++k)
-    offsets[size_t(k)] = T(row ? k / kRasterBlockSize : k % kRasterBlockSize);
+// Sample k of a kSide x kSide box, row by row, is its pixel (k % kSide, k / kSide): its column, or
+// with `row` its row.
+template <class T, int kSide>
+constexpr std::array<T, kSide * kSide> SampleOffsets(bool row) {
+  std::array<T, kSide * kSide> offsets{};
+  for (int k = 0; k < kSide * kSide; ++k) offsets[size_t(k)] = T(row ? k / kSide : k % kSide);
   return offsets;
 }
-alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleX = SampleOffsets<int32_t>(false);
-alignas(64) constexpr std::array<int32_t, kRasterBlockSamples> kSampleY = SampleOffsets<int32_t>(true);
-alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleXf = SampleOffsets<float>(false);
-alignas(64) constexpr std::array<float, kRasterBlockSamples> kSampleYf = SampleOffsets<float>(true);
+// A block's samples.
+alignas(64) constexpr auto kSampleX = SampleOffsets<int32_t, kRasterBlockSize>(false);
+alignas(64) constexpr auto kSampleY = SampleOffsets<int32_t, kRasterBlockSize>(true);
+alignas(64) constexpr auto kSampleXf = SampleOffsets<float, kRasterBlockSize>(false);
+alignas(64) constexpr auto kSampleYf = SampleOffsets<float, kRasterBlockSize>(true);
 // A vector of at least a block row holds the same columns in every vector of a block.
 constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
 // Vector k / lanes of a block starts at sample row k / 8, column k % 8: its samples' edge values are
@@ -68,14 +69,8 @@ constexpr int kTinyBoxSamples = kTinyBox * kTinyBox;
 // vertices of a triangle whose bounds fit the box span at most kTinyBox + 1 pixels, unless the bounds
 // were cut by the image's edge: the span is tested itself.
 constexpr int64_t kTinyVertexSpan = (kTinyBox + 1) * kSubPixelScale;
-template <class T>
-constexpr std::array<T, kTinyBoxSamples> TinyBoxOffsets(bool row) {
-  std::array<T, kTinyBoxSamples> offsets{};
-  for (int k = 0; k < kTinyBoxSamples; ++k) offsets[size_t(k)] = T(row ? k / kTinyBox : k % kTinyBox);
-  return offsets;
-}
-alignas(64) constexpr std::array<int32_t, kTinyBoxSamples> kTinyX = TinyBoxOffsets<int32_t>(false);
-alignas(64) constexpr std::array<int32_t, kTinyBoxSamples> kTinyY = TinyBoxOffsets<int32_t>(true);
+alignas(64) constexpr auto kTinyX = SampleOffsets<int32_t, kTinyBox>(false);
+alignas(64) constexpr auto kTinyY = SampleOffsets<int32_t, kTinyBox>(true);
 
 bool FitsTinyBox(const ScreenTriangle& t, int x0, int y0, int x1, int y1) {
   if (x1 - x0 >= kTinyBox || y1 - y0 >= kTinyBox) return false;
@@ -468,6 +463,7 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
   size_t setUp = 0;
   const hn::Rebind<uint32_t, DD> du32;
   const hn::Rebind<uint8_t, DD> du8;
+  const hn::RebindToUnsigned<DL> du64;
   for (size_t i = 0; i < count; i += lanes) {
     const size_t n = std::min(lanes, count - i);
     // The lanes' corner indices and flags, read as vectors; a last, partial vector's lanes past the
@@ -487,7 +483,6 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
     }
     hn::Vec<decltype(du32)> corner[3];
     hn::LoadInterleaved3(du32, corners, corner[0], corner[1], corner[2]);
-    const hn::RebindToUnsigned<DL> du64;
     const VL cullsBackFace =
         triangleFlags
             ? hn::BitCast(dl, hn::PromoteTo(du64, hn::PromoteTo(du32, hn::And(hn::LoadU(du8, triangleFlags),
