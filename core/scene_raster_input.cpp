@@ -60,7 +60,8 @@ SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& vie
   if (!uniform) {
     impl_->flags.resize(scene.mesh.TriangleCount());
     for (size_t t = 0; t < impl_->flags.size(); ++t) impl_->flags[t] = materialFlags[scene.mesh.materials[t]];
-  }  input_.positions = scene.mesh.positions.data();
+  }
+  input_.positions = scene.mesh.positions.data();
   input_.vertexCount = scene.mesh.positions.size();
   input_.indices = scene.mesh.indices.data();
   input_.triangleCount = scene.mesh.TriangleCount();
