@@ -130,20 +130,19 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   const VisibilityBuffer& visibility = out.visibility;
   std::vector<size_t> coveredPerBand(RowBandCount(height), 0);
   ParallelForRowBands("gbuffer.resolve", height, [&](size_t band, size_t yBegin, size_t yEnd) {
-    for (size_t y = yBegin; y < yEnd; ++y) {
-      const uint32_t* triangles = visibility.triangle.ConstRow(y);
-      const float* depthKeys = visibility.depthKey.ConstRow(y);
-      uint32_t* words[3] = {out.gbuffer.word[0].MutableRow(y), out.gbuffer.word[1].MutableRow(y),
-                            out.gbuffer.word[2].MutableRow(y)};
-      if (kernels == KernelPath::kSimd) {
-        const size_t next = std::min(y + 1, height - 1);
-        coveredPerBand[band] += GBufferResolveRowSimd(context, triangles, depthKeys, int(y), view.width, words[0],
-                                                      words[1], words[2], visibility.triangle.ConstRow(next),
-                                                      visibility.depthKey.ConstRow(next));
-      } else {
-        coveredPerBand[band] += GBufferResolveRowScalar(context, triangles, depthKeys, int(y), view.width, words[0],
-                                                        words[1], words[2]);
+    if (kernels == KernelPath::kSimd) {
+      for (size_t y = yBegin; y < yEnd; y += kGBufferResolveRowsPerCall) {
+        const int rows = int(std::min(yEnd - y, size_t(kGBufferResolveRowsPerCall)));
+        coveredPerBand[band] += GBufferResolveRowsSimd(context, visibility, int(y), rows, out.gbuffer);
       }
+      return;
+    }
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      coveredPerBand[band] += GBufferResolveRowScalar(context, visibility.triangle.ConstRow(y),
+                                                      visibility.depthKey.ConstRow(y), int(y), view.width,
+                                                      out.gbuffer.word[0].MutableRow(y),
+                                                      out.gbuffer.word[1].MutableRow(y),
+                                                      out.gbuffer.word[2].MutableRow(y));
     }
   });
   for (size_t n : coveredPerBand) stats.coveredPixels += n;

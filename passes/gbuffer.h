@@ -69,10 +69,12 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
                                uint32_t* word2);
-// Its Highway twin; nextTriangles and nextDepthKeys are the next row's (or this one's, at the last),
-// which it asks the cache for ahead of their turn.
-size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
-                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2,
-                             const uint32_t* nextTriangles, const float* nextDepthKeys);
+// Its Highway twin, which resolves `rowCount` rows from y (at most kGBufferResolveRowsPerCall) of
+// `visibility` into `gbuffer`'s words 0-2 at once: its vectors are blocks of pixels of those rows
+// (4x4 on AVX-512, 4x2 on AVX2), so they meet fewer triangles than runs of a row. Returns how many
+// pixels it resolved.
+inline constexpr int kGBufferResolveRowsPerCall = 4;
+size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const VisibilityBuffer& visibility, int y,
+                              int rowCount, GBuffer& gbuffer);
 
 }  // namespace ssgi

@@ -1,9 +1,9 @@
-// The Highway twin of GBufferResolveRowScalar (gbuffer.cpp): lanes are the pixels of the row. Each
-// triangle of a vector is broadcast into its lanes, then per pixel the view ray's barycentrics on the
-// triangle's plane (SurfaceResolver::At, core/surface.cpp), the interpolated normal, its encoding
-// and the depth are computed with the scalar operations in their order through the core twins
-// (core/*-inl.h), so every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each
-// compiled target).
+// The Highway twin of GBufferResolveRowScalar (gbuffer.cpp): lanes are a block of pixels of a few
+// rows (core/row-inl.h), which meets fewer triangles than a run of a row. Each triangle of a vector
+// is broadcast into its lanes, then per pixel the view ray's barycentrics on the triangle's plane
+// (SurfaceResolver::At, core/surface.cpp), the interpolated normal, its encoding and the depth are
+// computed with the scalar operations in their order through the core twins (core/*-inl.h), so
+// every target gives the scalar bits (tests/passes/gbuffer_test.cpp checks each compiled target).
 // For pixels of textured materials the vectors also give the UV and its footprint (the neighbouring
 // pixels' rays on the plane, as SurfaceResolver::At), sample the textures (core/texture-inl.h) and
 // pack the words (core/color-inl.h).
@@ -47,6 +47,18 @@ struct GBufferResolveRowInputs {
   NormalEncoding encoding;
 };
 
+// The rows of a call of the twin: the first kGBufferResolveRowsPerCall are those it resolves (the
+// first `count` of them), the others the rows below, which it asks the cache for ahead of their turn
+// (the image's last row where there are no more).
+struct GBufferResolveRows {
+  int y;      // the first
+  int count;  // 1 to kGBufferResolveRowsPerCall
+  int width;
+  const uint32_t* triangles[2 * kGBufferResolveRowsPerCall];
+  const float* depthKeys[2 * kGBufferResolveRowsPerCall];
+  uint32_t* word[3][kGBufferResolveRowsPerCall];
+};
+
 // Beyond this much vertex data (view positions and normals), a row's triangles are mostly far apart
 // in it and their vertices come from the outer cache or memory: the 1M-triangle knot (12 MB) resolved
 // with its fetches confined to 1024 triangles took 13% less time, the 100k knot (1.2 MB) the same.
@@ -62,30 +74,63 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace {
 
-// What the resolve reads of each lane's triangle: its material's constant words (word 0, the
-// roughness byte of word 1, whether it is textured), and per vertex the view-space position and the
-// world-space normal.
-struct TriangleData {
-  hn::Vec<DU> word0, roughnessBits, textured;
-  Vec3V<DF> position[3], normal[3];
+// What RayPlaneBarycentrics (core/surface.cpp) and the normal's face test compute of the lanes'
+// planes p0 + b1 e1 + b2 e2 alone: the edges, the face normal e1 x e2, and for rays from the camera
+// centre (RunGBuffer's views are perspective) the offset s = 0 - p0 and q = s x e1. So a triangle's
+// terms serve every vector it alone covers.
+struct PlaneTerms {
+  Vec3V<DF> e1, e2, face, s, q;
 };
 
-// The data of one triangle in every lane.
-HWY_INLINE TriangleData BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle) {
+// Of the triangles with vertices `position` (view space).
+HWY_INLINE PlaneTerms PlaneTermsOf(const Vec3V<DF> position[3]) {
+  const DF df;
+  const Vec3V<DF> origin = {hn::Zero(df), hn::Zero(df), hn::Zero(df)};  // PixelRayV's perspective origin
+  const Vec3V<DF>& p0 = position[0];
+  PlaneTerms terms;
+  terms.e1 = Sub3(position[1], p0);
+  terms.e2 = Sub3(position[2], p0);
+  terms.face = Cross3(terms.e1, terms.e2);
+  terms.s = Sub3(origin, p0);
+  terms.q = Cross3(terms.s, terms.e1);
+  return terms;
+}
+
+// What the resolve reads of each lane's triangle: its material's constant words (word 0, the
+// roughness byte of word 1, whether it is textured), per vertex the world-space normal, and the
+// terms of its plane (of its vertices' view-space positions, which are not kept: fewer vectors for
+// the registers).
+struct TriangleData {
+  hn::Vec<DU> word0, roughnessBits, textured;
+  Vec3V<DF> normal[3];
+  PlaneTerms terms;
+};
+
+// The data of one triangle in every lane, but for the plane's terms: its vertices' view positions
+// instead.
+HWY_INLINE void BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle, TriangleData& data,
+                                  Vec3V<DF> position[3]) {
   const DF df;
   const DU du;
-  TriangleData data;
   const uint32_t material = in.materials[triangle];
   data.word0 = hn::Set(du, in.constantWord0[material]);
   data.roughnessBits = hn::Set(du, in.constantRoughnessBits[material]);
   data.textured = hn::Set(du, in.textured[material]);
   for (int v = 0; v < 3; ++v) {
     const size_t vertex = in.indices[3 * size_t(triangle) + size_t(v)];
-    const float* position = in.viewPositions + 3 * vertex;
+    const float* p = in.viewPositions + 3 * vertex;
     const float* normal = in.normals + 3 * vertex;
-    data.position[v] = Set3(df, glm::vec3(position[0], position[1], position[2]));
+    position[v] = Set3(df, glm::vec3(p[0], p[1], p[2]));
     data.normal[v] = Set3(df, glm::vec3(normal[0], normal[1], normal[2]));
   }
+}
+
+// The data of one triangle in every lane.
+HWY_INLINE TriangleData TriangleInEveryLane(const GBufferResolveRowInputs& in, uint32_t triangle) {
+  TriangleData data;
+  Vec3V<DF> position[3];
+  BroadcastTriangle(in, triangle, data, position);
+  data.terms = PlaneTermsOf(position);
   return data;
 }
 
@@ -112,23 +157,27 @@ TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* tr
                            hn::Mask<DU> drawn) {
   const DF df;
   TriangleData data;
+  Vec3V<DF> position[3];
   bool first = true;
   ForEachDistinctValue(DU(), triangle, drawn, triangles, [&](uint32_t next, hn::Mask<DU> covers) {
-    const TriangleData more = BroadcastTriangle(in, next);
     if (first) {
-      data = more;
+      BroadcastTriangle(in, next, data, position);
       first = false;
       return;
     }
+    TriangleData more;
+    Vec3V<DF> morePosition[3];
+    BroadcastTriangle(in, next, more, morePosition);
     const auto lanes = hn::RebindMask(df, covers);
     data.word0 = hn::IfThenElse(covers, more.word0, data.word0);
     data.roughnessBits = hn::IfThenElse(covers, more.roughnessBits, data.roughnessBits);
     data.textured = hn::IfThenElse(covers, more.textured, data.textured);
     for (int v = 0; v < 3; ++v) {
-      data.position[v] = IfThenElse3(lanes, more.position[v], data.position[v]);
+      position[v] = IfThenElse3(lanes, morePosition[v], position[v]);
       data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
     }
   });
+  data.terms = PlaneTermsOf(position);
   return data;
 }
 
@@ -158,27 +207,6 @@ TriangleUvs LoadUvs(const GBufferResolveRowInputs& in, const uint32_t* triangles
     first = false;
   });
   return uvs;
-}
-
-// What RayPlaneBarycentrics (core/surface.cpp) and the normal's face test compute of the lanes'
-// planes p0 + b1 e1 + b2 e2 alone: the edges, the face normal e1 x e2, and for rays from the camera
-// centre (RunGBuffer's views are perspective) the offset s = 0 - p0 and q = s x e1. So a triangle's
-// terms serve every vector it alone covers.
-struct PlaneTerms {
-  Vec3V<DF> e1, e2, face, s, q;
-};
-
-HWY_INLINE PlaneTerms PlaneTermsOf(const TriangleData& data) {
-  const DF df;
-  const Vec3V<DF> origin = {hn::Zero(df), hn::Zero(df), hn::Zero(df)};  // PixelRayV's perspective origin
-  const Vec3V<DF>& p0 = data.position[0];
-  PlaneTerms terms;
-  terms.e1 = Sub3(data.position[1], p0);
-  terms.e2 = Sub3(data.position[2], p0);
-  terms.face = Cross3(terms.e1, terms.e2);
-  terms.s = Sub3(origin, p0);
-  terms.q = Cross3(terms.s, terms.e1);
-  return terms;
 }
 
 // RayPlaneBarycentrics of the rays from the camera centre with direction `direction`, in its
@@ -214,7 +242,7 @@ struct TextureCache {
 // packed in. Out of line: inlined, its sampler's registers and stack slots slowed the untextured
 // vectors of the resolve (10k knot, 1 thread: 4.7 -> 6.0 ms).
 HWY_NOINLINE void TexturedWords(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
-                                hn::Mask<DU> texturedLanes, VF px, float py, const PlaneTerms& terms,
+                                hn::Mask<DU> texturedLanes, VF px, VF py, const PlaneTerms& terms,
                                 const RayPlaneLanes& center, VF centerB1, VF centerB2, VF b1, VF b2,
                                 hn::Vec<DU> normalCode, TextureCache& cache, hn::Vec<DU>& words0,
                                 hn::Vec<DU>& words1) {
@@ -231,7 +259,7 @@ HWY_NOINLINE void TexturedWords(const GBufferResolveRowInputs& in, const uint32_
   const VF u = hn::Add(hn::Add(uv.u0, hn::Mul(uv.du1, b1)), hn::Mul(uv.du2, b2));
   const VF v = hn::Add(hn::Add(uv.v0, hn::Mul(uv.dv1, b1)), hn::Mul(uv.dv2, b2));
   const RayPlaneLanes right = RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py).direction, terms);
-  const RayPlaneLanes down = RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, py + 1.0f).direction, terms);
+  const RayPlaneLanes down = RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, hn::Add(py, one)).direction, terms);
   const auto footprintHit = hn::And(center.hit, hn::And(right.hit, down.hit));
   const auto uvLength = [&](VF db1, VF db2) {  // glm::length(du1 * db1 + du2 * db2)
     const VF dU = hn::Add(hn::Mul(uv.du1, db1), hn::Mul(uv.du2, db2));
@@ -288,20 +316,21 @@ HWY_NOINLINE void TexturedWords(const GBufferResolveRowInputs& in, const uint32_
   words1 = hn::IfThenElse(hn::RebindMask(du, has[2]), hn::Or(normalCode, hn::BitCast(du, roughness)), words1);
 }
 
-// Asks the cache for what the resolve will read of the triangles of the vector at `at` (each run of a
-// triangle once): their corner indices and materials (`corners`), or, once those have come, their
-// vertices' view positions and normals.
+// Asks the cache for what the resolve will read of the triangles `triangle` of a vector ahead (each
+// run of a triangle once; `previousLane` the indices of each lane's predecessor): their corner
+// indices and materials (`corners`), or, once those have come, their vertices' view positions and
+// normals.
 // Inlined: a call would spill the resolve loop's vectors.
-HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, size_t at,
-                                  size_t count, bool corners) {
+template <class LaneIndices>
+HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, hn::Vec<DU> triangle,
+                                  const LaneIndices& previousLane, bool corners) {
   const DU du;
-  const size_t lanes = hn::Lanes(du);
-  if (at + lanes > count) return;
-  const auto triangle = hn::LoadU(du, triangles + at);
+  HWY_ALIGN uint32_t triangles[hn::MaxLanes(DU())];
+  hn::Store(triangle, du, triangles);
   // Lane 0 starts a run whatever the lane before it holds.
-  uint64_t runStarts = LaneBits(du, hn::Ne(triangle, hn::LoadU(du, triangles + at - 1))) | 1;
+  uint64_t runStarts = LaneBits(du, hn::Ne(triangle, hn::TableLookupLanes(triangle, previousLane))) | 1;
   for (; runStarts != 0; runStarts &= runStarts - 1) {
-    const uint32_t t = triangles[at + size_t(std::countr_zero(runStarts))];
+    const uint32_t t = triangles[std::countr_zero(runStarts)];
     if (t == kNoTriangle) continue;
     const uint32_t* corner = in.indices + 3 * size_t(t);
     if (corners) {
@@ -316,108 +345,128 @@ HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, const uint3
   }
 }
 
-size_t GBufferResolveRow(const GBufferResolveRowInputs& in, const uint32_t* triangles, const float* depthKeys, int y,
-                         int width, uint32_t* word0, uint32_t* word1, uint32_t* word2, const uint32_t* nextTriangles,
-                         const float* nextDepthKeys) {
+// Resolves the blocks (core/row-inl.h) of rows.count rows from rows.y: the lanes of a vector are a
+// block's pixels.
+size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferResolveRows& rows) {
   const DF df;
   const DI di;
   const DU du;
-  const size_t lanes = hn::Lanes(df);
-  const size_t count = size_t(width);
-  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
-  const float py = float(y) + 0.5f;
+  constexpr size_t kLanes = hn::MaxLanes(DF()), kWidth = BlockWidth(DF()), kHeight = BlockHeight(DF());
+  static_assert(kGBufferResolveRowsPerCall % kHeight == 0);
+  const size_t width = size_t(rows.width);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
   const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
+  // Each lane's column and row in its block.
+  HWY_ALIGN int32_t laneColumn[kLanes], laneRow[kLanes], previous[kLanes];
+  for (size_t lane = 0; lane < kLanes; ++lane) {
+    laneColumn[lane] = int32_t(lane % kWidth);
+    laneRow[lane] = int32_t(lane / kWidth);
+    previous[lane] = int32_t(lane == 0 ? 0 : lane - 1);
+  }
+  const VI column = hn::Load(di, laneColumn), row = hn::Load(di, laneRow);
+  const auto previousLane = hn::SetTableIndices(du, previous);
   size_t covered = 0;
   TextureCache textureCache;
-  // A triangle mostly covers several vectors of a row in a run: the last one broadcast alone is
-  // kept for the next vector that meets only it.
+  // A triangle mostly covers several neighbouring vectors: the last one broadcast alone is kept for
+  // the next vector that meets only it.
   uint32_t broadcastTriangle = kNoTriangle;
   TriangleData broadcast;
-  PlaneTerms broadcastTerms;
-  for (size_t x = 0; x < count; x += lanes) {
-    // A row of the visibility buffer is a page of its own at 1024 pixels, where the hardware's
-    // prefetch stops: the next row is asked for along this one (the 10k knot's resolve at 1 thread:
-    // 3.8 -> 3.4 ms).
-    hwy::Prefetch(nextTriangles + x);
-    hwy::Prefetch(nextDepthKeys + x);
-    // A large mesh's vertex data is asked for two vectors ahead, its corners four (1M knot at 1
-    // thread: 35.9-36.5 -> 34.3-35.1 ms; asked where the vertex data stays in the caches, it cost the
-    // 10k and 100k knots 7%).
-    if (in.prefetchVertices && x >= lanes) {
-      PrefetchTriangles(in, triangles, x + 2 * lanes, count, false);
-      PrefetchTriangles(in, triangles, x + 4 * lanes, count, true);
-    }
-    const auto triangle = LoadRow(du, triangles, x, count, kNoTriangle);
-    const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
-    const auto storeWords = [&](hn::Vec<DU> w0, hn::Vec<DU> w1, hn::Vec<DU> w2) {
-      StoreRow(w0, du, word0, x, count);
-      StoreRow(w1, du, word1, x, count);
-      StoreRow(w2, du, word2, x, count);
-    };
-    if (hn::AllFalse(du, drawn)) {
-      storeWords(hn::Zero(du), hn::Zero(du), background);
-      continue;
-    }
-    covered += hn::CountTrue(du, drawn);
-    const uint32_t firstTriangle = triangles[x + hn::FindFirstTrue(du, drawn)];
-    const bool oneTriangle = hn::AllFalse(du, hn::AndNot(hn::Eq(triangle, hn::Set(du, firstTriangle)), drawn));
-    const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), hn::Iota(di, 0))), hn::Set(df, 0.5f));
-    const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
-    if (oneTriangle && firstTriangle != broadcastTriangle) {
-      broadcast = BroadcastTriangle(in, firstTriangle);
-      broadcastTerms = PlaneTermsOf(broadcast);
-      broadcastTriangle = firstTriangle;
-    }
-    TriangleData mixed;
-    PlaneTerms mixedTerms;
-    if (!oneTriangle) {
-      mixed = LoadTriangles(in, triangles + x, triangle, drawn);
-      mixedTerms = PlaneTermsOf(mixed);
-    }
-    const TriangleData& data = oneTriangle ? broadcast : mixed;
-    const PlaneTerms& terms = oneTriangle ? broadcastTerms : mixedTerms;
+  for (size_t r = 0; r < size_t(rows.count); r += kHeight) {
+    const size_t rowCount = HWY_MIN(kHeight, size_t(rows.count) - r);
+    const uint32_t* const* triangleRows = rows.triangles + r;
+    const float* const* depthKeyRows = rows.depthKeys + r;
+    uint32_t* const* wordRows[3] = {rows.word[0] + r, rows.word[1] + r, rows.word[2] + r};
+    const VF py = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, rows.y + int32_t(r)), row)), half);
+    for (size_t x = 0; x < width; x += kWidth) {
+      // A row of the visibility buffer is a page of its own at 1024 pixels, where the hardware's
+      // prefetch stops: the rows of the next blocks down are asked for along these (the 10k knot's
+      // resolve at 1 thread: 3.8 -> 3.4 ms, a row at a time).
+      if (x % (64 / sizeof(uint32_t)) == 0) {  // once per line
+        for (size_t next = r + kHeight; next < r + 2 * kHeight; ++next) {
+          hwy::Prefetch(rows.triangles[next] + x);
+          hwy::Prefetch(rows.depthKeys[next] + x);
+        }
+      }
+      // A large mesh's vertex data is asked for two vectors ahead, its corners four (1M knot at 1
+      // thread: 35.9-36.5 -> 34.3-35.1 ms; asked where the vertex data stays in the caches, it cost the
+      // 10k and 100k knots 7%).
+      if (in.prefetchVertices && x > 0) {
+        for (int ahead : {2, 4}) {
+          const size_t at = x + size_t(ahead) * kWidth;
+          if (at >= width) break;
+          PrefetchTriangles(in, LoadBlock(du, triangleRows, rowCount, at, width, kNoTriangle), previousLane,
+                            ahead == 4);
+        }
+      }
+      const auto triangle = LoadBlock(du, triangleRows, rowCount, x, width, kNoTriangle);
+      const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
+      const auto storeWords = [&](hn::Vec<DU> w0, hn::Vec<DU> w1, hn::Vec<DU> w2) {
+        StoreBlock(w0, du, wordRows[0], rowCount, x, width);
+        StoreBlock(w1, du, wordRows[1], rowCount, x, width);
+        StoreBlock(w2, du, wordRows[2], rowCount, x, width);
+      };
+      if (hn::AllFalse(du, drawn)) {
+        storeWords(hn::Zero(du), hn::Zero(du), background);
+        continue;
+      }
+      covered += hn::CountTrue(du, drawn);
+      HWY_ALIGN uint32_t triangles[kLanes];
+      hn::Store(triangle, du, triangles);
+      const uint32_t firstTriangle = triangles[hn::FindFirstTrue(du, drawn)];
+      const bool oneTriangle = hn::AllFalse(du, hn::AndNot(hn::Eq(triangle, hn::Set(du, firstTriangle)), drawn));
+      const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), column)), half);
+      const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
+      if (oneTriangle && firstTriangle != broadcastTriangle) {
+        broadcast = TriangleInEveryLane(in, firstTriangle);
+        broadcastTriangle = firstTriangle;
+      }
+      TriangleData mixed;
+      if (!oneTriangle) mixed = LoadTriangles(in, triangles, triangle, drawn);
+      const TriangleData& data = oneTriangle ? broadcast : mixed;
+      const PlaneTerms& terms = data.terms;
 
-    // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
-    // (Moller-Trumbore without the bounds test), clamped into the triangle.
-    const RayPlaneLanes center = RayPlaneBarycentricsV(ray.direction, terms);
-    const VF third = hn::Set(df, 1.0f / 3.0f);  // where the ray misses the plane
-    const VF centerB1 = hn::IfThenElse(center.plane, center.b1, third);
-    const VF centerB2 = hn::IfThenElse(center.plane, center.b2, third);
-    VF b1 = MinStd(MaxStd(centerB1, zero), one);  // glm::clamp(b, 0, 1)
-    VF b2 = MinStd(MaxStd(centerB2, zero), one);
-    const VF sum = hn::Add(b1, b2);
-    const auto beyond = hn::Gt(sum, one);
-    if (!hn::AllFalse(df, beyond)) {  // rare: only rounding puts a covered pixel beyond an edge
-      b1 = hn::IfThenElse(beyond, hn::Div(b1, sum), b1);
-      b2 = hn::IfThenElse(beyond, hn::Div(b2, sum), b2);
-    }
-    const VF b0 = hn::Sub(hn::Sub(one, b1), b2);
+      // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
+      // (Moller-Trumbore without the bounds test), clamped into the triangle.
+      const RayPlaneLanes center = RayPlaneBarycentricsV(ray.direction, terms);
+      const VF third = hn::Set(df, 1.0f / 3.0f);  // where the ray misses the plane
+      const VF centerB1 = hn::IfThenElse(center.plane, center.b1, third);
+      const VF centerB2 = hn::IfThenElse(center.plane, center.b2, third);
+      VF b1 = MinStd(MaxStd(centerB1, zero), one);  // glm::clamp(b, 0, 1)
+      VF b2 = MinStd(MaxStd(centerB2, zero), one);
+      const VF sum = hn::Add(b1, b2);
+      const auto beyond = hn::Gt(sum, one);
+      if (!hn::AllFalse(df, beyond)) {  // rare: only rounding puts a covered pixel beyond an edge
+        b1 = hn::IfThenElse(beyond, hn::Div(b1, sum), b1);
+        b2 = hn::IfThenElse(beyond, hn::Div(b2, sum), b2);
+      }
+      const VF b0 = hn::Sub(hn::Sub(one, b1), b2);
 
-    // The interpolated normal in the view, the face's where it vanishes, turned towards the camera.
-    const Vec3V<DF> interpolated = Add3(Add3(Scale3(data.normal[0], b0), Scale3(data.normal[1], b1)),
-                                        Scale3(data.normal[2], b2));
-    const Vec3V<DF> normal = MulMat3(df, in.normalToView, interpolated);
-    const VF length = Length3(normal);
-    const Vec3V<DF>& faceNormal = terms.face;
-    const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
-    Vec3V<DF> unit = Div3(normal, length);
-    if (!hn::AllTrue(df, usable)) unit = IfThenElse3(usable, unit, Normalize3(df, faceNormal));
-    unit = IfThenElse3(hn::Gt(Dot3(faceNormal, ray.direction), zero), Neg3(unit), unit);
+      // The interpolated normal in the view, the face's where it vanishes, turned towards the camera.
+      const Vec3V<DF> interpolated = Add3(Add3(Scale3(data.normal[0], b0), Scale3(data.normal[1], b1)),
+                                          Scale3(data.normal[2], b2));
+      const Vec3V<DF> normal = MulMat3(df, in.normalToView, interpolated);
+      const VF length = Length3(normal);
+      const Vec3V<DF>& faceNormal = terms.face;
+      const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
+      Vec3V<DF> unit = Div3(normal, length);
+      if (!hn::AllTrue(df, usable)) unit = IfThenElse3(usable, unit, Normalize3(df, faceNormal));
+      unit = IfThenElse3(hn::Gt(Dot3(faceNormal, ray.direction), zero), Neg3(unit), unit);
 
-    const auto depthKey = LoadRow(df, depthKeys, x, count, 1.0f);
-    const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
-    auto words0 = hn::IfThenElseZero(drawn, data.word0);
-    const auto normalCode = EncodeNormalV(df, unit, in.encoding);
-    auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, data.roughnessBits));
-    const auto words2 = hn::IfThenElse(drawn, hn::BitCast(du, depth), background);
-    const auto texturedLanes = hn::And(hn::Ne(data.textured, hn::Zero(du)), drawn);
-    if (hn::AllFalse(du, texturedLanes)) {
+      const auto depthKey = LoadBlock(df, depthKeyRows, rowCount, x, width, 1.0f);
+      const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
+      auto words0 = hn::IfThenElseZero(drawn, data.word0);
+      const auto normalCode = EncodeNormalV(df, unit, in.encoding);
+      auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, data.roughnessBits));
+      const auto words2 = hn::IfThenElse(drawn, hn::BitCast(du, depth), background);
+      const auto texturedLanes = hn::And(hn::Ne(data.textured, hn::Zero(du)), drawn);
+      if (hn::AllFalse(du, texturedLanes)) {
+        storeWords(words0, words1, words2);
+        continue;
+      }
+      TexturedWords(in, triangles, triangle, texturedLanes, px, py, terms, center, centerB1, centerB2, b1, b2,
+                    normalCode, textureCache, words0, words1);
       storeWords(words0, words1, words2);
-      continue;
     }
-    TexturedWords(in, triangles + x, triangle, texturedLanes, px, py, terms, center, centerB1, centerB2, b1, b2,
-                  normalCode, textureCache, words0, words1);
-    storeWords(words0, words1, words2);
   }
   return covered;
 }
@@ -430,13 +479,13 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace ssgi {
 
-HWY_EXPORT(GBufferResolveRow);
+HWY_EXPORT(GBufferResolveBlocks);
 
-size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_t* triangles, const float* depthKeys,
-                             int y, int width, uint32_t* word0, uint32_t* word1, uint32_t* word2,
-                             const uint32_t* nextTriangles, const float* nextDepthKeys) {
+size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const VisibilityBuffer& visibility, int y,
+                              int rowCount, GBuffer& gbuffer) {
   // The twin's rays all start at the camera centre (PlaneTermsOf); the scalar kernel's would not.
   SSGI_CHECK(!context.view.orthographic);
+  SSGI_CHECK(rowCount >= 1 && rowCount <= kGBufferResolveRowsPerCall);
   const Mesh& mesh = context.scene.mesh;
   const GBufferResolveRowInputs in{
       &context,
@@ -453,8 +502,17 @@ size_t GBufferResolveRowSimd(const GBufferResolveContext& context, const uint32_
       context.normalToView,
       context.normalEncoding,
   };
-  return HWY_DYNAMIC_DISPATCH(GBufferResolveRow)(in, triangles, depthKeys, y, width, word0, word1, word2,
-                                                 nextTriangles, nextDepthKeys);
+  GBufferResolveRows rows{y, rowCount, context.view.width, {}, {}, {}};
+  const size_t last = visibility.triangle.ysize() - 1;
+  for (size_t r = 0; r < 2 * kGBufferResolveRowsPerCall; ++r) {
+    const size_t row = HWY_MIN(size_t(y) + r, last);
+    rows.triangles[r] = visibility.triangle.ConstRow(row);
+    rows.depthKeys[r] = visibility.depthKey.ConstRow(row);
+    if (r < size_t(rowCount)) {
+      for (int w = 0; w < 3; ++w) rows.word[w][r] = gbuffer.word[w].MutableRow(row);
+    }
+  }
+  return HWY_DYNAMIC_DISPATCH(GBufferResolveBlocks)(in, rows);
 }
 
 }  // namespace ssgi

@@ -417,7 +417,7 @@ TEST_CASE("raster: the batched triangle set-up equals the scalar set-up on every
       // Small ones, bounds of a few pixels.
       CHECK(std::count_if(expected.begin(), expected.end(), [](const ScreenTriangle& t) {
               return t.maxX - t.minX < 4 && t.maxY - t.minY < 4;
-            }) > kTriangles / 50);
+            }) > std::ptrdiff_t(kTriangles / 50));
       const size_t targets = test::ForEachSimdTarget([&](const char* target) {
         std::vector<ScreenTriangle> actual(kTriangles);
         std::vector<TriangleSetUp> actualStatus(kTriangles);
