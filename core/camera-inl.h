@@ -1,6 +1,6 @@
 // Highway twin of ViewProjection::PixelRay (core/camera.h) for the passes' SIMD kernels: the same
 // operations in the same order, so every target gives its bits (DESIGN.md §11;
-// tests/core/camera_simd_test.cpp). Lanes are pixels.
+// tests/core/camera_simd_test.cpp). Lanes are pixels of one row.
 //
 // A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after
 // hwy/highway.h, once per target through hwy/foreach_target.h, outside any namespace.
@@ -10,8 +10,6 @@
 #else
 #define SSGI_CORE_CAMERA_INL_H_
 #endif
-
-#include <type_traits>
 
 #include "core/camera.h"
 #include "core/math-inl.h"
@@ -28,20 +26,13 @@ struct RayV {
   Vec3V<D> direction;
 };
 
-// view.PixelRay(px, py) for image positions px (per lane) on one row py, or per lane (py a vector:
-// lanes that are a block of pixels, as the G-buffer resolve's).
-template <class D, class Y>
-RayV<D> PixelRayV(D d, const ViewProjection& view, hn::Vec<D> px, Y py) {
+// view.PixelRay(px, py) for image positions px (per lane) on one row py.
+template <class D>
+RayV<D> PixelRayV(D d, const ViewProjection& view, hn::Vec<D> px, float py) {
   const auto sx = hn::Mul(hn::Sub(hn::Div(hn::Mul(hn::Set(d, 2.0f), px), hn::Set(d, float(view.width))),
                                   hn::Set(d, 1.0f)),
                           hn::Set(d, view.halfX));
-  hn::Vec<D> sy;
-  if constexpr (std::is_same_v<Y, float>) {
-    sy = hn::Set(d, (1.0f - 2.0f * py / float(view.height)) * view.halfY);
-  } else {
-    sy = hn::Mul(hn::Sub(hn::Set(d, 1.0f), hn::Div(hn::Mul(hn::Set(d, 2.0f), py), hn::Set(d, float(view.height)))),
-                 hn::Set(d, view.halfY));
-  }
+  const auto sy = hn::Set(d, (1.0f - 2.0f * py / float(view.height)) * view.halfY);
   const auto zero = hn::Zero(d);
   if (view.orthographic) return {{sx, sy, zero}, Set3(d, glm::vec3(0.0f, 0.0f, -1.0f))};
   return {{zero, zero, zero}, {sx, sy, hn::Set(d, -1.0f)}};

@@ -122,10 +122,20 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
     textured[m] = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
                   material.roughnessTexture != kNoTexture;
   }
+  std::vector<float> rayDirectionX(width + kGBufferRayPadding), rayDirectionY(height + kGBufferRayPadding);
+  for (size_t x = 0; x < rayDirectionX.size(); ++x) rayDirectionX[x] = view.PixelRay(float(x) + 0.5f, 0.5f).direction.x;
+  for (size_t y = 0; y < rayDirectionY.size(); ++y) rayDirectionY[y] = view.PixelRay(0.5f, float(y) + 0.5f).direction.y;
   const GBufferResolveContext context{
-      scene, view, raster.Resolver(), constantWord0.data(), constantRoughnessBits.data(), textured.data(),
+      scene,
+      view,
+      raster.Resolver(),
+      constantWord0.data(),
+      constantRoughnessBits.data(),
+      textured.data(),
       glm::mat3(view.view),  // lookAt is a rotation plus a translation
       params.normalEncoding,
+      rayDirectionX.data(),
+      rayDirectionY.data(),
   };
   const VisibilityBuffer& visibility = out.visibility;
   std::vector<size_t> coveredPerBand(RowBandCount(height), 0);

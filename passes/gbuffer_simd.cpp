@@ -38,6 +38,8 @@ struct GBufferResolveRowInputs {
   const float* viewPositions;      // x, y, z per vertex, in the view
   const float* normals;            // x, y, z per vertex, world space
   const float* uvs;                // u, v per vertex
+  const float* rayDirectionX;      // GBufferResolveContext's
+  const float* rayDirectionY;
   const uint32_t* materials;       // per triangle
   const uint32_t* constantWord0;   // per material (GBufferResolveContext)
   const uint32_t* constantRoughnessBits;
@@ -148,23 +150,56 @@ HWY_INLINE void ForEachDistinctValue(D d, hn::Vec<D> values, hn::Mask<D> among, 
   }
 }
 
+// The lanes of a block (core/row-inl.h) a lane's value is compared with to find where each distinct
+// value first appears: the lane before it (in row order) and the lane above it.
+using LaneIndices = decltype(hn::SetTableIndices(DU(), static_cast<const int32_t*>(nullptr)));
+struct EarlierLanes {
+  LaneIndices before, above;       // the lane itself where there is none
+  hn::Mask<DU> noneBefore, noneAbove;
+};
+
+HWY_INLINE EarlierLanes EarlierLanesOfBlock() {
+  const DU du;
+  constexpr size_t kLanes = hn::MaxLanes(DU()), kWidth = BlockWidth(DU());
+  HWY_ALIGN int32_t before[kLanes], above[kLanes];
+  HWY_ALIGN uint32_t noneBefore[kLanes], noneAbove[kLanes];
+  for (size_t lane = 0; lane < kLanes; ++lane) {
+    before[lane] = int32_t(lane == 0 ? lane : lane - 1);
+    above[lane] = int32_t(lane < kWidth ? lane : lane - kWidth);
+    noneBefore[lane] = lane == 0 ? ~0u : 0u;
+    noneAbove[lane] = lane < kWidth ? ~0u : 0u;
+  }
+  return {hn::SetTableIndices(du, before), hn::SetTableIndices(du, above),
+          hn::MaskFromVec(hn::Load(du, noneBefore)), hn::MaskFromVec(hn::Load(du, noneAbove))};
+}
+
+// As bits, the lanes of `among` whose value holds neither in the lane before nor in the lane above:
+// the first lane of each distinct value is one of them. (A value may have more than one, which the
+// callers tolerate: finding only the first ones, one after another, is a chain of dependent steps.)
+HWY_INLINE uint64_t ValueStarts(hn::Vec<DU> values, hn::Mask<DU> among, const EarlierLanes& earlier) {
+  const DU du;
+  const auto newBefore = hn::Or(earlier.noneBefore, hn::Ne(values, hn::TableLookupLanes(values, earlier.before)));
+  const auto newAbove = hn::Or(earlier.noneAbove, hn::Ne(values, hn::TableLookupLanes(values, earlier.above)));
+  return LaneBits(du, hn::And(among, hn::And(newBefore, newAbove)));
+}
+
 // The triangle data of the lanes of `drawn` (`triangle` per lane, as in `triangles`); the other
-// lanes hold some lane's data, never stored. A vector of a row meets few triangles, mostly one, and
-// each is broadcast into the lanes it covers: even at about a triangle per lane (the 1M-triangle
-// knot) that is no slower than gathering 19 values per lane (BM_GBuffer, 1 thread, back to back with
-// gathers beyond 4, 8 or 16 triangles: 1M 80 / 80 / 69 ms, 100k 20.7 / 17.5 / 16.9 ms).
+// lanes hold some lane's data, never stored. A vector meets few triangles, and each is broadcast
+// into the lanes it covers (a triangle met twice by ValueStarts, twice: the same lanes get the same
+// values): even at about a triangle per lane (the 1M-triangle knot) that is no slower than
+// gathering 19 values per lane (BM_GBuffer, 1 thread, back to back with gathers beyond 4, 8 or 16
+// triangles: 1M 80 / 80 / 69 ms, 100k 20.7 / 17.5 / 16.9 ms).
 TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
-                           hn::Mask<DU> drawn) {
+                           hn::Mask<DU> drawn, const EarlierLanes& earlier) {
   const DF df;
+  const DU du;
   TriangleData data;
   Vec3V<DF> position[3];
-  bool first = true;
-  ForEachDistinctValue(DU(), triangle, drawn, triangles, [&](uint32_t next, hn::Mask<DU> covers) {
-    if (first) {
-      BroadcastTriangle(in, next, data, position);
-      first = false;
-      return;
-    }
+  uint64_t starts = ValueStarts(triangle, drawn, earlier);
+  BroadcastTriangle(in, triangles[std::countr_zero(starts)], data, position);
+  for (starts &= starts - 1; starts != 0; starts &= starts - 1) {
+    const uint32_t next = triangles[std::countr_zero(starts)];
+    const auto covers = hn::Eq(triangle, hn::Set(du, next));
     TriangleData more;
     Vec3V<DF> morePosition[3];
     BroadcastTriangle(in, next, more, morePosition);
@@ -176,7 +211,7 @@ TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* tr
       position[v] = IfThenElse3(lanes, morePosition[v], position[v]);
       data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
     }
-  });
+  }
   data.terms = PlaneTermsOf(position);
   return data;
 }
@@ -238,19 +273,27 @@ struct TextureCache {
 };
 
 // The words 0 and 1 of a vector's lanes `texturedLanes` (`triangles` and `triangle` the vector's
-// ids, the rest as GBufferResolveRow computes them): the constant words with the textures' samples
-// packed in. Out of line: inlined, its sampler's registers and stack slots slowed the untextured
-// vectors of the resolve (10k knot, 1 thread: 4.7 -> 6.0 ms).
-HWY_NOINLINE void TexturedWords(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
-                                hn::Mask<DU> texturedLanes, VF px, VF py, const PlaneTerms& terms,
-                                const RayPlaneLanes& center, VF centerB1, VF centerB2, VF b1, VF b2,
-                                hn::Vec<DU> normalCode, TextureCache& cache, hn::Vec<DU>& words0,
-                                hn::Vec<DU>& words1) {
+// ids, directionX and directionY their rays' (z is -1), rightX and downY the x of the rays one pixel
+// right and the y of those one pixel down, the rest as GBufferResolveBlocks computes them): the
+// constant words with the textures' samples packed in. Out of line: inlined, its sampler's registers
+// and stack slots slowed the untextured vectors of the resolve (10k knot, 1 thread: 4.7 -> 6.0 ms).
+// Its aggregates are taken by value and its words returned: an object whose address a call takes
+// stays in memory throughout the loop, its vectors stored and loaded again (10k knot, 1 thread:
+// 3.9 -> 4.5 ms with the view ray's direction passed by reference).
+struct Words01 {
+  hn::Vec<DU> word0, word1;
+};
+
+HWY_NOINLINE Words01 TexturedWords(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+                                   hn::Mask<DU> texturedLanes, VF directionX, VF directionY, VF rightX, VF downY,
+                                   PlaneTerms terms, RayPlaneLanes center, VF centerB1, VF centerB2, VF b1, VF b2,
+                                   hn::Vec<DU> normalCode, TextureCache& cache, hn::Vec<DU> words0,
+                                   hn::Vec<DU> words1) {
   const DF df;
   const DI di;
   const DU du;
   const size_t lanes = hn::Lanes(df);
-  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+  const VF zero = hn::Zero(df);
   HWY_ALIGN uint32_t textured[HWY_MAX_BYTES / sizeof(uint32_t)];
   const CodeBuckets& encode = SrgbEncodeBuckets();
   // SurfaceResolver::At's UV at the clamped barycentrics, and its footprint from the unclamped
@@ -258,8 +301,9 @@ HWY_NOINLINE void TexturedWords(const GBufferResolveRowInputs& in, const uint32_
   const TriangleUvs uv = LoadUvs(in, triangles, triangle, texturedLanes);
   const VF u = hn::Add(hn::Add(uv.u0, hn::Mul(uv.du1, b1)), hn::Mul(uv.du2, b2));
   const VF v = hn::Add(hn::Add(uv.v0, hn::Mul(uv.dv1, b1)), hn::Mul(uv.dv2, b2));
-  const RayPlaneLanes right = RayPlaneBarycentricsV(PixelRayV(df, *in.view, hn::Add(px, one), py).direction, terms);
-  const RayPlaneLanes down = RayPlaneBarycentricsV(PixelRayV(df, *in.view, px, hn::Add(py, one)).direction, terms);
+  const VF directionZ = hn::Set(df, -1.0f);
+  const RayPlaneLanes right = RayPlaneBarycentricsV({rightX, directionY, directionZ}, terms);
+  const RayPlaneLanes down = RayPlaneBarycentricsV({directionX, downY, directionZ}, terms);
   const auto footprintHit = hn::And(center.hit, hn::And(right.hit, down.hit));
   const auto uvLength = [&](VF db1, VF db2) {  // glm::length(du1 * db1 + du2 * db2)
     const VF dU = hn::Add(hn::Mul(uv.du1, db1), hn::Mul(uv.du2, db2));
@@ -312,30 +356,25 @@ HWY_NOINLINE void TexturedWords(const GBufferResolveRowInputs& in, const uint32_
              hn::Or(hn::ShiftLeft<16>(srgb(times(0, 2, sample[0].b))),
                     hn::ShiftLeft<24>(UnormCode8V(times(1, 3, sample[1].r)))));
   const VI roughness = hn::ShiftLeft<24>(UnormCode8V(hn::Mul(hn::Load(df, constant[4]), sample[2].r)));
-  words0 = hn::IfThenElse(hn::RebindMask(du, hn::Or(has[0], has[1])), hn::BitCast(du, albedoMetallic), words0);
-  words1 = hn::IfThenElse(hn::RebindMask(du, has[2]), hn::Or(normalCode, hn::BitCast(du, roughness)), words1);
+  return {hn::IfThenElse(hn::RebindMask(du, hn::Or(has[0], has[1])), hn::BitCast(du, albedoMetallic), words0),
+          hn::IfThenElse(hn::RebindMask(du, has[2]), hn::Or(normalCode, hn::BitCast(du, roughness)), words1)};
 }
 
 // Asks the cache for what the resolve will read of the triangles `triangle` of a vector ahead (each
-// run of a triangle once; `previousLane` the indices of each lane's predecessor): their corner
-// indices and materials (`corners`), or, once those have come, their vertices' view positions and
-// normals.
+// once, or about: ValueStarts): their corner indices and materials (`corners`), or, once those have
+// come, their vertices' view positions and normals.
 // Inlined: a call would spill the resolve loop's vectors.
-template <class LaneIndices>
-HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, hn::Vec<DU> triangle,
-                                  const LaneIndices& previousLane, bool corners) {
+HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, hn::Vec<DU> triangle, const EarlierLanes& earlier,
+                                  bool corners) {
   const DU du;
   HWY_ALIGN uint32_t triangles[hn::MaxLanes(DU())];
   hn::Store(triangle, du, triangles);
-  // Lane 0 starts a run whatever the lane before it holds.
-  uint64_t runStarts = LaneBits(du, hn::Ne(triangle, hn::TableLookupLanes(triangle, previousLane))) | 1;
-  for (; runStarts != 0; runStarts &= runStarts - 1) {
-    const uint32_t t = triangles[std::countr_zero(runStarts)];
-    if (t == kNoTriangle) continue;
-    const uint32_t* corner = in.indices + 3 * size_t(t);
+  const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
+  for (uint64_t starts = ValueStarts(triangle, drawn, earlier); starts != 0; starts &= starts - 1) {
+    const uint32_t* corner = in.indices + 3 * size_t(triangles[std::countr_zero(starts)]);
     if (corners) {
       hwy::Prefetch(corner);
-      hwy::Prefetch(in.materials + t);
+      hwy::Prefetch(in.materials + triangles[std::countr_zero(starts)]);
       continue;
     }
     for (int v = 0; v < 3; ++v) {
@@ -349,22 +388,14 @@ HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, hn::Vec<DU>
 // block's pixels.
 size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferResolveRows& rows) {
   const DF df;
-  const DI di;
   const DU du;
   constexpr size_t kLanes = hn::MaxLanes(DF()), kWidth = BlockWidth(DF()), kHeight = BlockHeight(DF());
   static_assert(kGBufferResolveRowsPerCall % kHeight == 0);
   const size_t width = size_t(rows.width);
-  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
+  static_assert(kWidth * sizeof(float) == 16 || kLanes == 1, "LoadDup128 gives a block's columns in each row");
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
   const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
-  // Each lane's column and row in its block.
-  HWY_ALIGN int32_t laneColumn[kLanes], laneRow[kLanes], previous[kLanes];
-  for (size_t lane = 0; lane < kLanes; ++lane) {
-    laneColumn[lane] = int32_t(lane % kWidth);
-    laneRow[lane] = int32_t(lane / kWidth);
-    previous[lane] = int32_t(lane == 0 ? 0 : lane - 1);
-  }
-  const VI column = hn::Load(di, laneColumn), row = hn::Load(di, laneRow);
-  const auto previousLane = hn::SetTableIndices(du, previous);
+  const EarlierLanes earlier = EarlierLanesOfBlock();
   size_t covered = 0;
   TextureCache textureCache;
   // A triangle mostly covers several neighbouring vectors: the last one broadcast alone is kept for
@@ -376,7 +407,13 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
     const uint32_t* const* triangleRows = rows.triangles + r;
     const float* const* depthKeyRows = rows.depthKeys + r;
     uint32_t* const* wordRows[3] = {rows.word[0] + r, rows.word[1] + r, rows.word[2] + r};
-    const VF py = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, rows.y + int32_t(r)), row)), half);
+    // The view rays' y of the lanes' rows and of the rows below them (PixelRay's, as the columns' x).
+    HWY_ALIGN float rayY[kLanes], downRayY[kLanes];
+    for (size_t lane = 0; lane < kLanes; ++lane) {
+      rayY[lane] = in.rayDirectionY[size_t(rows.y) + r + lane / kWidth];
+      downRayY[lane] = in.rayDirectionY[size_t(rows.y) + r + lane / kWidth + 1];
+    }
+    const VF directionY = hn::Load(df, rayY), downY = hn::Load(df, downRayY);
     for (size_t x = 0; x < width; x += kWidth) {
       // A row of the visibility buffer is a page of its own at 1024 pixels, where the hardware's
       // prefetch stops: the rows of the next blocks down are asked for along these (the 10k knot's
@@ -394,8 +431,7 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
         for (int ahead : {2, 4}) {
           const size_t at = x + size_t(ahead) * kWidth;
           if (at >= width) break;
-          PrefetchTriangles(in, LoadBlock(du, triangleRows, rowCount, at, width, kNoTriangle), previousLane,
-                            ahead == 4);
+          PrefetchTriangles(in, LoadBlock(du, triangleRows, rowCount, at, width, kNoTriangle), earlier, ahead == 4);
         }
       }
       const auto triangle = LoadBlock(du, triangleRows, rowCount, x, width, kNoTriangle);
@@ -414,20 +450,20 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
       hn::Store(triangle, du, triangles);
       const uint32_t firstTriangle = triangles[hn::FindFirstTrue(du, drawn)];
       const bool oneTriangle = hn::AllFalse(du, hn::AndNot(hn::Eq(triangle, hn::Set(du, firstTriangle)), drawn));
-      const VF px = hn::Add(hn::ConvertTo(df, hn::Add(hn::Set(di, int32_t(x)), column)), half);
-      const RayV<DF> ray = PixelRayV(df, *in.view, px, py);
+      // PixelRay's direction (the view is perspective): x per column, in each row of the block.
+      const Vec3V<DF> direction = {hn::LoadDup128(df, in.rayDirectionX + x), directionY, hn::Set(df, -1.0f)};
       if (oneTriangle && firstTriangle != broadcastTriangle) {
         broadcast = TriangleInEveryLane(in, firstTriangle);
         broadcastTriangle = firstTriangle;
       }
       TriangleData mixed;
-      if (!oneTriangle) mixed = LoadTriangles(in, triangles, triangle, drawn);
+      if (!oneTriangle) mixed = LoadTriangles(in, triangles, triangle, drawn, earlier);
       const TriangleData& data = oneTriangle ? broadcast : mixed;
       const PlaneTerms& terms = data.terms;
 
       // SurfaceResolver::At: the barycentrics of the pixel-centre ray on the triangle's plane
       // (Moller-Trumbore without the bounds test), clamped into the triangle.
-      const RayPlaneLanes center = RayPlaneBarycentricsV(ray.direction, terms);
+      const RayPlaneLanes center = RayPlaneBarycentricsV(direction, terms);
       const VF third = hn::Set(df, 1.0f / 3.0f);  // where the ray misses the plane
       const VF centerB1 = hn::IfThenElse(center.plane, center.b1, third);
       const VF centerB2 = hn::IfThenElse(center.plane, center.b2, third);
@@ -450,22 +486,24 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
       const auto usable = hn::And(hn::Gt(length, zero), hn::IsFinite(length));
       Vec3V<DF> unit = Div3(normal, length);
       if (!hn::AllTrue(df, usable)) unit = IfThenElse3(usable, unit, Normalize3(df, faceNormal));
-      unit = IfThenElse3(hn::Gt(Dot3(faceNormal, ray.direction), zero), Neg3(unit), unit);
+      unit = IfThenElse3(hn::Gt(Dot3(faceNormal, direction), zero), Neg3(unit), unit);
 
       const auto depthKey = LoadBlock(df, depthKeyRows, rowCount, x, width, 1.0f);
       const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
-      auto words0 = hn::IfThenElseZero(drawn, data.word0);
+      const auto words0 = hn::IfThenElseZero(drawn, data.word0);
       const auto normalCode = EncodeNormalV(df, unit, in.encoding);
-      auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, data.roughnessBits));
+      const auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, data.roughnessBits));
       const auto words2 = hn::IfThenElse(drawn, hn::BitCast(du, depth), background);
       const auto texturedLanes = hn::And(hn::Ne(data.textured, hn::Zero(du)), drawn);
       if (hn::AllFalse(du, texturedLanes)) {
         storeWords(words0, words1, words2);
         continue;
       }
-      TexturedWords(in, triangles, triangle, texturedLanes, px, py, terms, center, centerB1, centerB2, b1, b2,
-                    normalCode, textureCache, words0, words1);
-      storeWords(words0, words1, words2);
+      const Words01 textured =
+          TexturedWords(in, triangles, triangle, texturedLanes, direction.x, direction.y,
+                        hn::LoadDup128(df, in.rayDirectionX + x + 1), downY, terms, center, centerB1, centerB2, b1, b2,
+                        normalCode, textureCache, words0, words1);
+      storeWords(textured.word0, textured.word1, words2);
     }
   }
   return covered;
@@ -494,6 +532,8 @@ size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const Visibi
       reinterpret_cast<const float*>(context.resolver.ViewPositions()),
       reinterpret_cast<const float*>(mesh.normals.data()),
       reinterpret_cast<const float*>(mesh.uvs.data()),
+      context.rayDirectionX,
+      context.rayDirectionY,
       mesh.materials.data(),
       context.constantWord0,
       context.constantRoughnessBits,
