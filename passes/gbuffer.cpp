@@ -67,7 +67,8 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
 
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
-                               uint32_t* word2) {
+                               uint32_t* word2, uint32_t* word3) {
+  std::fill_n(word3, width, kShadowLit);
   size_t covered = 0;
   for (int x = 0; x < width; ++x) {
     if (triangles[x] == kNoTriangle) {
@@ -99,14 +100,11 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   stats.raster = Rasterize(raster.Get(), view, RasterOutput::kVisibility, out.visibility, nullptr, kernels);
   stats.rasterMs = stopwatch.Lap();
 
-  // (A frame that freed its buffers after their last readers has no word 3 left: made anew.)
+  // The resolve writes every pixel of words 0-3. (A frame that freed its buffers after their last
+  // readers has no word 3 left: made anew.)
   if (out.gbuffer.width() == view.width && out.gbuffer.height() == view.height &&
       out.gbuffer.word[3].xsize() == width) {
     out.gbuffer.normalEncoding = params.normalEncoding;
-    Plane<uint32_t>& word3 = out.gbuffer.word[3];
-    ParallelForRowBands("gbuffer.reset_word3", height, [&](size_t, size_t yBegin, size_t yEnd) {
-      for (size_t y = yBegin; y < yEnd; ++y) std::fill_n(word3.MutableRow(y), width, kShadowLit);
-    });
   } else {
     out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
   }
@@ -152,7 +150,8 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
                                                       visibility.depthKey.ConstRow(y), int(y), view.width,
                                                       out.gbuffer.word[0].MutableRow(y),
                                                       out.gbuffer.word[1].MutableRow(y),
-                                                      out.gbuffer.word[2].MutableRow(y));
+                                                      out.gbuffer.word[2].MutableRow(y),
+                                                      out.gbuffer.word[3].MutableRow(y));
     }
   });
   for (size_t n : coveredPerBand) stats.coveredPixels += n;

@@ -26,7 +26,7 @@ struct GBufferInputs {
 
 // May hold the buffers of an earlier frame: those of the view's size are overwritten in place.
 struct GBufferOutputs {
-  GBuffer gbuffer;             // words 0-2 filled; word 3 set to kShadowLit
+  GBuffer gbuffer;             // words 0-2 filled; word 3 set to kShadowLit (in the resolve's pass over the rows)
   VisibilityBuffer visibility; // the triangle index per pixel (for dumps and tests)
 };
 
@@ -69,14 +69,14 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
 
 // The resolve's scalar row kernel, the definition its SIMD twin (passes/gbuffer_simd.cpp) must equal
 // bit for bit. Resolves row y of the visibility buffer (`width` triangle indices and depth keys)
-// into the row's G-buffer words 0-2; pixels without a triangle (kNoTriangle) get the background's
-// (0, 0, +inf), so every pixel is written and the twin's vector stores need not read the row first.
-// Returns how many pixels it resolved.
+// into the row's G-buffer words 0-2 and sets its word 3 to kShadowLit; pixels without a triangle
+// (kNoTriangle) get the background's (0, 0, +inf), so every pixel is written and the twin's vector
+// stores need not read the row first. Returns how many pixels it resolved.
 size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint32_t* triangles,
                                const float* depthKeys, int y, int width, uint32_t* word0, uint32_t* word1,
-                               uint32_t* word2);
+                               uint32_t* word2, uint32_t* word3);
 // Its Highway twin, which resolves `rowCount` rows from y (at most kGBufferResolveRowsPerCall) of
-// `visibility` into `gbuffer`'s words 0-2 at once: its vectors are blocks of pixels of those rows
+// `visibility` into `gbuffer`'s words 0-3 at once: its vectors are blocks of pixels of those rows
 // (4x4 on AVX-512, 4x2 on AVX2), so they meet fewer triangles than runs of a row. Returns how many
 // pixels it resolved.
 inline constexpr int kGBufferResolveRowsPerCall = 4;

@@ -58,7 +58,7 @@ struct GBufferResolveRows {
   int width;
   const uint32_t* triangles[2 * kGBufferResolveRowsPerCall];
   const float* depthKeys[2 * kGBufferResolveRowsPerCall];
-  uint32_t* word[3][kGBufferResolveRowsPerCall];
+  uint32_t* word[4][kGBufferResolveRowsPerCall];
 };
 
 // Beyond this much vertex data (view positions and normals), a row's triangles are mostly far apart
@@ -394,7 +394,7 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
   const size_t width = size_t(rows.width);
   static_assert(kWidth * sizeof(float) == 16 || kLanes == 1, "LoadDup128 gives a block's columns in each row");
   const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
-  const auto background = hn::Set(du, PackDepth(kBackgroundDepth));
+  const auto background = hn::Set(du, PackDepth(kBackgroundDepth)), shadowLit = hn::Set(du, kShadowLit);
   const EarlierLanes earlier = EarlierLanesOfBlock();
   size_t covered = 0;
   TextureCache textureCache;
@@ -406,7 +406,7 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
     const size_t rowCount = HWY_MIN(kHeight, size_t(rows.count) - r);
     const uint32_t* const* triangleRows = rows.triangles + r;
     const float* const* depthKeyRows = rows.depthKeys + r;
-    uint32_t* const* wordRows[3] = {rows.word[0] + r, rows.word[1] + r, rows.word[2] + r};
+    uint32_t* const* wordRows[4] = {rows.word[0] + r, rows.word[1] + r, rows.word[2] + r, rows.word[3] + r};
     // The view rays' y of the lanes' rows and of the rows below them (PixelRay's, as the columns' x).
     HWY_ALIGN float rayY[kLanes], downRayY[kLanes];
     for (size_t lane = 0; lane < kLanes; ++lane) {
@@ -440,6 +440,7 @@ size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferReso
         StoreBlock(w0, du, wordRows[0], rowCount, x, width);
         StoreBlock(w1, du, wordRows[1], rowCount, x, width);
         StoreBlock(w2, du, wordRows[2], rowCount, x, width);
+        StoreBlock(shadowLit, du, wordRows[3], rowCount, x, width);
       };
       if (hn::AllFalse(du, drawn)) {
         storeWords(hn::Zero(du), hn::Zero(du), background);
@@ -549,7 +550,7 @@ size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const Visibi
     rows.triangles[r] = visibility.triangle.ConstRow(row);
     rows.depthKeys[r] = visibility.depthKey.ConstRow(row);
     if (r < size_t(rowCount)) {
-      for (int w = 0; w < 3; ++w) rows.word[w][r] = gbuffer.word[w].MutableRow(row);
+      for (int w = 0; w < 4; ++w) rows.word[w][r] = gbuffer.word[w].MutableRow(row);
     }
   }
   return HWY_DYNAMIC_DISPATCH(GBufferResolveBlocks)(in, rows);

@@ -106,18 +106,21 @@ void CheckKernelPathsAgree(const Scene& scene) {
 TEST_CASE("g-buffer: outputs kept from an earlier frame give the bytes of new ones", "[gbuffer]") {
   const Scene scene = test::LoadDefaultScene().scene;
   const ViewProjection view = MakePerspective(scene.camera, 67, 45);
-  GBufferOutputs fresh, reused;
-  RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, fresh);
-  // An earlier frame from elsewhere, its word 3 as a shadow pass leaves it.
-  CameraDesc elsewhere = scene.camera;
-  elsewhere.position = {3.0f, 0.5f, -2.0f};
-  RunGBuffer({scene, MakePerspective(elsewhere, 67, 45)}, {NormalEncoding::kOct24}, reused);
-  for (size_t y = 0; y < 45; ++y) std::fill_n(reused.gbuffer.word[3].MutableRow(y), 67, 0x80000001u);
-  RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, reused);
-  CHECK(reused.gbuffer.normalEncoding == NormalEncoding::kXyz8);
-  for (int w = 0; w < 4; ++w) CHECK(test::SameBytes(reused.gbuffer.word[w], fresh.gbuffer.word[w]));
-  CHECK(test::SameBytes(reused.visibility.triangle, fresh.visibility.triangle));
-  CHECK(test::SameBytes(reused.visibility.depthKey, fresh.visibility.depthKey));
+  for (const KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+    CAPTURE(int(kernels));
+    GBufferOutputs fresh, reused;
+    RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, fresh, kernels);
+    // An earlier frame from elsewhere, its word 3 as a shadow pass leaves it.
+    CameraDesc elsewhere = scene.camera;
+    elsewhere.position = {3.0f, 0.5f, -2.0f};
+    RunGBuffer({scene, MakePerspective(elsewhere, 67, 45)}, {NormalEncoding::kOct24}, reused, kernels);
+    for (size_t y = 0; y < 45; ++y) std::fill_n(reused.gbuffer.word[3].MutableRow(y), 67, 0x80000001u);
+    RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, reused, kernels);
+    CHECK(reused.gbuffer.normalEncoding == NormalEncoding::kXyz8);
+    for (int w = 0; w < 4; ++w) CHECK(test::SameBytes(reused.gbuffer.word[w], fresh.gbuffer.word[w]));
+    CHECK(test::SameBytes(reused.visibility.triangle, fresh.visibility.triangle));
+    CHECK(test::SameBytes(reused.visibility.depthKey, fresh.visibility.depthKey));
+  }
 }
 
 TEST_CASE("g-buffer: the SIMD kernels give the scalar bytes on every target, default scene", "[gbuffer][simd]") {
