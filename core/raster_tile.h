@@ -133,15 +133,22 @@ constexpr int TilePixelIndex(int lx, int ly) {
          (ly % kRasterBlockSize) * kRasterBlockSize + lx % kRasterBlockSize;
 }
 
+// The SIMD kernel's box path (core/raster_simd.cpp) loads whole vectors from a box row's first
+// sample, whose lanes past the row are not used: they can reach this many values past a tile
+// array's last, which the arrays hold (filled with the rest), so no load leaves them.
+inline constexpr int kTileArraySlack = kRasterBlockSize;
+
 struct TileTarget {
   int x0, y0, width, height;  // the tile's pixels in the image
-  alignas(64) float depth[kRasterTilePixels];
+  alignas(64) float depth[kRasterTilePixels + kTileArraySlack];
   // Per 8x8 block, a key at or below every depth key the block holds (the clear key, 0, at first).
   // Kept by the SIMD kernel, which passes over a block no key of the triangle can beat: an
   // optimisation with no effect on the bytes (the scalar kernel, the definition, does not read it).
-  float blockFarthest[kRasterTileBlocks * kRasterTileBlocks];
-  alignas(64) uint32_t triangle[kRasterTilePixels];  // written when TileTriangles::writeTriangle
-  alignas(64) uint32_t coverage[kRasterTilePixels];  // counted when TileTriangles::countCoverage
+  alignas(64) float blockFarthest[kRasterTileBlocks * kRasterTileBlocks];
+  // Written when TileTriangles::writeTriangle.
+  alignas(64) uint32_t triangle[kRasterTilePixels + kTileArraySlack];
+  // Counted when TileTriangles::countCoverage.
+  alignas(64) uint32_t coverage[kRasterTilePixels + kTileArraySlack];
 };
 
 // The triangles of one set-up chunk that overlap a tile, in submission order, and what to write.

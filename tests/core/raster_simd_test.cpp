@@ -243,32 +243,41 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
   }
 }
 
+// `count` triangles of the pixel view of `size` (PixelView), triangle i with its vertices within
+// extent(i) pixels of a random anchor on or near the image, at random depths and facings; every
+// fifth with vertices on pixel centres (edges through samples), every fiftieth drawn twice (ties).
+template <class Extent>
+void AddRandomTriangles(glm::ivec2 size, size_t count, const Extent& extent, std::mt19937& rng,
+                        std::vector<glm::vec3>& positions, std::vector<uint32_t>& indices) {
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (size_t i = 0; i < count; ++i) {
+    const glm::vec2 anchor(unit(rng) * float(size.x + 4) - 2.0f, unit(rng) * float(size.y + 4) - 2.0f);
+    const float depth = -1.0f - unit(rng);
+    const uint32_t first = uint32_t(positions.size());
+    for (int v = 0; v < 3; ++v) {
+      glm::vec2 pixel = anchor + extent(i) * glm::vec2(unit(rng), unit(rng));
+      if (i % 5 == 0) pixel = glm::floor(pixel) + 0.5f;  // on a pixel centre
+      positions.push_back({pixel.x - 0.5f * float(size.x), 0.5f * float(size.y) - pixel.y, depth + 0.1f * unit(rng)});
+    }
+    indices.insert(indices.end(), {first, first + 1, first + 2});
+    if (i % 50 == 0) indices.insert(indices.end(), {first, first + 1, first + 2});  // a tie
+  }
+}
+
 // A dense mesh of small triangles, as far-away detail or a scanned model gives: more than one per
 // kSmallTrianglePixels pixels in every tile, so the twin takes its small-triangle path
-// (core/raster_simd.cpp), from below a pixel to a few pixels wide, at random depths and facings, with
-// vertices on pixel centres (edges through samples) and repeated triangles (ties), some across tile
-// edges and the image's; and large triangles that reach into a tile by a few pixels only.
+// (core/raster_simd.cpp), from below a pixel to a few pixels wide, some across tile edges and the
+// image's; and large triangles that reach into a tile by a few pixels only.
 TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, small triangles",
           "[raster][simd]") {
   std::mt19937 rng(15);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (const glm::ivec2 size : {glm::ivec2(256, 192), glm::ivec2(67, 45)}) {
     std::vector<glm::vec3> positions;
     std::vector<uint32_t> indices;
-    const size_t triangles = size_t(size.x) * size_t(size.y) / 2;
-    for (size_t i = 0; i < triangles; ++i) {
-      const float extent = i % 4 == 0 ? 0.5f : (i % 4 == 1 ? 2.0f : (i % 4 == 2 ? 4.0f : 6.0f));
-      const glm::vec2 anchor(unit(rng) * float(size.x + 4) - 2.0f, unit(rng) * float(size.y + 4) - 2.0f);
-      const float depth = -1.0f - unit(rng);
-      const uint32_t first = uint32_t(positions.size());
-      for (int v = 0; v < 3; ++v) {
-        glm::vec2 pixel = anchor + extent * glm::vec2(unit(rng), unit(rng));
-        if (i % 5 == 0) pixel = glm::floor(pixel) + 0.5f;  // on a pixel centre
-        positions.push_back({pixel.x - 0.5f * float(size.x), 0.5f * float(size.y) - pixel.y, depth + 0.1f * unit(rng)});
-      }
-      indices.insert(indices.end(), {first, first + 1, first + 2});
-      if (i % 50 == 0) indices.insert(indices.end(), {first, first + 1, first + 2});  // a tie
-    }
+    AddRandomTriangles(
+        size, size_t(size.x) * size_t(size.y) / 2,
+        [](size_t i) { return i % 4 == 0 ? 0.5f : (i % 4 == 1 ? 2.0f : (i % 4 == 2 ? 4.0f : 6.0f)); }, rng,
+        positions, indices);
     // Large ones in front, whose part in a tile is a 3x3 corner (cut by the tile's edges or the
     // image's): their edge values there are far beyond 32 bits.
     const auto addFront = [&](glm::vec2 a, glm::vec2 b, glm::vec2 c) {
@@ -285,6 +294,25 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
     const RasterInput input{positions.data(), positions.size(), indices.data(), indices.size() / 3, nullptr, {}};
     CAPTURE(size.x, size.y);
     CheckEveryOutputAgrees(input, view, size_t(size.x * size.y) / 2);
+  }
+}
+
+// Triangles of up to 9 pixels each way, fewer than one per kSmallTrianglePixels pixels, so the twin
+// takes its 8x8 box path for those whose samples fit the box (core/raster_simd.cpp): boxes in one
+// block and across two, from even and odd rows, cut by tile edges and the image's.
+TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, triangles of a few blocks",
+          "[raster][simd]") {
+  std::mt19937 rng(16);
+  for (const glm::ivec2 size : {glm::ivec2(256, 192), glm::ivec2(67, 45), glm::ivec2(130, 67)}) {
+    std::vector<glm::vec3> positions;
+    std::vector<uint32_t> indices;
+    AddRandomTriangles(
+        size, size_t(size.x) * size_t(size.y) / 12, [](size_t i) { return 2.0f + float(i % 8); }, rng, positions,
+        indices);
+    const ViewProjection view = PixelView(size, 3.0f);
+    const RasterInput input{positions.data(), positions.size(), indices.data(), indices.size() / 3, nullptr, {}};
+    CAPTURE(size.x, size.y);
+    CheckEveryOutputAgrees(input, view, size_t(size.x * size.y) / 8);
   }
 }
 
