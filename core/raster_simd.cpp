@@ -7,7 +7,7 @@
 // block's values are within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge
 // is evaluated per sample in 64 bits). Only the vectors of rows inside the triangle's bounds are
 // visited; a triangle of a few pixels in a tile of many takes a shorter path (RasterizeTinyInTile),
-// and one of up to 8x8 pixels another (RasterizeBoxInTile).
+// and one of up to 16x16 pixels another (RasterizeBoxInTile).
 // Depth keys are computed, compared and written in vectors with the scalar kernel's
 // operations in its order (no fused multiply-add), so every target gives the scalar bytes
 // (tests/core/raster_simd_test.cpp checks each compiled target).
@@ -129,67 +129,55 @@ HWY_INLINE bool RasterizeTinyInTile(const ScreenTriangle& t, const AlphaTest& al
   return true;
 }
 
-// Triangles of up to 8x8 pixels in a tile (most of a dense mesh's: the 100k-triangle knot's at
-// 1024x1024 cover 18 samples on average) take a box path: the 8x8 box of samples from the
-// triangle's first column and row (the row rounded down to a multiple of the rows a vector holds) is
-// a few vectors of whole box rows, or one row's part; its edge functions are stepped from the box's
-// first sample in 32 bits (exact: the vertices span at most kBoxVertexSpan); and each vector's
-// samples, which lie in one or two blocks of the tile, are read from and written to both at once:
-// the lanes in the first block at one address, those in the next block 56 values on (a block row
-// on, less the box row). For a triangle of a few blocks the block machinery cost more than its
-// samples (100k knot's G-buffer pass at 2 threads: 3.71 -> 3.42 ms).
-constexpr int kBoxSide = kRasterBlockSize;
-constexpr int64_t kBoxVertexSpan = (kBoxSide + 1) * kSubPixelScale;
-// Where a box row's samples pass into the next block, their addresses jump this much further.
+// Triangles of up to kBoxSpan x kBoxSpan pixels in a tile (most of a dense mesh's: the 100k-triangle
+// knot's at 1024x1024 cover 18 samples on average, and 99.8% of its front faces fit 16x16) take a
+// box path: the box of samples from the triangle's first column and row (the row rounded down to a
+// multiple of the rows a vector holds) is drawn in parts of 8x8 samples, each a few vectors of whole
+// part rows, or one row's part; its edge functions are stepped from the part's first sample in 32
+// bits (exact: the vertices span at most kBoxVertexSpan); and each vector's samples, which lie in one
+// or two blocks of the tile, are read from and written to both at once: the lanes in the first block
+// at one address, those in the next block 56 values on (a block row on, less the part's row). For a
+// triangle of a few blocks the block machinery cost more than its samples (100k knot's G-buffer pass
+// at 2 threads: 3.71 -> 3.42 ms with boxes of 8x8).
+constexpr int kBoxSpan = 16;
+constexpr int kBoxPart = kRasterBlockSize;
+constexpr int64_t kBoxVertexSpan = (kBoxSpan + 1) * kSubPixelScale;
+// Where a part row's samples pass into the next block, their addresses jump this much further.
 constexpr size_t kNextBlockOffset = kRasterBlockSamples - kRasterBlockSize;
 
-// Draws the triangle as RasterizeTileScalar does and returns true where its samples in the tile fit
-// the box (and it has no alpha test); else returns false, having drawn nothing. It leaves
-// blockFarthest as it was: keys only rise, so it still holds.
+// The samples of one 8x8 part of the box, from (x0, y0) (tile x0 + lx0, y0 + ly0) to its last column
+// x1 and row y1 (those of the triangle's bounds in it), as RasterizeBoxInTile draws them.
 template <bool kWriteTriangle, bool kCountCoverage>
-HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
+HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edge[3], float keyBase, int x0, int y0,
+                                 int x1, int firstRow, int y1, TileTarget& tile) {
   const DS ds;
   const DK dk;
   const DT dt;
   const size_t lanes = hn::Lanes(ds);
-  // A vector holds whole box rows (rowsPerVector of them) or a part of one.
-  const int rowsPerVector = int(std::max<size_t>(1, lanes / kBoxSide));
-  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
-  if (x0 > x1 || y0 > y1) return true;
-  // Tiles start at multiples of 64 rows, so the box's vectors of whole rows stay in one block row.
-  const int boxY = y0 - (y0 - tile.y0) % rowsPerVector;
-  if (x1 - x0 >= kBoxSide || y1 - boxY >= kBoxSide) return false;
-  if ((t.flags & kTriangleAlphaTested) && alphaTest.passes) return false;
-  const int32_t spanX = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
-  const int32_t spanY = std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
-  if (spanX > kBoxVertexSpan || spanY > kBoxVertexSpan) return false;
-  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
-  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
-  // Edge values at the box's first sample, and their steps per sample along x and y: every sample
-  // of the box is within kBoxVertexSpan + kBoxSide * 256 sub-pixel units of each vertex on each
-  // axis and |a|, |b| <= kBoxVertexSpan, so the values are below 2^26 in magnitude.
+  // Edge values at the part's first sample, and their steps per sample along x and y: every sample
+  // of the box is within kBoxVertexSpan + kBoxSpan * 256 sub-pixel units of each vertex on each axis
+  // and |a|, |b| <= kBoxVertexSpan, so the values are below 2^28 in magnitude.
   hn::Vec<DS> origin[3], stepX[3], stepY[3];
   for (int e = 0; e < 3; ++e) {
     origin[e] = hn::Set(ds, int32_t(edge[e].a * (x0 * kSubPixelScale + kHalfPixel) +
-                                    edge[e].b * (boxY * kSubPixelScale + kHalfPixel) + edge[e].c));
+                                    edge[e].b * (y0 * kSubPixelScale + kHalfPixel) + edge[e].c));
     stepX[e] = hn::Set(ds, int32_t(edge[e].a * kSubPixelScale));
     stepY[e] = hn::Set(ds, int32_t(edge[e].b * kSubPixelScale));
   }
-  const int lx0 = x0 - tile.x0, ly0 = boxY - tile.y0;
-  // The box's columns in the block of its first (its first 8 - lx0 % 8), the rest in the next.
-  const auto inFirstBlock = hn::Set(ds, kBoxSide - lx0 % kRasterBlockSize);
+  const int lx0 = x0 - tile.x0, ly0 = y0 - tile.y0;
+  // The part's columns in the block of its first (its first 8 - lx0 % 8), the rest in the next.
+  const auto inFirstBlock = hn::Set(ds, kBoxPart - lx0 % kRasterBlockSize);
   const bool twoBlocks = lx0 % kRasterBlockSize + (x1 - x0) >= kRasterBlockSize;
   // Samples past the bounds' last column and row are masked (the tile's or the image's edge may have
   // cut them); rows above its first need no mask: their centres are above every vertex.
-  const auto columns = hn::Set(ds, x1 - x0 + 1), rows = hn::Set(ds, y1 - boxY + 1);
+  const auto columns = hn::Set(ds, x1 - x0 + 1), rows = hn::Set(ds, y1 - y0 + 1);
   const auto minusOne = hn::Set(ds, -1);
   const auto keyBaseV = hn::Set(dk, keyBase);
   const auto keyDx = hn::Set(dk, float(t.keyDx)), keyDy = hn::Set(dk, float(t.keyDy));
   const auto lx0V = hn::Set(dk, float(lx0)), ly0V = hn::Set(dk, float(ly0));
   const auto triangleId = hn::Set(dt, t.triangle);
-  const size_t firstSample = size_t(y0 - boxY) * kBoxSide / lanes * lanes;
-  const size_t endSample = size_t(y1 - boxY + 1) * kBoxSide;
+  const size_t firstSample = size_t(firstRow - y0) * kBoxPart / lanes * lanes;
+  const size_t endSample = size_t(y1 - y0 + 1) * kBoxPart;
   for (size_t k = firstSample; k < endSample; k += lanes) {
     const auto dx = hn::Load(ds, kSampleX.data() + k), dy = hn::Load(ds, kSampleY.data() + k);
     auto inside = hn::Zero(ds);
@@ -200,7 +188,7 @@ HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alp
     const auto first = hn::And(covered, hn::Lt(dx, inFirstBlock));
     const auto next = hn::AndNot(first, covered);
     // The vector's samples at `at` (the first block's lanes) and at + kNextBlockOffset (the next's).
-    const size_t at = size_t(TilePixelIndex(lx0, ly0 + int(k) / kBoxSide)) + k % kBoxSide;
+    const size_t at = size_t(TilePixelIndex(lx0, ly0 + int(k) / kBoxPart)) + k % kBoxPart;
     if constexpr (kCountCoverage) {
       const auto one = hn::Set(dt, 1u);
       hn::BlendedStore(hn::Add(hn::LoadU(dt, tile.coverage + at), one), hn::RebindMask(dt, first), dt,
@@ -226,6 +214,35 @@ HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alp
       if constexpr (kWriteTriangle) {
         hn::BlendedStore(triangleId, hn::RebindMask(dt, nearerNext), dt, tile.triangle + at + kNextBlockOffset);
       }
+    }
+  }
+}
+
+// Draws the triangle as RasterizeTileScalar does and returns true where its samples in the tile fit
+// the box (and it has no alpha test); else returns false, having drawn nothing. It leaves
+// blockFarthest as it was: keys only rise, so it still holds.
+template <bool kWriteTriangle, bool kCountCoverage>
+HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
+  // A vector holds whole part rows (rowsPerVector of them) or a part of one.
+  const int rowsPerVector = int(std::max<size_t>(1, hn::Lanes(DS()) / kBoxPart));
+  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
+  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
+  if (x0 > x1 || y0 > y1) return true;
+  // Tiles start at multiples of 64 rows and parts at multiples of 8 rows from the box's first, so
+  // a vector's part rows stay in one block row.
+  const int boxY = y0 - (y0 - tile.y0) % rowsPerVector;
+  if (x1 - x0 >= kBoxSpan || y1 - boxY >= kBoxSpan) return false;
+  if ((t.flags & kTriangleAlphaTested) && alphaTest.passes) return false;
+  const int32_t spanX = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
+  const int32_t spanY = std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
+  if (spanX > kBoxVertexSpan || spanY > kBoxVertexSpan) return false;
+  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
+  for (int partY = boxY; partY <= y1; partY += kBoxPart) {
+    for (int partX = x0; partX <= x1; partX += kBoxPart) {
+      RasterizeBoxPart<kWriteTriangle, kCountCoverage>(t, edge, keyBase, partX, partY,
+                                                       std::min(x1, partX + kBoxPart - 1), std::max(y0, partY),
+                                                       std::min(y1, partY + kBoxPart - 1), tile);
     }
   }
   return true;
