@@ -30,8 +30,8 @@
 namespace ssgi {
 namespace {
 
-// What the resolve of one row reads, flattened into plain pointers for the dispatch boundary.
-struct GBufferResolveRowInputs {
+// What the resolve reads besides the rows, flattened into plain pointers for the dispatch boundary.
+struct GBufferResolveInputs {
   const GBufferResolveContext* context;  // for the pixels of textured materials
   const ViewProjection* view;
   const uint32_t* indices;         // three per triangle
@@ -110,7 +110,7 @@ struct TriangleData {
 
 // The data of one triangle in every lane, but for the plane's terms: its vertices' view positions
 // instead.
-HWY_INLINE void BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t triangle, TriangleData& data,
+HWY_INLINE void BroadcastTriangle(const GBufferResolveInputs& in, uint32_t triangle, TriangleData& data,
                                   Vec3V<DF> position[3]) {
   const DF df;
   const DU du;
@@ -128,7 +128,7 @@ HWY_INLINE void BroadcastTriangle(const GBufferResolveRowInputs& in, uint32_t tr
 }
 
 // The data of one triangle in every lane.
-HWY_INLINE TriangleData TriangleInEveryLane(const GBufferResolveRowInputs& in, uint32_t triangle) {
+HWY_INLINE TriangleData TriangleInEveryLane(const GBufferResolveInputs& in, uint32_t triangle) {
   TriangleData data;
   Vec3V<DF> position[3];
   BroadcastTriangle(in, triangle, data, position);
@@ -189,7 +189,7 @@ HWY_INLINE uint64_t ValueStarts(hn::Vec<DU> values, hn::Mask<DU> among, const Ea
 // values): even at about a triangle per lane (the 1M-triangle knot) that is no slower than
 // gathering 19 values per lane (BM_GBuffer, 1 thread, back to back with gathers beyond 4, 8 or 16
 // triangles: 1M 80 / 80 / 69 ms, 100k 20.7 / 17.5 / 16.9 ms).
-TriangleData LoadTriangles(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+TriangleData LoadTriangles(const GBufferResolveInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                            hn::Mask<DU> drawn, const EarlierLanes& earlier) {
   const DF df;
   const DU du;
@@ -222,7 +222,7 @@ struct TriangleUvs {
   VF u0, v0, du1, dv1, du2, dv2;
 };
 
-TriangleUvs LoadUvs(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+TriangleUvs LoadUvs(const GBufferResolveInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                     hn::Mask<DU> lanes) {
   const DF df;
   TriangleUvs uvs{};
@@ -284,7 +284,7 @@ struct Words01 {
   hn::Vec<DU> word0, word1;
 };
 
-HWY_NOINLINE Words01 TexturedWords(const GBufferResolveRowInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
+HWY_NOINLINE Words01 TexturedWords(const GBufferResolveInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                                    hn::Mask<DU> texturedLanes, VF directionX, VF directionY, VF rightX, VF downY,
                                    PlaneTerms terms, RayPlaneLanes center, VF centerB1, VF centerB2, VF b1, VF b2,
                                    hn::Vec<DU> normalCode, TextureCache& cache, hn::Vec<DU> words0,
@@ -364,7 +364,7 @@ HWY_NOINLINE Words01 TexturedWords(const GBufferResolveRowInputs& in, const uint
 // once, or about: ValueStarts): their corner indices and materials (`corners`), or, once those have
 // come, their vertices' view positions and normals.
 // Inlined: a call would spill the resolve loop's vectors.
-HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, hn::Vec<DU> triangle, const EarlierLanes& earlier,
+HWY_INLINE void PrefetchTriangles(const GBufferResolveInputs& in, hn::Vec<DU> triangle, const EarlierLanes& earlier,
                                   bool corners) {
   const DU du;
   HWY_ALIGN uint32_t triangles[hn::MaxLanes(DU())];
@@ -386,7 +386,7 @@ HWY_INLINE void PrefetchTriangles(const GBufferResolveRowInputs& in, hn::Vec<DU>
 
 // Resolves the blocks (core/row-inl.h) of rows.count rows from rows.y: the lanes of a vector are a
 // block's pixels.
-size_t GBufferResolveBlocks(const GBufferResolveRowInputs& in, const GBufferResolveRows& rows) {
+size_t GBufferResolveBlocks(const GBufferResolveInputs& in, const GBufferResolveRows& rows) {
   const DF df;
   const DU du;
   constexpr size_t kLanes = hn::MaxLanes(DF()), kWidth = BlockWidth(DF()), kHeight = BlockHeight(DF());
@@ -526,7 +526,7 @@ size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const Visibi
   SSGI_CHECK(!context.view.orthographic);
   SSGI_CHECK(rowCount >= 1 && rowCount <= kGBufferResolveRowsPerCall);
   const Mesh& mesh = context.scene.mesh;
-  const GBufferResolveRowInputs in{
+  const GBufferResolveInputs in{
       &context,
       &context.view,
       mesh.indices.data(),
