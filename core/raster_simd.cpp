@@ -6,8 +6,7 @@
 // row plus per-lane steps set up once per triangle and tile, in 32-bit lanes (exact: a crossed
 // block's values are within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge
 // is evaluated per sample in 64 bits). Only the vectors of rows inside the triangle's bounds are
-// visited; a triangle of a few pixels in a tile of many takes a shorter path (RasterizeTinyInTile),
-// and one of up to 16x16 pixels another (RasterizeBoxInTile).
+// visited; a triangle of up to 16x16 pixels takes a shorter path (RasterizeBoxInTile).
 // Depth keys are computed, compared and written in vectors with the scalar kernel's
 // operations in its order (no fused multiply-add), so every target gives the scalar bytes
 // (tests/core/raster_simd_test.cpp checks each compiled target).
@@ -56,78 +55,6 @@ constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
 // Vector k / lanes of a block starts at sample row k / 8, column k % 8: its samples' edge values are
 // the row's first plus those of samples k % 8 ... k % 8 + lanes - 1 of the block's first rows.
 constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBlockSize;
-
-// Small triangles (most of a dense mesh's: the 1M-triangle knot's at 1024x1024 cover about a pixel)
-// take a path of their own in the tiles where they are most (TileTriangles::smallTriangles): where
-// their samples in the tile fit a kTinyBox x kTinyBox box, its samples are one or a few vectors, the
-// edge functions are stepped from the box's first sample in 32 bits (exact: the vertices span at most
-// kTinyVertexSpan), and the few covered samples are depth-tested and written one by one, in the
-// scalar kernel's operations. For such a triangle the blocks' bookkeeping cost more than its samples
-// (1M knot, raster at 1 thread: 29.8 -> 26.2 ms).
-constexpr int kTinyBox = 4;
-constexpr int kTinyBoxSamples = kTinyBox * kTinyBox;
-// A vertex lies within a pixel of the bounds of the pixel centres its triangle covers, so the
-// vertices of a triangle whose bounds fit the box span at most kTinyBox + 1 pixels, unless the bounds
-// were cut by the image's edge: the span is tested itself.
-constexpr int64_t kTinyVertexSpan = (kTinyBox + 1) * kSubPixelScale;
-alignas(64) constexpr auto kTinyX = SampleOffsets<int32_t, kTinyBox>(false);
-alignas(64) constexpr auto kTinyY = SampleOffsets<int32_t, kTinyBox>(true);
-
-bool FitsTinyBox(const ScreenTriangle& t, int x0, int y0, int x1, int y1) {
-  if (x1 - x0 >= kTinyBox || y1 - y0 >= kTinyBox) return false;
-  const int32_t spanX = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
-  const int32_t spanY = std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
-  return spanX <= kTinyVertexSpan && spanY <= kTinyVertexSpan;
-}
-
-// Draws the triangle as RasterizeTileScalar does and returns true where its samples in the tile fit
-// the box (and it has no alpha test); else returns false, having drawn nothing. It leaves
-// blockFarthest as it was: keys only rise, so it still holds.
-template <bool kWriteTriangle, bool kCountCoverage>
-HWY_INLINE bool RasterizeTinyInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
-  if (x0 > x1 || y0 > y1) return true;
-  if (((t.flags & kTriangleAlphaTested) && alphaTest.passes) || !FitsTinyBox(t, x0, y0, x1, y1)) return false;
-  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
-  const float keyDx = float(t.keyDx), keyDy = float(t.keyDy);
-  const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
-  const DS ds;
-  const size_t lanes = hn::Lanes(ds);
-  // Edge values at the box's first sample, and their steps per sample along x and y: |a|, |b| <=
-  // kTinyVertexSpan and every sample of the box is within kTinyVertexSpan + kTinyBox * 256 sub-pixel
-  // units of a vertex on each axis, so the values are below 2^23 in magnitude.
-  int32_t origin[3], stepX[3], stepY[3];
-  for (int e = 0; e < 3; ++e) {
-    origin[e] = int32_t(edge[e].a * (x0 * kSubPixelScale + kHalfPixel) +
-                        edge[e].b * (y0 * kSubPixelScale + kHalfPixel) + edge[e].c);
-    stepX[e] = int32_t(edge[e].a * kSubPixelScale);
-    stepY[e] = int32_t(edge[e].b * kSubPixelScale);
-  }
-  const auto columns = hn::Set(ds, x1 - x0 + 1), rows = hn::Set(ds, y1 - y0 + 1);
-  const auto minusOne = hn::Set(ds, -1);
-  for (size_t k = 0; k < size_t(kTinyBoxSamples); k += lanes) {
-    const auto dx = hn::Load(ds, kTinyX.data() + k), dy = hn::Load(ds, kTinyY.data() + k);
-    auto inside = hn::Zero(ds);
-    for (int e = 0; e < 3; ++e) {
-      const auto value = hn::Add(hn::Set(ds, origin[e]),
-                                 hn::Add(hn::Mul(hn::Set(ds, stepX[e]), dx), hn::Mul(hn::Set(ds, stepY[e]), dy)));
-      inside = hn::Or(inside, value);
-    }
-    const auto covered = hn::And(hn::Gt(inside, minusOne), hn::And(hn::Lt(dx, columns), hn::Lt(dy, rows)));
-    for (uint64_t coveredBits = LaneBits(ds, covered); coveredBits != 0; coveredBits &= coveredBits - 1) {
-      const int sample = int(k) + std::countr_zero(coveredBits);
-      const int lx = x0 + sample % kTinyBox - tile.x0, ly = y0 + sample / kTinyBox - tile.y0;
-      const int i = TilePixelIndex(lx, ly);
-      if constexpr (kCountCoverage) ++tile.coverage[i];
-      const float key = keyBase + keyDx * float(lx) + keyDy * float(ly);
-      if (!(key > tile.depth[i])) continue;
-      tile.depth[i] = key;
-      if constexpr (kWriteTriangle) tile.triangle[i] = t.triangle;
-    }
-  }
-  return true;
-}
 
 // Triangles of up to kBoxSpan x kBoxSpan pixels in a tile (most of a dense mesh's: the 100k-triangle
 // knot's at 1024x1024 cover 18 samples on average, and 99.8% of its front faces fit 16x16) take a
@@ -458,11 +385,11 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
 
 void RasterizeTile(const TileTriangles& batch, TileTarget& tile) {
   ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
-    if (batch.smallTriangles && RasterizeTinyInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile)) return;
-    // Depth-only rasters pass over hidden blocks in the block path, which saves them more (Sponza's
-    // 2048 shadow map at 2 threads: 10.2 ms, 10.6 with the box path).
-    if constexpr (writeTriangle || countCoverage) {
-      if (RasterizeBoxInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile)) return;
+    // Depth-only rasters pass over hidden blocks in the block path, which saves them more where the
+    // triangles are not tiny (Sponza's 2048 shadow map at 2 threads: 10.2 ms, 10.6 with the box path).
+    if ((writeTriangle || countCoverage || batch.smallTriangles) &&
+        RasterizeBoxInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile)) {
+      return;
     }
     if (t.edgesFit32Bits) {
       RasterizeInTile<writeTriangle, countCoverage, true>(t, *batch.alphaTest, tile);

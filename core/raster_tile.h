@@ -160,9 +160,8 @@ struct TileTriangles {
   bool writeTriangle;  // TileTarget::triangle (visibility) or depth only
   bool countCoverage;  // TileTarget::coverage: +1 per covered sample, before the depth test
   // The tile has at least a triangle per kSmallTrianglePixels pixels (all chunks together), so most
-  // of its triangles are a few pixels: a hint for the SIMD kernel's small-triangle path, which
-  // asking for in every tile would cost mispredicted branches where triangles are mixed. No effect
-  // on the bytes.
+  // of its triangles are a few pixels: where the SIMD kernel takes its box path in depth-only rasters
+  // too (elsewhere their block path's hidden-block skipping saves more). No effect on the bytes.
   bool smallTriangles;
 };
 inline constexpr size_t kSmallTrianglePixels = 4;

@@ -265,8 +265,8 @@ void AddRandomTriangles(glm::ivec2 size, size_t count, const Extent& extent, std
 }
 
 // A dense mesh of small triangles, as far-away detail or a scanned model gives: more than one per
-// kSmallTrianglePixels pixels in every tile, so the twin takes its small-triangle path
-// (core/raster_simd.cpp), from below a pixel to a few pixels wide, some across tile edges and the
+// kSmallTrianglePixels pixels in every tile, so the twin takes its box path (core/raster_simd.cpp)
+// in depth-only rasters too, from below a pixel to a few pixels wide, some across tile edges and the
 // image's; and large triangles that reach into a tile by a few pixels only.
 TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, small triangles",
           "[raster][simd]") {
