@@ -132,17 +132,13 @@ class Setup {
 
 template <bool kWriteTriangle, bool kCountCoverage>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
-  if (x0 > x1 || y0 > y1) return;
+  const BoundsInTile bounds(t, tile);
+  if (bounds.Empty()) return;
+  const auto [x0, y0, x1, y1] = bounds;
   const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
-  // Depth plane relative to the tile origin keeps the float evaluation's cancellation small.
-  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const float keyBase = KeyAtTileOrigin(t, tile);
   const float keyDx = float(t.keyDx), keyDy = float(t.keyDy);
   const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
-  auto edgeAt = [&](int e, int px, int py) {
-    return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
-  };
 
   // Hierarchical test on the tile's 8x8 blocks: an edge's extremes over the samples of a block
   // inside the bounds [x0, x1] x [y0, y1] are at two of their corners.
@@ -154,7 +150,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       const int sx0 = std::max(bx, x0), sx1 = std::min(bx + kRasterBlockSize - 1, x1);
       bool reject = false, accept = true;
       for (int e = 0; e < 3; ++e) {
-        const int64_t corner = edgeAt(e, sx0, sy0);
+        const int64_t corner = edge[e].AtPixelCentre(sx0, sy0);
         const int64_t spanX = edge[e].a * int64_t(sx1 - sx0) * kSubPixelScale;
         const int64_t spanY = edge[e].b * int64_t(sy1 - sy0) * kSubPixelScale;
         const int64_t lo = corner + std::min<int64_t>(spanX, 0) + std::min<int64_t>(spanY, 0);
@@ -171,7 +167,8 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       const int64_t s0 = edge[0].a * kSubPixelScale, s1 = edge[1].a * kSubPixelScale;
       const int64_t s2 = edge[2].a * kSubPixelScale;
       for (int py = sy0; py <= sy1; ++py) {
-        int64_t e0 = edgeAt(0, sx0, py), e1 = edgeAt(1, sx0, py), e2 = edgeAt(2, sx0, py);
+        int64_t e0 = edge[0].AtPixelCentre(sx0, py), e1 = edge[1].AtPixelCentre(sx0, py);
+        int64_t e2 = edge[2].AtPixelCentre(sx0, py);
         const int ly = py - tile.y0;
         for (int px = sx0; px <= sx1; ++px, e0 += s0, e1 += s1, e2 += s2) {
           if (!accept && (e0 | e1 | e2) < 0) continue;

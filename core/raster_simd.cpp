@@ -86,8 +86,7 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
   // and |a|, |b| <= kBoxVertexSpan, so the values are below 2^28 in magnitude.
   hn::Vec<DS> origin[3], stepX[3], stepY[3];
   for (int e = 0; e < 3; ++e) {
-    origin[e] = hn::Set(ds, int32_t(edge[e].a * (x0 * kSubPixelScale + kHalfPixel) +
-                                    edge[e].b * (y0 * kSubPixelScale + kHalfPixel) + edge[e].c));
+    origin[e] = hn::Set(ds, int32_t(edge[e].AtPixelCentre(x0, y0)));
     stepX[e] = hn::Set(ds, int32_t(edge[e].a * kSubPixelScale));
     stepY[e] = hn::Set(ds, int32_t(edge[e].b * kSubPixelScale));
   }
@@ -152,9 +151,9 @@ template <bool kWriteTriangle, bool kCountCoverage>
 HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
   // A vector holds whole part rows (rowsPerVector of them) or a part of one.
   const int rowsPerVector = int(std::max<size_t>(1, hn::Lanes(DS()) / kBoxPart));
-  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
-  if (x0 > x1 || y0 > y1) return true;
+  const BoundsInTile bounds(t, tile);
+  if (bounds.Empty()) return true;
+  const auto [x0, y0, x1, y1] = bounds;
   // Tiles start at multiples of 64 rows and parts at multiples of 8 rows from the box's first, so
   // a vector's part rows stay in one block row.
   const int boxY = y0 - (y0 - tile.y0) % rowsPerVector;
@@ -163,7 +162,7 @@ HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alp
   const int32_t spanX = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
   const int32_t spanY = std::max({t.y[0], t.y[1], t.y[2]}) - std::min({t.y[0], t.y[1], t.y[2]});
   if (spanX > kBoxVertexSpan || spanY > kBoxVertexSpan) return false;
-  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const float keyBase = KeyAtTileOrigin(t, tile);
   const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
   for (int partY = boxY; partY <= y1; partY += kBoxPart) {
     for (int partX = x0; partX <= x1; partX += kBoxPart) {
@@ -178,23 +177,20 @@ HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alp
 // kEdges32: t.edgesFit32Bits, as a template parameter so the sample loop has no branch on it.
 template <bool kWriteTriangle, bool kCountCoverage, bool kEdges32>
 void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
-  const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
-  if (x0 > x1 || y0 > y1) return;
+  const BoundsInTile bounds(t, tile);
+  if (bounds.Empty()) return;
+  const auto [x0, y0, x1, y1] = bounds;
   const DS ds;
   const DK dk;
   const DT dt;
   const size_t lanes = hn::Lanes(ds);
   const bool alphaTested = (t.flags & kTriangleAlphaTested) && alphaTest.passes;
-  const float keyBase = float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+  const float keyBase = KeyAtTileOrigin(t, tile);
   const auto keyBaseV = hn::Set(dk, keyBase);
   const auto keyDx = hn::Set(dk, float(t.keyDx)), keyDy = hn::Set(dk, float(t.keyDy));
   const auto zero = hn::Zero(ds), minusOne = hn::Set(ds, -1);
   const auto triangleId = hn::Set(dt, t.triangle);
   const EdgeFunction edge[3] = {t.Edge(0), t.Edge(1), t.Edge(2)};
-  auto edgeAt = [&](int e, int px, int py) {
-    return edge[e].a * (px * kSubPixelScale + kHalfPixel) + edge[e].b * (py * kSubPixelScale + kHalfPixel) + edge[e].c;
-  };
   // Hidden blocks, in depth-only rasters: a block whose farthest key is at or above every key the
   // triangle can give its samples is passed over, and the triangle where that holds for the whole
   // tile. A shadow map draws both faces of every caster, and most of its blocks are hidden when a
@@ -256,7 +252,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   // Edge values at the first sample of each block, stepped from block to block (exact integers).
   int64_t rowCorner[3], blockStepX[3], blockStepY[3];
   for (int e = 0; e < 3; ++e) {
-    rowCorner[e] = edgeAt(e, firstBlockX, firstBlockY);
+    rowCorner[e] = edge[e].AtPixelCentre(firstBlockX, firstBlockY);
     blockStepX[e] = edge[e].a * kRasterBlockSize * kSubPixelScale;
     blockStepY[e] = edge[e].b * kRasterBlockSize * kSubPixelScale;
   }

@@ -5,6 +5,7 @@
 // Internal to the rasterizer and its tests.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -28,6 +29,10 @@ struct EdgeFunction {
   // E(sx, sy) = a * sx + b * sy + c over fixed-point sample positions; c carries the fill-rule bias,
   // so a sample is inside exactly when E >= 0.
   int64_t a, b, c;
+  // E at the centre of pixel (px, py).
+  int64_t AtPixelCentre(int px, int py) const {
+    return a * (px * kSubPixelScale + kHalfPixel) + b * (py * kSubPixelScale + kHalfPixel) + c;
+  }
 };
 
 // Above this |a| + |b|, an edge's values over one 8x8 block no longer fit in 32 bits: they span
@@ -150,6 +155,23 @@ struct TileTarget {
   // Counted when TileTriangles::countCoverage.
   alignas(64) uint32_t coverage[kRasterTilePixels + kTileArraySlack];
 };
+
+// The pixels of a triangle's bounds inside a tile, x0..x1 by y0..y1 (none where x0 > x1 or y0 > y1).
+struct BoundsInTile {
+  BoundsInTile(const ScreenTriangle& t, const TileTarget& tile)
+      : x0(std::max<int>(t.minX, tile.x0)),
+        y0(std::max<int>(t.minY, tile.y0)),
+        x1(std::min<int>(t.maxX, tile.x0 + tile.width - 1)),
+        y1(std::min<int>(t.maxY, tile.y0 + tile.height - 1)) {}
+  bool Empty() const { return x0 > x1 || y0 > y1; }
+  int x0, y0, x1, y1;
+};
+
+// A triangle's depth key at the tile's first pixel, from which the kernels step it across the tile:
+// the plane relative to the tile keeps the float evaluation's cancellation small.
+inline float KeyAtTileOrigin(const ScreenTriangle& t, const TileTarget& tile) {
+  return float(t.keyAtOrigin + t.keyDx * tile.x0 + t.keyDy * tile.y0);
+}
 
 // The triangles of one set-up chunk that overlap a tile, in submission order, and what to write.
 struct TileTriangles {
