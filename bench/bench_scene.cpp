@@ -37,7 +37,6 @@ const BenchScene& DefaultBenchScene() {
   return scene;
 }
 
-
 const BenchScene& KnotScene(int64_t triangles) {
   struct Segments {
     int64_t triangles;

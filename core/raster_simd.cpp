@@ -37,19 +37,18 @@ using DS = hn::CappedTag<int32_t, kRasterBlockSamples>;
 using DK = hn::Rebind<float, DS>;
 using DT = hn::Rebind<uint32_t, DS>;
 
-// Sample k of a kSide x kSide box, row by row, is its pixel (k % kSide, k / kSide): its column, or
-// with `row` its row.
-template <class T, int kSide>
-constexpr std::array<T, kSide * kSide> SampleOffsets(bool row) {
-  std::array<T, kSide * kSide> offsets{};
-  for (int k = 0; k < kSide * kSide; ++k) offsets[size_t(k)] = T(row ? k / kSide : k % kSide);
+// Sample k of a block is its pixel (k % 8, k / 8): its column, or with `row` its row.
+template <class T>
+constexpr std::array<T, kRasterBlockSamples> SampleOffsets(bool row) {
+  std::array<T, kRasterBlockSamples> offsets{};
+  for (int k = 0; k < kRasterBlockSamples; ++k)
+    offsets[size_t(k)] = T(row ? k / kRasterBlockSize : k % kRasterBlockSize);
   return offsets;
 }
-// A block's samples.
-alignas(64) constexpr auto kSampleX = SampleOffsets<int32_t, kRasterBlockSize>(false);
-alignas(64) constexpr auto kSampleY = SampleOffsets<int32_t, kRasterBlockSize>(true);
-alignas(64) constexpr auto kSampleXf = SampleOffsets<float, kRasterBlockSize>(false);
-alignas(64) constexpr auto kSampleYf = SampleOffsets<float, kRasterBlockSize>(true);
+alignas(64) constexpr auto kSampleX = SampleOffsets<int32_t>(false);
+alignas(64) constexpr auto kSampleY = SampleOffsets<int32_t>(true);
+alignas(64) constexpr auto kSampleXf = SampleOffsets<float>(false);
+alignas(64) constexpr auto kSampleYf = SampleOffsets<float>(true);
 // A vector of at least a block row holds the same columns in every vector of a block.
 constexpr bool kWholeBlockRows = hn::MaxLanes(DS()) >= kRasterBlockSize;
 // Vector k / lanes of a block starts at sample row k / 8, column k % 8: its samples' edge values are

@@ -371,10 +371,11 @@ HWY_INLINE void PrefetchTriangles(const GBufferResolveInputs& in, hn::Vec<DU> tr
   hn::Store(triangle, du, triangles);
   const auto drawn = hn::Ne(triangle, hn::Set(du, kNoTriangle));
   for (uint64_t starts = ValueStarts(triangle, drawn, earlier); starts != 0; starts &= starts - 1) {
-    const uint32_t* corner = in.indices + 3 * size_t(triangles[std::countr_zero(starts)]);
+    const uint32_t id = triangles[std::countr_zero(starts)];
+    const uint32_t* corner = in.indices + 3 * size_t(id);
     if (corners) {
       hwy::Prefetch(corner);
-      hwy::Prefetch(in.materials + triangles[std::countr_zero(starts)]);
+      hwy::Prefetch(in.materials + id);
       continue;
     }
     for (int v = 0; v < 3; ++v) {
