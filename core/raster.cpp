@@ -281,9 +281,8 @@ size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* in
     } else if ((a.Outside() | b.Outside() | c.Outside()) != 0) {
       status[i] = TriangleSetUp::kClip;
     } else {
-      const uint8_t triangleFlags = flags ? flags[triangle] : uniformFlags;
-      const bool kept =
-          SetUpScreenTriangle(a.snapped, b.snapped, c.snapped, triangle, triangleFlags, width, height, out[setUp]);
+      const bool kept = SetUpScreenTriangle(a.snapped, b.snapped, c.snapped, triangle,
+                                            TriangleFlagsOf(flags, uniformFlags, triangle), width, height, out[setUp]);
       status[i] = kept ? TriangleSetUp::kSetUp : TriangleSetUp::kCulled;
       setUp += kept;
     }
@@ -367,7 +366,7 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
         } else if (status[j] == TriangleSetUp::kClip) {
           const uint32_t triangle = uint32_t(i + j);
           setup.Clip(input.positions, view.viewProjection, input.indices + 3 * size_t(triangle), triangle,
-                     input.triangleFlags ? input.triangleFlags[triangle] : input.uniformFlags, bins);
+                     TriangleFlagsOf(input.triangleFlags, input.uniformFlags, triangle), bins);
         }
       }
     }

@@ -620,7 +620,7 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
         t.keyAtOrigin = lane[kKeyAtOrigin][j];
         t.edgesFit32Bits = lane[kEdgesFit][j] != 0.0;
         t.triangle = first + uint32_t(i + j);
-        t.flags = flags ? flags[t.triangle] : uniformFlags;
+        t.flags = TriangleFlagsOf(flags, uniformFlags, t.triangle);
       }
     }
   }

@@ -113,6 +113,12 @@ void ProjectVerticesSimd(const glm::vec3* positions, size_t count, const glm::ma
 bool SetUpScreenTriangle(const SnappedVertex& s0, const SnappedVertex& s1, const SnappedVertex& s2, uint32_t triangle,
                          uint8_t flags, int width, int height, ScreenTriangle& out);
 
+// Triangle t's TriangleFlags mask: flags[t], or `uniformFlags` where there is no per-triangle array
+// (RasterInput::triangleFlags is null).
+inline uint8_t TriangleFlagsOf(const uint8_t* flags, uint8_t uniformFlags, size_t t) {
+  return flags ? flags[t] : uniformFlags;
+}
+
 enum class TriangleSetUp : uint8_t {
   kCulled,  // wholly outside one clip plane, or culled by SetUpScreenTriangle
   kSetUp,   // set up into its ScreenTriangle

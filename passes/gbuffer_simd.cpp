@@ -44,7 +44,7 @@ struct GBufferResolveInputs {
   const uint32_t* constantWord0;   // per material (GBufferResolveContext)
   const uint32_t* constantRoughnessBits;
   const uint32_t* textured;
-  bool prefetchVertices;  // the mesh's vertex data is larger than the caches keep near (kCachedVertexBytes)
+  bool prefetchVertices;  // the mesh's vertex data is larger than the caches keep near (kGBufferCachedVertexBytes)
   glm::mat3 normalToView;
   NormalEncoding encoding;
 };
@@ -60,11 +60,6 @@ struct GBufferResolveRows {
   const float* depthKeys[2 * kGBufferResolveRowsPerCall];
   uint32_t* word[4][kGBufferResolveRowsPerCall];
 };
-
-// Beyond this much vertex data (view positions and normals), a row's triangles are mostly far apart
-// in it and their vertices come from the outer cache or memory: the 1M-triangle knot (12 MB) resolved
-// with its fetches confined to 1024 triangles took 13% less time, the 100k knot (1.2 MB) the same.
-constexpr size_t kCachedVertexBytes = size_t(4) << 20;
 
 }  // namespace
 }  // namespace ssgi
@@ -540,7 +535,7 @@ size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const Visibi
       context.constantWord0,
       context.constantRoughnessBits,
       context.textured,
-      mesh.positions.size() * 2 * sizeof(glm::vec3) > kCachedVertexBytes,
+      mesh.positions.size() * 2 * sizeof(glm::vec3) > kGBufferCachedVertexBytes,
       context.normalToView,
       context.normalEncoding,
   };
