@@ -6,7 +6,8 @@
 // row plus per-lane steps set up once per triangle and tile, in 32-bit lanes (exact: a crossed
 // block's values are within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge
 // is evaluated per sample in 64 bits). Only the vectors of rows inside the triangle's bounds are
-// visited; a triangle of up to 16x16 pixels takes a shorter path (RasterizeBoxInTile).
+// visited; a triangle of up to 16x16 pixels takes a shorter path (RasterizeBoxInTile) in visibility
+// rasters, and in depth-only ones where the tile is dense with small triangles.
 // Depth keys are computed, compared and written in vectors with the scalar kernel's
 // operations in its order (no fused multiply-add), so every target gives the scalar bytes
 // (tests/core/raster_simd_test.cpp checks each compiled target).

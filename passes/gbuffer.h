@@ -82,12 +82,12 @@ size_t GBufferResolveRowScalar(const GBufferResolveContext& context, const uint3
 // (4x4 on AVX-512, 4x2 on AVX2), so they meet fewer triangles than runs of a row. Returns how many
 // pixels it resolved.
 inline constexpr int kGBufferResolveRowsPerCall = 4;
+size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const VisibilityBuffer& visibility, int y,
+                              int rowCount, GBuffer& gbuffer);
 // Beyond this much vertex data (view positions and normals), a row's triangles are mostly far apart
 // in it and their vertices come from the outer cache or memory, so the twin asks for them ahead: the
 // 1M-triangle knot (12 MB) resolved with its fetches confined to 1024 triangles took 13% less time,
 // the 100k knot (1.2 MB) the same.
 inline constexpr size_t kGBufferCachedVertexBytes = size_t(4) << 20;
-size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const VisibilityBuffer& visibility, int y,
-                              int rowCount, GBuffer& gbuffer);
 
 }  // namespace ssgi
