@@ -6,7 +6,7 @@
 // row plus per-lane steps set up once per triangle and tile, in 32-bit lanes (exact: a crossed
 // block's values are within (|a| + |b|) 7 * 256 of 0, ScreenTriangle::edgesFit32Bits; a longer edge
 // is evaluated per sample in 64 bits). Only the vectors of rows inside the triangle's bounds are
-// visited; a triangle of up to 16x16 pixels takes a shorter path (RasterizeBoxInTile) in visibility
+// visited; a triangle of up to 32x32 pixels takes a shorter path (RasterizeBoxInTile) in visibility
 // rasters, and in depth-only ones where the tile is dense with small triangles.
 // Depth keys are computed, compared and written in vectors with the scalar kernel's
 // operations in its order (no fused multiply-add), so every target gives the scalar bytes
@@ -65,8 +65,11 @@ constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBl
 // or two blocks of the tile, are read from and written to both at once: the lanes in the first block
 // at one address, those in the next block 56 values on (a block row on, less the part's row). For a
 // triangle of a few blocks the block machinery cost more than its samples (100k knot's G-buffer pass
-// at 2 threads: 3.71 -> 3.42 ms with boxes of 8x8).
-constexpr int kBoxSpan = 16;
+// at 2 threads: 3.71 -> 3.42 ms with boxes of 8x8). Boxes of 32x32 rather than 16x16 take the 10k
+// knot's larger triangles too (its raster at 2 threads 0.92-0.95 -> 0.85-0.87 ms, fill-rate triangles
+// of 100 pixels 7.6 -> 6.5 ms); larger boxes lose on triangles many layers deep, whose hidden blocks
+// the block path passes over (500-pixel fill-rate triangles: 3.8 -> 4.0 ms with 48 or 64).
+constexpr int kBoxSpan = 32;
 constexpr int kBoxPart = kRasterBlockSize;
 constexpr int64_t kBoxVertexSpan = (kBoxSpan + 1) * kSubPixelScale;
 // Where a part row's samples pass into the next block, their addresses jump this much further.
@@ -83,7 +86,7 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
   const size_t lanes = hn::Lanes(ds);
   // Edge values at the part's first sample, and their steps per sample along x and y: every sample
   // of the box is within kBoxVertexSpan + kBoxSpan * 256 sub-pixel units of each vertex on each axis
-  // and |a|, |b| <= kBoxVertexSpan, so the values are below 2^28 in magnitude.
+  // and |a|, |b| <= kBoxVertexSpan, so the values are below 2^29 in magnitude.
   hn::Vec<DS> origin[3], stepX[3], stepY[3];
   for (int e = 0; e < 3; ++e) {
     origin[e] = hn::Set(ds, int32_t(edge[e].AtPixelCentre(x0, y0)));

@@ -297,8 +297,8 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
   }
 }
 
-// Triangles of up to 20 pixels each way, fewer than one per kSmallTrianglePixels pixels, so the twin
-// takes its box path for those whose samples fit a 16x16 box (core/raster_simd.cpp): parts in one
+// Triangles of up to 40 pixels each way, fewer than one per kSmallTrianglePixels pixels, so the twin
+// takes its box path for those whose samples fit a 32x32 box (core/raster_simd.cpp): parts in one
 // block and across two, from even and odd rows, cut by tile edges and the image's, and triangles a
 // little too large for the box.
 TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, triangles of a few blocks",
@@ -308,7 +308,7 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
     std::vector<glm::vec3> positions;
     std::vector<uint32_t> indices;
     AddRandomTriangles(
-        size, size_t(size.x) * size_t(size.y) / 24, [](size_t i) { return 2.0f + float(i % 19); }, rng, positions,
+        size, size_t(size.x) * size_t(size.y) / 24, [](size_t i) { return 2.0f + float(i % 39); }, rng, positions,
         indices);
     const ViewProjection view = PixelView(size, 3.0f);
     const RasterInput input{positions.data(), positions.size(), indices.data(), indices.size() / 3, nullptr, {}};
