@@ -66,7 +66,7 @@ constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBl
 // at one address, those in the next block 56 values on (a block row on, less the part's row). For a
 // triangle of a few blocks the block machinery cost more than its samples (100k knot's G-buffer pass
 // at 2 threads: 3.71 -> 3.42 ms with boxes of 8x8). Boxes of 32x32 rather than 16x16 take the 10k
-// knot's larger triangles too (its raster at 2 threads 0.92-0.95 -> 0.85-0.87 ms, fill-rate triangles
+// knot's larger triangles too (its raster at 2 threads 0.91-0.95 -> 0.85-0.90 ms, fill-rate triangles
 // of 100 pixels 7.6 -> 6.5 ms); larger boxes lose on triangles many layers deep, whose hidden blocks
 // the block path passes over (500-pixel fill-rate triangles: 3.8 -> 4.0 ms with 48 or 64).
 constexpr int kBoxSpan = 32;
