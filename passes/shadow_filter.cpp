@@ -206,6 +206,30 @@ TilePlan PlanTiles(const std::vector<ShadowFilterTileSummary>& summaries, const 
   return plan;
 }
 
+// The planned tiles' slots in tile order (rows of tiles top to bottom), cut into `parts` runs of
+// about equal cost, slotCost(slot) each (0: not listed). Each region of the filter runs run k on
+// one thread, the same in every region and frame (ParallelForRuns): a tile's neighbours, whose
+// scratch its passes read, were then mostly set up and blurred by that thread. Where the two threads
+// sit on different L3 caches, running each tile wherever a thread was free made the filter about a
+// fifth slower (bench/README.md, "The shadow filter's tiles kept on their threads").
+std::vector<std::vector<size_t>> SlotRuns(const TilePlan& plan, size_t parts,
+                                          const std::function<double(size_t)>& slotCost) {
+  const auto cost = [&](int32_t slot) { return slotCost(size_t(slot)); };
+  double total = 0.0;
+  for (const int32_t slot : plan.tileSlots)
+    if (slot >= 0) total += cost(slot);
+  std::vector<std::vector<size_t>> runs(parts);
+  double before = 0.0;  // the cost of the slots listed so far
+  for (const int32_t slot : plan.tileSlots) {
+    if (slot < 0 || cost(slot) == 0.0) continue;
+    // The run whose share of the total holds the slot's middle.
+    const double middle = (before + 0.5 * cost(slot)) / total;
+    runs[std::min(parts - 1, size_t(middle * double(parts)))].push_back(size_t(slot));
+    before += cost(slot);
+  }
+  return runs;
+}
+
 // The set-up of the planned tiles, stored by slot, and pass 1's output: a blurred pixel's taps stay
 // near it, so this is a fraction of full-screen planes. Every element is written before it is read:
 // the set-up writes each pixel of its tiles (and zeros where an edge tile leaves the image), pass 1
@@ -277,7 +301,19 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   const Scratch scratch = MakeScratch(plan.slotTiles.size(), blurredSlots);
   const ShadowFilterImage image{scratch.texels, scratch.kernels, plan.tileSlots.data(), width, height, tilesX};
 
-  ParallelFor("shadow_filter.setup", plan.slotTiles.size(), [&](size_t slot) {
+  // The runs' costs: every tile set up alike; the blur of a tile as its pixels with geometry, and the
+  // major pass's copy of an unblurred tile's hard values as a tenth of a whole tile's blur. (The
+  // blurred tiles alike, the 2-thread major and minor passes' runs took 15-30% longer on one thread
+  // than on the other.)
+  const size_t parts = ParallelThreads();
+  const auto blurCost = [&](size_t slot) { return double(summaries[plan.slotTiles[slot]].geometryPixels); };
+  const std::vector<std::vector<size_t>> setupRuns = SlotRuns(plan, parts, [](size_t) { return 1.0; });
+  const std::vector<std::vector<size_t>> majorRuns =
+      SlotRuns(plan, parts, [&](size_t slot) { return slot < blurredSlots ? blurCost(slot) : 0.1 * kTilePixels; });
+  const std::vector<std::vector<size_t>> minorRuns =
+      SlotRuns(plan, parts, [&](size_t slot) { return slot < blurredSlots ? blurCost(slot) : 0.0; });
+
+  ParallelForRuns("shadow_filter.setup", setupRuns, [&](size_t slot) {
     const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
     const bool withKernel = slot < blurredSlots;
     if (r.x1 - r.x0 < kShadowFilterTileSize || r.y1 - r.y0 < kShadowFilterTileSize)
@@ -292,7 +328,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   });
   // Pass 1 along each pixel's major axis; the tiles around the blurred ones keep their hard values,
   // which is what the blur would give there.
-  ParallelFor("shadow_filter.major", plan.slotTiles.size(), [&](size_t slot) {
+  ParallelForRuns("shadow_filter.major", majorRuns, [&](size_t slot) {
     if (slot >= blurredSlots) {
       std::copy_n(scratch.texels.hard + slot * kTilePixels, kTilePixels, scratch.majorPass + slot * kTilePixels);
       return;
@@ -302,7 +338,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
       kernels.major(image, scratch.texels.hard, params.taps, y, r.x0, r.x1, scratch.majorPass + image.Index(r.x0, y));
   });
   // Pass 2 along the minor axis of the output pixel.
-  ParallelFor("shadow_filter.minor", blurredSlots, [&](size_t slot) {
+  ParallelForRuns("shadow_filter.minor", minorRuns, [&](size_t slot) {
     const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
     for (int y = r.y0; y < r.y1; ++y)
       kernels.minor(image, scratch.majorPass, params.taps, y, r.x0, r.x1,
