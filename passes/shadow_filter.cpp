@@ -120,23 +120,27 @@ TileRect TileBounds(int width, int height, int tilesX, size_t tile) {
   return {x0, y0, std::min(width, x0 + kShadowFilterTileSize), std::min(height, y0 + kShadowFilterTileSize)};
 }
 
+// Along a line of n tiles `stride` apart: out is 1 where a tile within `reach` of it (the line's
+// own tiles only) is marked (1), from a running count of the marked tiles in that window.
+void DilateLine(const char* marked, char* out, int n, size_t stride, int reach) {
+  int count = 0;
+  for (int i = 0; i < std::min(n, reach); ++i) count += marked[size_t(i) * stride];
+  for (int i = 0; i < n; ++i) {
+    if (i + reach < n) count += marked[size_t(i + reach) * stride];
+    if (i - reach - 1 >= 0) count -= marked[size_t(i - reach - 1) * stride];
+    out[size_t(i) * stride] = count > 0;
+  }
+}
+
 // The tiles within `reach` tiles (along x and y) of a marked tile, as two 1-D passes.
 std::vector<char> Dilate(const std::vector<char>& marked, int tilesX, int tilesY, int reach) {
   std::vector<char> alongX(marked.size()), out(marked.size());
-  for (int ty = 0; ty < tilesY; ++ty)
-    for (int tx = 0; tx < tilesX; ++tx) {
-      const size_t row = size_t(ty) * size_t(tilesX);
-      const int x1 = std::min(tilesX - 1, tx + reach);
-      for (int x = std::max(0, tx - reach); x <= x1 && !alongX[row + size_t(tx)]; ++x)
-        alongX[row + size_t(tx)] = marked[row + size_t(x)];
-    }
-  for (int ty = 0; ty < tilesY; ++ty)
-    for (int tx = 0; tx < tilesX; ++tx) {
-      const size_t tile = size_t(ty) * size_t(tilesX) + size_t(tx);
-      const int y1 = std::min(tilesY - 1, ty + reach);
-      for (int y = std::max(0, ty - reach); y <= y1 && !out[tile]; ++y)
-        out[tile] = alongX[size_t(y) * size_t(tilesX) + size_t(tx)];
-    }
+  for (int ty = 0; ty < tilesY; ++ty) {
+    const size_t row = size_t(ty) * size_t(tilesX);
+    DilateLine(marked.data() + row, alongX.data() + row, tilesX, 1, reach);
+  }
+  for (int tx = 0; tx < tilesX; ++tx)
+    DilateLine(alongX.data() + size_t(tx), out.data() + size_t(tx), tilesY, size_t(tilesX), reach);
   return out;
 }
 
@@ -206,26 +210,53 @@ TilePlan PlanTiles(const std::vector<ShadowFilterTileSummary>& summaries, const 
   return plan;
 }
 
-// The planned tiles' slots in tile order (rows of tiles top to bottom), cut into `parts` runs of
-// about equal cost, slotCost(slot) each (0: not listed). Each region of the filter runs run k on
-// one thread, the same in every region and frame (ParallelForRuns): a tile's neighbours, whose
-// scratch its passes read, were then mostly set up and blurred by that thread. Where the two threads
-// sit on different L3 caches, running each tile wherever a thread was free made the filter about a
-// fifth slower (bench/README.md, "The shadow filter's tiles kept on their threads").
-std::vector<std::vector<size_t>> SlotRuns(const TilePlan& plan, size_t parts,
-                                          const std::function<double(size_t)>& slotCost) {
-  const auto cost = [&](int32_t slot) { return slotCost(size_t(slot)); };
-  double total = 0.0;
-  for (const int32_t slot : plan.tileSlots)
-    if (slot >= 0) total += cost(slot);
-  std::vector<std::vector<size_t>> runs(parts);
-  double before = 0.0;  // the cost of the slots listed so far
-  for (const int32_t slot : plan.tileSlots) {
-    if (slot < 0 || cost(slot) == 0.0) continue;
-    // The run whose share of the total holds the slot's middle.
-    const double middle = (before + 0.5 * cost(slot)) / total;
-    runs[std::min(parts - 1, size_t(middle * double(parts)))].push_back(size_t(slot));
-    before += cost(slot);
+// The planned tiles' slots in tile order (rows of tiles top to bottom), cut for each of the three
+// tile regions into one run per thread of about equal cost. Each region runs run k on one thread,
+// the same in every region and frame (ParallelForRuns): a tile's neighbours, whose scratch its
+// passes read, were then mostly set up and blurred by that thread. Where the two threads sit on
+// different L3 caches, running each tile wherever a thread was free made the filter about a fifth
+// slower (bench/README.md, "The shadow filter's tiles kept on their threads").
+struct TileRuns {
+  std::vector<std::vector<size_t>> setup, major, minor;
+};
+
+TileRuns MakeTileRuns(const TilePlan& plan, const std::vector<ShadowFilterTileSummary>& summaries,
+                      size_t blurredSlots, size_t threads) {
+  // The costs: every tile set up alike; the blur of a tile as its pixels with geometry, and the
+  // major pass's copy of an unblurred tile's hard values as a tenth of a whole tile's blur. (With
+  // the blurred tiles costed alike, the 2-thread major and minor runs took 15-30% longer on one
+  // thread than on the other.)
+  struct Costs {
+    double setup, major, minor;
+  };
+  const auto costs = [&](size_t tile, size_t slot) -> Costs {
+    if (slot >= blurredSlots) return {1.0, 0.1 * kTilePixels, 0.0};
+    const double blur = double(summaries[tile].geometryPixels);
+    return {1.0, blur, blur};
+  };
+  Costs total{0.0, 0.0, 0.0};
+  for (const size_t tile : plan.slotTiles) {
+    const Costs c = costs(tile, size_t(plan.tileSlots[tile]));
+    total = {total.setup + c.setup, total.major + c.major, total.minor + c.minor};
+  }
+  TileRuns runs{std::vector<std::vector<size_t>>(threads), std::vector<std::vector<size_t>>(threads),
+                std::vector<std::vector<size_t>>(threads)};
+  Costs before{0.0, 0.0, 0.0};  // of the tiles listed so far
+  // Listed in the run whose share of the region's total holds the tile's middle.
+  const auto list = [threads](std::vector<std::vector<size_t>>& region, double costBefore, double cost,
+                              double regionCost, size_t slot) {
+    if (cost == 0.0) return;
+    const double middle = (costBefore + 0.5 * cost) / regionCost;
+    region[std::min(threads - 1, size_t(middle * double(threads)))].push_back(slot);
+  };
+  for (size_t tile = 0; tile < plan.tileSlots.size(); ++tile) {
+    if (plan.tileSlots[tile] < 0) continue;
+    const size_t slot = size_t(plan.tileSlots[tile]);
+    const Costs c = costs(tile, slot);
+    list(runs.setup, before.setup, c.setup, total.setup, slot);
+    list(runs.major, before.major, c.major, total.major, slot);
+    list(runs.minor, before.minor, c.minor, total.minor, slot);
+    before = {before.setup + c.setup, before.major + c.major, before.minor + c.minor};
   }
   return runs;
 }
@@ -301,19 +332,8 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   const Scratch scratch = MakeScratch(plan.slotTiles.size(), blurredSlots);
   const ShadowFilterImage image{scratch.texels, scratch.kernels, plan.tileSlots.data(), width, height, tilesX};
 
-  // The runs' costs: every tile set up alike; the blur of a tile as its pixels with geometry, and the
-  // major pass's copy of an unblurred tile's hard values as a tenth of a whole tile's blur. (The
-  // blurred tiles alike, the 2-thread major and minor passes' runs took 15-30% longer on one thread
-  // than on the other.)
-  const size_t parts = ParallelThreads();
-  const auto blurCost = [&](size_t slot) { return double(summaries[plan.slotTiles[slot]].geometryPixels); };
-  const std::vector<std::vector<size_t>> setupRuns = SlotRuns(plan, parts, [](size_t) { return 1.0; });
-  const std::vector<std::vector<size_t>> majorRuns =
-      SlotRuns(plan, parts, [&](size_t slot) { return slot < blurredSlots ? blurCost(slot) : 0.1 * kTilePixels; });
-  const std::vector<std::vector<size_t>> minorRuns =
-      SlotRuns(plan, parts, [&](size_t slot) { return slot < blurredSlots ? blurCost(slot) : 0.0; });
-
-  ParallelForRuns("shadow_filter.setup", setupRuns, [&](size_t slot) {
+  const TileRuns runs = MakeTileRuns(plan, summaries, blurredSlots, ParallelThreads());
+  ParallelForRuns("shadow_filter.setup", runs.setup, [&](size_t slot) {
     const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
     const bool withKernel = slot < blurredSlots;
     if (r.x1 - r.x0 < kShadowFilterTileSize || r.y1 - r.y0 < kShadowFilterTileSize)
@@ -328,7 +348,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   });
   // Pass 1 along each pixel's major axis; the tiles around the blurred ones keep their hard values,
   // which is what the blur would give there.
-  ParallelForRuns("shadow_filter.major", majorRuns, [&](size_t slot) {
+  ParallelForRuns("shadow_filter.major", runs.major, [&](size_t slot) {
     if (slot >= blurredSlots) {
       std::copy_n(scratch.texels.hard + slot * kTilePixels, kTilePixels, scratch.majorPass + slot * kTilePixels);
       return;
@@ -338,7 +358,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
       kernels.major(image, scratch.texels.hard, params.taps, y, r.x0, r.x1, scratch.majorPass + image.Index(r.x0, y));
   });
   // Pass 2 along the minor axis of the output pixel.
-  ParallelForRuns("shadow_filter.minor", minorRuns, [&](size_t slot) {
+  ParallelForRuns("shadow_filter.minor", runs.minor, [&](size_t slot) {
     const TileRect r = TileBounds(width, height, tilesX, plan.slotTiles[slot]);
     for (int y = r.y0; y < r.y1; ++y)
       kernels.minor(image, scratch.majorPass, params.taps, y, r.x0, r.x1,
