@@ -222,16 +222,17 @@ struct TileRuns {
 
 TileRuns MakeTileRuns(const TilePlan& plan, const std::vector<ShadowFilterTileSummary>& summaries,
                       size_t blurredSlots, size_t threads) {
-  // The costs: every tile set up alike; the blur of a tile as its pixels with geometry, and the
-  // major pass's copy of an unblurred tile's hard values as a tenth of a whole tile's blur. (With
-  // the blurred tiles costed alike, the 2-thread major and minor runs took 15-30% longer on one
-  // thread than on the other.)
+  // The costs: every tile set up alike; the blur of a tile as its pixels with geometry (at least
+  // one: a frame blurring every tile blurs background ones too), and the major pass's copy of an
+  // unblurred tile's hard values as a tenth of a whole tile's blur; the minor pass runs on blurred
+  // tiles only (cost 0: not listed). (With the blurred tiles costed alike, the 2-thread major and
+  // minor runs took 15-30% longer on one thread than on the other.)
   struct Costs {
     double setup, major, minor;
   };
   const auto costs = [&](size_t tile, size_t slot) -> Costs {
     if (slot >= blurredSlots) return {1.0, 0.1 * kTilePixels, 0.0};
-    const double blur = double(summaries[tile].geometryPixels);
+    const double blur = std::max(1.0, double(summaries[tile].geometryPixels));
     return {1.0, blur, blur};
   };
   Costs total{0.0, 0.0, 0.0};
@@ -258,6 +259,15 @@ TileRuns MakeTileRuns(const TilePlan& plan, const std::vector<ShadowFilterTileSu
     list(runs.minor, before.minor, c.minor, total.minor, slot);
     before = {before.setup + c.setup, before.major + c.major, before.minor + c.minor};
   }
+  // Every planned tile is set up and passed through pass 1, every blurred one through pass 2.
+  const auto listed = [](const std::vector<std::vector<size_t>>& region) {
+    size_t count = 0;
+    for (const std::vector<size_t>& run : region) count += run.size();
+    return count;
+  };
+  SSGI_CHECK_EQ(listed(runs.setup), plan.slotTiles.size());
+  SSGI_CHECK_EQ(listed(runs.major), plan.slotTiles.size());
+  SSGI_CHECK_EQ(listed(runs.minor), blurredSlots);
   return runs;
 }
 
