@@ -56,4 +56,11 @@ ViewProjection MakeOrthographic(const glm::vec3& eye, const glm::vec3& forward, 
   return vp;
 }
 
+PixelRayTables MakePixelRayTables(const ViewProjection& view, size_t columns, size_t rows) {
+  PixelRayTables rays{std::vector<float>(columns), std::vector<float>(rows)};
+  for (size_t x = 0; x < columns; ++x) rays.x[x] = view.PixelRay(float(x) + 0.5f, 0.5f).direction.x;
+  for (size_t y = 0; y < rows; ++y) rays.y[y] = view.PixelRay(0.5f, float(y) + 0.5f).direction.y;
+  return rays;
+}
+
 }  // namespace ssgi

@@ -8,6 +8,9 @@
 // Pixel (x, y) has its origin top-left and its centre at (x + 0.5, y + 0.5).
 #pragma once
 
+#include <cstddef>
+#include <vector>
+
 #include <glm/glm.hpp>
 
 namespace ssgi {
@@ -54,6 +57,14 @@ struct ViewProjection {
 };
 
 ViewProjection MakePerspective(const CameraDesc& camera, int width, int height);
+
+// The centre rays of a perspective view's pixels as two tables, for kernels that would otherwise
+// compute them per pixel: PixelRay(x + 0.5, y + 0.5).direction's x for each column x < columns (it
+// depends on the column only) and its y for each row y < rows; its z is -1.
+struct PixelRayTables {
+  std::vector<float> x, y;
+};
+PixelRayTables MakePixelRayTables(const ViewProjection& view, size_t columns, size_t rows);
 
 // Orthographic view looking along `forward` from `eye`; halfX/halfY in metres, near/far along forward.
 ViewProjection MakeOrthographic(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& up,

@@ -120,9 +120,7 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
     textured[m] = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
                   material.roughnessTexture != kNoTexture;
   }
-  std::vector<float> rayDirectionX(width + kGBufferRayPadding), rayDirectionY(height + kGBufferRayPadding);
-  for (size_t x = 0; x < rayDirectionX.size(); ++x) rayDirectionX[x] = view.PixelRay(float(x) + 0.5f, 0.5f).direction.x;
-  for (size_t y = 0; y < rayDirectionY.size(); ++y) rayDirectionY[y] = view.PixelRay(0.5f, float(y) + 0.5f).direction.y;
+  const PixelRayTables rays = MakePixelRayTables(view, width + kGBufferRayPadding, height + kGBufferRayPadding);
   const GBufferResolveContext context{
       scene,
       view,
@@ -132,8 +130,8 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
       textured.data(),
       glm::mat3(view.view),  // lookAt is a rotation plus a translation
       params.normalEncoding,
-      rayDirectionX.data(),
-      rayDirectionY.data(),
+      rays.x.data(),
+      rays.y.data(),
   };
   const VisibilityBuffer& visibility = out.visibility;
   std::vector<size_t> coveredPerBand(RowBandCount(height), 0);

@@ -56,9 +56,9 @@ struct GBufferResolveContext {
   const uint32_t* textured;  // 1 or 0
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
   NormalEncoding normalEncoding;
-  // view.PixelRay(x + 0.5, y + 0.5).direction's x per column and y per row, for the twin, which would
-  // otherwise divide for them in every vector; kGBufferRayPadding more than the image's width and
-  // height (the rays one pixel right and down, and the image edges' blocks).
+  // The view's PixelRayTables, for the twin, which would otherwise divide for them in every vector;
+  // kGBufferRayPadding more than the image's width and height (the rays one pixel right and down,
+  // and the image edges' blocks).
   const float* rayDirectionX;
   const float* rayDirectionY;
 };

@@ -321,7 +321,7 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
     out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
   const RowKernels kernels = KernelsOf(path);
-  const ShadowFilterRays rays = MakeShadowFilterRays(in.view, width, height);
+  const PixelRayTables rays = MakePixelRayTables(in.view, size_t(width), size_t(height));
   const ShadowFilterSetupContext context = MakeShadowFilterSetupContext(in, params, rays);
 
   // Every pixel's hard value goes to the output, which is what a skipped tile keeps, and into its
@@ -380,17 +380,8 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
 
 }  // namespace
 
-ShadowFilterRays MakeShadowFilterRays(const ViewProjection& view, int width, int height) {
-  ShadowFilterRays rays;
-  rays.x.resize(size_t(width));
-  rays.y.resize(size_t(height));
-  for (int x = 0; x < width; ++x) rays.x[size_t(x)] = view.PixelRay(float(x) + 0.5f, 0.5f).direction.x;
-  for (int y = 0; y < height; ++y) rays.y[size_t(y)] = view.PixelRay(0.5f, float(y) + 0.5f).direction.y;
-  return rays;
-}
-
 ShadowFilterSetupContext MakeShadowFilterSetupContext(const ShadowFilterInputs& in, const ShadowFilterParams& params,
-                                                      const ShadowFilterRays& rays) {
+                                                      const PixelRayTables& rays) {
   return {in.light,
           rays.x.data(),
           rays.y.data(),

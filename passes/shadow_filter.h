@@ -13,7 +13,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <vector>
 
 #include "core/camera.h"
 #include "core/gbuffer.h"
@@ -94,14 +93,10 @@ struct ShadowFilterSetupContext {
   float pixelsPerMetreAtUnitDepth;  // the image's height over the view's height at view depth 1
 };
 
-// The centre rays of a width x height image's pixels that ShadowFilterSetupContext points at, made
-// once per frame.
-struct ShadowFilterRays {
-  std::vector<float> x, y;
-};
-ShadowFilterRays MakeShadowFilterRays(const ViewProjection& view, int width, int height);
+// `rays`: the image's (MakePixelRayTables of its width and height), made once per frame, which the
+// context points at.
 ShadowFilterSetupContext MakeShadowFilterSetupContext(const ShadowFilterInputs& in, const ShadowFilterParams& params,
-                                                      const ShadowFilterRays& rays);
+                                                      const PixelRayTables& rays);
 
 // What the blur-area control needs of a tile: its pixels' largest penumbra radius in pixels (the
 // PCSS width projected at the pixel's depth, in [0, maxRadius]; background pixels count as

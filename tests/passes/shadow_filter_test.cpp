@@ -460,7 +460,7 @@ TEST_CASE("shadow filter: the SIMD set-up kernels equal their scalar definitions
   for (const TwinInputs& set : TwinInputSets()) {
     const GBuffer& g = set.gbuffer;
     const int width = g.width(), tilesX = (width + kShadowFilterTileSize - 1) / kShadowFilterTileSize;
-    const ShadowFilterRays rays = MakeShadowFilterRays(set.camera, width, g.height());
+    const PixelRayTables rays = MakePixelRayTables(set.camera, size_t(width), size_t(g.height()));
     for (const PreparedLight& light : set.lights)
       for (ShadowFilter filter : {ShadowFilter::kHard, ShadowFilter::kSspcss, ShadowFilter::kSsabss})
         for (int maxRadius : {0, 3, 24, 200}) {
@@ -505,7 +505,7 @@ TEST_CASE("shadow filter: the SIMD passes equal their scalar definitions on ever
   for (const TwinInputs& set : TwinInputSets()) {
     const GBuffer& g = set.gbuffer;
     const int width = g.width(), height = g.height();
-    const ShadowFilterRays rays = MakeShadowFilterRays(set.camera, width, height);
+    const PixelRayTables rays = MakePixelRayTables(set.camera, size_t(width), size_t(height));
     for (const PreparedLight& light : set.lights)
       for (ShadowFilter filter : {ShadowFilter::kSspcss, ShadowFilter::kSsabss})
         for (const auto& [maxRadius, taps] : {std::pair{3, 0}, {24, 0}, {24, 1}, {3, 5}}) {
