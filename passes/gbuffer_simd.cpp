@@ -14,9 +14,7 @@
 #include "hwy/highway.h"
 
 #include <bit>
-#include <cstring>
 
-#include "core/camera-inl.h"
 #include "core/check.h"
 #include "core/color-inl.h"
 #include "core/gbuffer-inl.h"
@@ -82,7 +80,7 @@ struct PlaneTerms {
 // Of the triangles with vertices `position` (view space).
 HWY_INLINE PlaneTerms PlaneTermsOf(const Vec3V<DF> position[3]) {
   const DF df;
-  const Vec3V<DF> origin = {hn::Zero(df), hn::Zero(df), hn::Zero(df)};  // PixelRayV's perspective origin
+  const Vec3V<DF> origin = {hn::Zero(df), hn::Zero(df), hn::Zero(df)};  // PixelRay's perspective origin
   const Vec3V<DF>& p0 = position[0];
   PlaneTerms terms;
   terms.e1 = Sub3(position[1], p0);
