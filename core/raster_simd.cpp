@@ -107,13 +107,44 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
   const auto triangleId = hn::Set(dt, t.triangle);
   const size_t firstSample = size_t(firstRow - y0) * kBoxPart / lanes * lanes;
   const size_t endSample = size_t(y1 - y0 + 1) * kBoxPart;
+  // Where a vector holds whole part rows, every vector holds the same columns: their terms are
+  // computed once and the rows' stepped from vector to vector, with the same values (the edge values
+  // are exact integers, the rows small integers in floats). The box of a 10k-triangle knot's
+  // triangle is mostly a few vectors, each of them cheaper so.
+  const auto firstDx = hn::Load(ds, kSampleX.data() + firstSample);
+  auto rowDy = hn::Load(ds, kSampleY.data() + firstSample);
+  auto rowY = hn::Add(ly0V, hn::Load(dk, kSampleYf.data() + firstSample));
+  const auto keyColumns = hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lx0V, hn::Load(dk, kSampleXf.data() + firstSample))));
+  const auto inColumns = hn::Lt(firstDx, columns);
+  const int rowsPerVector = int(lanes / kBoxPart);
+  hn::Vec<DS> rowEdge[3], edgeRowStep[3];
+  for (int e = 0; e < 3; ++e) {
+    rowEdge[e] = hn::Add(origin[e], hn::Add(hn::Mul(stepX[e], firstDx), hn::Mul(stepY[e], rowDy)));
+    edgeRowStep[e] = hn::Mul(stepY[e], hn::Set(ds, rowsPerVector));
+  }
   for (size_t k = firstSample; k < endSample; k += lanes) {
-    const auto dx = hn::Load(ds, kSampleX.data() + k), dy = hn::Load(ds, kSampleY.data() + k);
-    auto inside = hn::Zero(ds);
-    for (int e = 0; e < 3; ++e) {
-      inside = hn::Or(inside, hn::Add(origin[e], hn::Add(hn::Mul(stepX[e], dx), hn::Mul(stepY[e], dy))));
+    hn::Vec<DS> dx, inside;
+    hn::Mask<DS> covered;
+    hn::Vec<DK> key;
+    if constexpr (kWholeBlockRows) {
+      dx = firstDx;
+      inside = hn::Or(rowEdge[0], hn::Or(rowEdge[1], rowEdge[2]));
+      covered = hn::And(hn::Gt(inside, minusOne), hn::And(inColumns, hn::Lt(rowDy, rows)));
+      key = hn::Add(keyColumns, hn::Mul(keyDy, rowY));
+      for (int e = 0; e < 3; ++e) rowEdge[e] = hn::Add(rowEdge[e], edgeRowStep[e]);
+      rowDy = hn::Add(rowDy, hn::Set(ds, rowsPerVector));
+      rowY = hn::Add(rowY, hn::Set(dk, float(rowsPerVector)));
+    } else {
+      dx = hn::Load(ds, kSampleX.data() + k);
+      const auto dy = hn::Load(ds, kSampleY.data() + k);
+      inside = hn::Zero(ds);
+      for (int e = 0; e < 3; ++e) {
+        inside = hn::Or(inside, hn::Add(origin[e], hn::Add(hn::Mul(stepX[e], dx), hn::Mul(stepY[e], dy))));
+      }
+      covered = hn::And(hn::Gt(inside, minusOne), hn::And(hn::Lt(dx, columns), hn::Lt(dy, rows)));
+      key = hn::Add(hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lx0V, hn::Load(dk, kSampleXf.data() + k)))),
+                    hn::Mul(keyDy, hn::Add(ly0V, hn::Load(dk, kSampleYf.data() + k))));
     }
-    const auto covered = hn::And(hn::Gt(inside, minusOne), hn::And(hn::Lt(dx, columns), hn::Lt(dy, rows)));
     const auto first = hn::And(covered, hn::Lt(dx, inFirstBlock));
     const auto next = hn::AndNot(first, covered);
     // The vector's samples at `at` (the first block's lanes) and at + kNextBlockOffset (the next's).
@@ -127,8 +158,6 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
         hn::BlendedStore(hn::Add(hn::LoadU(dt, coverage), one), hn::RebindMask(dt, next), dt, coverage);
       }
     }
-    const auto key = hn::Add(hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lx0V, hn::Load(dk, kSampleXf.data() + k)))),
-                             hn::Mul(keyDy, hn::Add(ly0V, hn::Load(dk, kSampleYf.data() + k))));
     auto stored = hn::LoadU(dk, tile.depth + at);
     if (twoBlocks) {
       stored = hn::IfThenElse(hn::RebindMask(dk, next), hn::LoadU(dk, tile.depth + at + kNextBlockOffset), stored);
