@@ -114,7 +114,8 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
   const auto firstDx = hn::Load(ds, kSampleX.data() + firstSample);
   auto rowDy = hn::Load(ds, kSampleY.data() + firstSample);
   auto rowY = hn::Add(ly0V, hn::Load(dk, kSampleYf.data() + firstSample));
-  const auto keyColumns = hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lx0V, hn::Load(dk, kSampleXf.data() + firstSample))));
+  const auto keyColumns =
+      hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lx0V, hn::Load(dk, kSampleXf.data() + firstSample))));
   const auto inColumns = hn::Lt(firstDx, columns);
   const int rowsPerVector = int(lanes / kBoxPart);
   hn::Vec<DS> rowEdge[3], edgeRowStep[3];
