@@ -74,6 +74,8 @@ constexpr int kBoxPart = kRasterBlockSize;
 constexpr int64_t kBoxVertexSpan = (kBoxSpan + 1) * kSubPixelScale;
 // Where a part row's samples pass into the next block, their addresses jump this much further.
 constexpr size_t kNextBlockOffset = kRasterBlockSamples - kRasterBlockSize;
+// A vector of the box holds whole part rows (this many; kWholeBlockRows) or a part of one (1).
+constexpr int kBoxRowsPerVector = int(std::max<size_t>(1, hn::MaxLanes(DS()) / kBoxPart));
 
 // The samples of one 8x8 part of the box, from (x0, y0) (tile x0 + lx0, y0 + ly0) to its last column
 // x1 and row y1 (those of the triangle's bounds in it), as RasterizeBoxInTile draws them.
@@ -117,11 +119,10 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
   const auto keyColumns =
       hn::Add(keyBaseV, hn::Mul(keyDx, hn::Add(lx0V, hn::Load(dk, kSampleXf.data() + firstSample))));
   const auto inColumns = hn::Lt(firstDx, columns);
-  const int rowsPerVector = int(lanes / kBoxPart);
   hn::Vec<DS> rowEdge[3], edgeRowStep[3];
   for (int e = 0; e < 3; ++e) {
     rowEdge[e] = hn::Add(origin[e], hn::Add(hn::Mul(stepX[e], firstDx), hn::Mul(stepY[e], rowDy)));
-    edgeRowStep[e] = hn::Mul(stepY[e], hn::Set(ds, rowsPerVector));
+    edgeRowStep[e] = hn::Mul(stepY[e], hn::Set(ds, kBoxRowsPerVector));
   }
   for (size_t k = firstSample; k < endSample; k += lanes) {
     hn::Vec<DS> dx, inside;
@@ -133,8 +134,8 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
       covered = hn::And(hn::Gt(inside, minusOne), hn::And(inColumns, hn::Lt(rowDy, rows)));
       key = hn::Add(keyColumns, hn::Mul(keyDy, rowY));
       for (int e = 0; e < 3; ++e) rowEdge[e] = hn::Add(rowEdge[e], edgeRowStep[e]);
-      rowDy = hn::Add(rowDy, hn::Set(ds, rowsPerVector));
-      rowY = hn::Add(rowY, hn::Set(dk, float(rowsPerVector)));
+      rowDy = hn::Add(rowDy, hn::Set(ds, kBoxRowsPerVector));
+      rowY = hn::Add(rowY, hn::Set(dk, float(kBoxRowsPerVector)));
     } else {
       dx = hn::Load(ds, kSampleX.data() + k);
       const auto dy = hn::Load(ds, kSampleY.data() + k);
@@ -182,14 +183,12 @@ HWY_INLINE void RasterizeBoxPart(const ScreenTriangle& t, const EdgeFunction edg
 // blockFarthest as it was: keys only rise, so it still holds.
 template <bool kWriteTriangle, bool kCountCoverage>
 HWY_INLINE bool RasterizeBoxInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTarget& tile) {
-  // A vector holds whole part rows (rowsPerVector of them) or a part of one.
-  const int rowsPerVector = int(std::max<size_t>(1, hn::Lanes(DS()) / kBoxPart));
   const BoundsInTile bounds(t, tile);
   if (bounds.Empty()) return true;
   const auto [x0, y0, x1, y1] = bounds;
   // Tiles start at multiples of 64 rows and parts at multiples of 8 rows from the box's first, so
   // a vector's part rows stay in one block row.
-  const int boxY = y0 - (y0 - tile.y0) % rowsPerVector;
+  const int boxY = y0 - (y0 - tile.y0) % kBoxRowsPerVector;
   if (x1 - x0 >= kBoxSpan || y1 - boxY >= kBoxSpan) return false;
   if ((t.flags & kTriangleAlphaTested) && alphaTest.passes) return false;
   const int32_t spanX = std::max({t.x[0], t.x[1], t.x[2]}) - std::min({t.x[0], t.x[1], t.x[2]});
