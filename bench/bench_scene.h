@@ -12,8 +12,8 @@
 #include "core/kernel_path.h"
 #include "core/parallel.h"
 #include "core/scene.h"
-#include "passes/frame.h"
-#include "passes/frame_config.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/config.h"
 
 namespace ssgi {
 

@@ -1,5 +1,5 @@
 // ssgi's side of the fill-rate comparison (issue 12; llvmpipe's is in bench/llvmpipe_bench.cpp):
-// the rasterizer alone (core/raster.h) on FillrateTriangles, visibility output, at 1 and 2 threads.
+// the rasterizer alone (core/raster/raster.h) on FillrateTriangles, visibility output, at 1 and 2 threads.
 // The G-buffer pass is not measured here: it resolves each pixel once, after the raster, so the
 // overdraw of these scenes would only show in its raster half.
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include "bench/bench_scene.h"
 #include "core/parallel.h"
 #include "core/plane.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 
 namespace ssgi {
 namespace {

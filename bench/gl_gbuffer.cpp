@@ -8,7 +8,7 @@
 #include <GL/glcorearb.h>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "core/raster.h"
+#include "core/raster/raster.h"
 
 namespace ssgi {
 namespace {

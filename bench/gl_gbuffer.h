@@ -4,7 +4,7 @@
 // std::runtime_error when OpenGL refuses a step (a shader that does not compile, an incomplete
 // framebuffer).
 //
-// Both passes draw with ssgi's conventions (core/camera.h, core/raster.h): the ViewProjection's
+// Both passes draw with ssgi's conventions (core/camera.h, core/raster/raster.h): the ViewProjection's
 // reversed-Z matrix, clip control GL_ZERO_TO_ONE so the depth is z_clip / w as ssgi's depth key,
 // cleared to 0 and tested with GL_GREATER (ties keep the earlier triangle, as ssgi's), into a 32-bit
 // float depth buffer. OpenGL's window origin is bottom-left; Read* return rows top first, as ssgi's
@@ -85,7 +85,7 @@ class GlGBufferPass : public GlPass {
   GBuffer Read() const;
 };
 
-// ssgi's visibility buffer (core/raster.h, RasterOutput::kVisibility): depth and the triangle index
+// ssgi's visibility buffer (core/raster/raster.h, RasterOutput::kVisibility): depth and the triangle index
 // (gl_PrimitiveID; 0xFFFFFFFF where nothing was drawn), no culling.
 class GlVisibilityPass : public GlPass {
  public:

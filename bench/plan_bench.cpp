@@ -10,7 +10,7 @@
 #include "bench/bench_scene.h"
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 
 namespace ssgi {
 namespace {

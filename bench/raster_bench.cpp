@@ -12,9 +12,9 @@
 #include "core/camera.h"
 #include "core/parallel.h"
 #include "core/plane.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "core/scene.h"
-#include "core/scene_raster_input.h"
+#include "core/raster/scene_raster_input.h"
 #include "passes/gbuffer.h"
 
 namespace ssgi {

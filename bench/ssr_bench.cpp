@@ -6,7 +6,7 @@
 
 #include "bench/bench_scene.h"
 #include "bench/memory_floor.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 
 namespace ssgi {
 namespace {

@@ -19,7 +19,7 @@
 #include "core/image_compare.h"
 #include "core/parallel.h"
 #include "core/plane.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 
 namespace {
 

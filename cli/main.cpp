@@ -22,10 +22,10 @@
 #include "core/parallel.h"
 #include "core/reference/reference.h"
 #include "core/stopwatch.h"
-#include "passes/frame.h"
-#include "passes/frame_diff.h"
-#include "passes/frame_dump.h"
-#include "passes/frame_memory.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/diff.h"
+#include "passes/frame/dump.h"
+#include "passes/frame/memory.h"
 
 namespace fs = std::filesystem;
 
@@ -68,7 +68,7 @@ std::string ValueTypeName(const ssgi::FrameSetting& setting) {
 }
 
 // The frame settings given on a command line, each an option derived from the settings table
-// (passes/frame_config.h); they override the scene file's render block.
+// (passes/frame/config.h); they override the scene file's render block.
 struct SettingOptions {
   std::vector<std::pair<const ssgi::FrameSetting*, CLI::Option*>> options;
 

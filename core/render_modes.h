@@ -1,5 +1,5 @@
 // The small enumerations of how a frame is rendered, apart from the scene and the frame
-// configuration (passes/frame_config.h), so buffers and passes that need one include only this.
+// configuration (passes/frame/config.h), so buffers and passes that need one include only this.
 #pragma once
 
 namespace ssgi {

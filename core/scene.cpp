@@ -362,7 +362,7 @@ void ReadLights(const ErrorReporter& errors, const Json& node, Scene& scene) {
 }
 
 // The render block flattened to its values, nested objects ("effects") as dotted keys; the frame
-// configuration checks the keys and values (passes/frame_config.h).
+// configuration checks the keys and values (passes/frame/config.h).
 void ReadRenderBlock(const ErrorReporter& errors, const Json& node, const std::string& path,
                      std::vector<RenderBlockEntry>& entries) {
   if (!node.is_object()) errors.Fail(path, path + " must be an object, got " + node.type_name());

@@ -50,7 +50,7 @@ struct Scene {
 
 // One value of a scene file's "render" block as written: how the file asks for its frames to be
 // rendered. The scene loader does not interpret it; the frame configuration's settings table does
-// (passes/frame_config.h), so a setting is declared in one place only.
+// (passes/frame/config.h), so a setting is declared in one place only.
 struct RenderBlockEntry {
   std::string key;   // its path under "render": "width", "effects.shadows"
   std::string json;  // the value, as JSON text

@@ -1,7 +1,7 @@
 // Surface interpolation of the scene's mesh as seen from one view (docs/pipeline.md §G-buffer): the
 // barycentrics of a pixel's view ray on the plane of a visible triangle, the UV there and the UV
 // footprint of the neighbouring pixels' rays, which picks the texture's mip level. Shared by the
-// G-buffer resolve and the alpha test of the rasterizer's input (core/scene_raster_input.h), so a
+// G-buffer resolve and the alpha test of the rasterizer's input (core/raster/scene_raster_input.h), so a
 // cut-out is tested at exactly the surface point the resolve shades.
 #pragma once
 

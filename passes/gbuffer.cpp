@@ -7,7 +7,7 @@
 #include "core/check.h"
 #include "core/color.h"
 #include "core/parallel.h"
-#include "core/scene_raster_input.h"
+#include "core/raster/scene_raster_input.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {

@@ -1,5 +1,5 @@
 // G-buffer pass (DESIGN.md §3-4, docs/pipeline.md §G-buffer): rasterizes the scene's triangles into a
-// visibility buffer (core/raster.h, core/scene_raster_input.h), then resolves each visible pixel
+// visibility buffer (core/raster/raster.h, core/raster/scene_raster_input.h), then resolves each visible pixel
 // once: barycentrics from the view ray through the pixel centre and the original (unclipped)
 // triangle, interpolated normal and UV, mip-mapped texture lookups with the UV footprint of the
 // neighbouring pixels' rays (core/surface.h), and packs the 128-bit G-buffer. Alpha cut-out (map_d)
@@ -11,7 +11,7 @@
 #include "core/camera.h"
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "core/scene.h"
 #include "core/surface.h"
 

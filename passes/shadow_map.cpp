@@ -9,7 +9,7 @@
 #include "core/check.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
-#include "core/scene_raster_input.h"
+#include "core/raster/scene_raster_input.h"
 #include "core/stopwatch.h"
 
 namespace ssgi {

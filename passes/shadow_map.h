@@ -20,7 +20,7 @@
 #include "core/kernel_path.h"
 #include "core/lighting.h"
 #include "core/plane.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "core/scene.h"
 
 namespace ssgi {

@@ -25,7 +25,7 @@ TEST_CASE("llvmpipe peer: same coverage as ssgi", "[bench][llvmpipe]") {
 #include "bench/gl_gbuffer.h"
 #include "core/camera.h"
 #include "core/gbuffer.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "passes/gbuffer.h"
 
 namespace ssgi::test {

@@ -13,7 +13,7 @@
 #include "core/kernel_path.h"
 #include "core/parallel.h"
 #include "core/scene.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 #include "passes/gbuffer.h"
 #include "passes/shadow_map.h"
 #include "tests/passes/test_scenes.h"

@@ -10,7 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/reference/reference.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 #include "tests/passes/test_scenes.h"
 
 namespace ssgi {

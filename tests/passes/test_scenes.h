@@ -16,8 +16,8 @@
 #include "core/procedural_mesh.h"
 #include "core/plane.h"
 #include "core/scene.h"
-#include "passes/frame.h"
-#include "passes/frame_config.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/config.h"
 
 namespace ssgi::test {
 

@@ -13,7 +13,7 @@
 
 #include "core/color.h"
 #include "core/parallel.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 

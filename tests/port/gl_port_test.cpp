@@ -8,10 +8,10 @@
 
 #include "core/image_io.h"
 #include "core/scene.h"
-#include "passes/frame.h"
-#include "passes/frame_config.h"
-#include "passes/frame_diff.h"
-#include "passes/frame_dump.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/config.h"
+#include "passes/frame/diff.h"
+#include "passes/frame/dump.h"
 #include "tests/test_support.h"
 
 namespace ssgi {

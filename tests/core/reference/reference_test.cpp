@@ -16,7 +16,7 @@
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "core/scene.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 #include "passes/gbuffer.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"

@@ -1,13 +1,13 @@
-// The Highway twin of CountPlanRowScalar (frame_plan.cpp): lanes are the pixels of a tile's part of
+// The Highway twin of CountPlanRowScalar (passes/frame/plan.cpp): lanes are the pixels of a tile's part of
 // the row, counted with masks. Counts are integers, so every target gives the scalar counts
-// (tests/passes/frame_plan_test.cpp checks each compiled target).
+// (tests/passes/frame/plan_test.cpp checks each compiled target).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "passes/frame_plan_simd.cpp"
+#define HWY_TARGET_INCLUDE "passes/frame/plan_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/highway.h"
 
 #include "core/row-inl.h"
-#include "passes/frame_plan.h"
+#include "passes/frame/plan.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace ssgi {

@@ -1,4 +1,4 @@
-#include "core/scene_raster_input.h"
+#include "core/raster/scene_raster_input.h"
 
 #include <algorithm>
 #include <bit>

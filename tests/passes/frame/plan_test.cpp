@@ -1,6 +1,6 @@
-// The frame plan (passes/frame_plan.h): effects planned from the visible pixels, skipped where no
+// The frame plan (passes/frame/plan.h): effects planned from the visible pixels, skipped where no
 // pixel needs them, with the image's bytes as if they had run; forced modes still force.
-#include "passes/frame_plan.h"
+#include "passes/frame/plan.h"
 
 #include <catch2/catch.hpp>
 
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "passes/direct_light.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 

@@ -1,5 +1,5 @@
-// The rasterizer's Highway tile kernel (core/raster_simd.cpp) against its scalar definition
-// (core/raster.cpp), bit for bit, on every compiled and supported target: depth keys, triangle
+// The rasterizer's Highway tile kernel (core/raster/raster_simd.cpp) against its scalar definition
+// (core/raster/raster.cpp), bit for bit, on every compiled and supported target: depth keys, triangle
 // indices and coverage counts of the default scene from its camera and from its sun (depth only, both
 // faces), with cut-outs, and of triangles whose edges are too long for the kernel's 32-bit lanes; and
 // the batched triangle set-up against the scalar one.
@@ -12,9 +12,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/raster.h"
-#include "core/raster_tile.h"
-#include "core/scene_raster_input.h"
+#include "core/raster/raster.h"
+#include "core/raster/raster_tile.h"
+#include "core/raster/scene_raster_input.h"
 #include "core/texture.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
@@ -213,7 +213,7 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
 }
 
 // Depth-only rasters pass over the blocks a triangle cannot reach in front of what they hold (the
-// twin's hidden-block test, core/raster_simd.cpp): layers of quads over the whole image, tilted a
+// twin's hidden-block test, core/raster/raster_simd.cpp): layers of quads over the whole image, tilted a
 // little each way and a millionth of the depth range apart, in a random order, so that many blocks
 // are hidden and many others are reached by a hair, within the test's margin.
 TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, near-coplanar layers",
@@ -265,7 +265,7 @@ void AddRandomTriangles(glm::ivec2 size, size_t count, const Extent& extent, std
 }
 
 // A dense mesh of small triangles, as far-away detail or a scanned model gives: more than one per
-// kSmallTrianglePixels pixels in every tile, so the twin takes its box path (core/raster_simd.cpp)
+// kSmallTrianglePixels pixels in every tile, so the twin takes its box path (core/raster/raster_simd.cpp)
 // in depth-only rasters too, from below a pixel to a few pixels wide, some across tile edges and the
 // image's; and large triangles that reach into a tile by a few pixels only.
 TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, small triangles",
@@ -298,7 +298,7 @@ TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, 
 }
 
 // Triangles of up to 40 pixels each way, fewer than one per kSmallTrianglePixels pixels, so the twin
-// takes its box path for those whose samples fit a 32x32 box (core/raster_simd.cpp): parts in one
+// takes its box path for those whose samples fit a 32x32 box (core/raster/raster_simd.cpp): parts in one
 // block and across two, from even and odd rows, cut by tile edges and the image's, and triangles a
 // little too large for the box.
 TEST_CASE("raster: the SIMD tile kernel gives the scalar bytes on every target, triangles of a few blocks",

@@ -15,7 +15,7 @@
 #include "core/gbuffer.h"
 #include "core/scene.h"
 #include "core/tile_mask.h"
-#include "passes/frame_config.h"
+#include "passes/frame/config.h"
 
 namespace ssgi {
 
@@ -53,7 +53,7 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
 // byte) is below smoothCodes to smooth[t].
 void CountPlanRowScalar(const uint32_t* word1, const uint32_t* word2, int width, uint32_t smoothCodes,
                         uint32_t* geometry, uint32_t* smooth);
-// Its Highway twin (passes/frame_plan_simd.cpp), dispatched to the machine's best target.
+// Its Highway twin (passes/frame/plan_simd.cpp), dispatched to the machine's best target.
 void CountPlanRowSimd(const uint32_t* word1, const uint32_t* word2, int width, uint32_t smoothCodes,
                       uint32_t* geometry, uint32_t* smooth);
 

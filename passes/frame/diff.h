@@ -1,4 +1,4 @@
-// Pass-by-pass comparison of two frame dumps (passes/frame_dump.h): the oracle's and a port's.
+// Pass-by-pass comparison of two frame dumps (passes/frame/dump.h): the oracle's and a port's.
 // Every layer both hold is compared in pipeline order against a named tolerance (docs/pipeline.md
 // §Matching rules; the defaults in data/diff_thresholds.json), in the style of OpenImageIO's
 // testsuite (failthresh, failpercent, hardfail); rasterization coverage differences are judged the
@@ -16,7 +16,7 @@
 #include "core/camera.h"
 #include "core/image_io.h"
 #include "core/mesh.h"
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 
 namespace ssgi {
 

@@ -1,4 +1,4 @@
-// The Highway twin of RasterizeTileScalar (core/raster.cpp, core/raster_tile.h): lanes are the 64
+// The Highway twin of RasterizeTileScalar (core/raster/raster.cpp, core/raster/raster_tile.h): lanes are the 64
 // samples of an 8x8 block (a tile stores its blocks' samples consecutively, so a block is a few
 // whole vectors). Per triangle and block, the edge functions at the block's corners (exact, 64-bit)
 // reject or accept the whole block, as in Abrash's "Rasterization on Larrabee"; in a block that an
@@ -10,9 +10,9 @@
 // rasters, and in depth-only ones where the tile is dense with small triangles.
 // Depth keys are computed, compared and written in vectors with the scalar kernel's
 // operations in its order (no fused multiply-add), so every target gives the scalar bytes
-// (tests/core/raster_simd_test.cpp checks each compiled target).
+// (tests/core/raster/raster_simd_test.cpp checks each compiled target).
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "core/raster_simd.cpp"
+#define HWY_TARGET_INCLUDE "core/raster/raster_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
 #include "hwy/cache_control.h"
 #include "hwy/highway.h"
@@ -26,7 +26,7 @@
 #include <limits>
 
 #include "core/math-inl.h"
-#include "core/raster_tile.h"
+#include "core/raster/raster_tile.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace ssgi {
@@ -465,7 +465,7 @@ void ProjectVertices(const glm::vec3* positions, size_t count, const glm::mat4& 
   const VD subPixels = hn::Set(dd, double(kSubPixelScale));
   const VL lowHalf = hn::Set(dl, int64_t(0xFFFFFFFF));
   const VL outsideMarker = hn::Set(dl, int64_t(uint64_t(uint32_t(ProjectedVertex::kOutsideClipPlanes)) << 32));
-  const auto roundHalfAway = [&](VD x) {  // RoundHalfAway (core/raster.cpp)
+  const auto roundHalfAway = [&](VD x) {  // RoundHalfAway (core/raster/raster.cpp)
     const VL truncated = hn::ConvertTo(dl, x);
     const VD fraction = hn::Sub(x, hn::ConvertTo(dd, truncated));
     const VL up = hn::IfThenElseZero(hn::RebindMask(dl, hn::Ge(fraction, half)), hn::Set(dl, 1));
@@ -499,7 +499,7 @@ void ProjectVertices(const glm::vec3* positions, size_t count, const glm::mat4& 
     VL outside = hn::Zero(dl);
     for (int p = 0; p < ClipPlanes::kCount; ++p)
       outside = hn::Or(outside, hn::IfThenZeroElse(hn::RebindMask(dl, hn::Ge(distance[p], zero)), hn::Set(dl, 1 << p)));
-    // Snap (core/raster.cpp)
+    // Snap (core/raster/raster.cpp)
     const VD invW = hn::Div(one, w);
     const VD sx = hn::Mul(hn::Add(hn::Mul(hn::Mul(x, invW), half), half), widthV);
     const VD sy = hn::Mul(hn::Sub(half, hn::Mul(hn::Mul(y, invW), half)), heightV);

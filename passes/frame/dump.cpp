@@ -1,5 +1,5 @@
 // The frame's buffers as named EXR layers: the catalogue, the writer and the reader.
-#include "passes/frame_dump.h"
+#include "passes/frame/dump.h"
 
 #include <cmath>
 #include <cstring>

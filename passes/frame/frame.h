@@ -11,8 +11,8 @@
 #include "core/camera.h"
 #include "core/plane.h"
 #include "core/scene.h"
-#include "passes/frame_config.h"
-#include "passes/frame_plan.h"
+#include "passes/frame/config.h"
+#include "passes/frame/plan.h"
 #include "passes/color_pyramid.h"
 #include "passes/composite.h"
 #include "passes/direct_light.h"
@@ -115,7 +115,7 @@ enum class BufferLifetime {
   // frame only Result() and the display image are defined among the reflection passes' buffers (a
   // dump needs kKeepAll).
   kKeepForReuse,
-  // Each buffer freed once its last reader has run (passes/frame_memory.h gives the schedule): only
+  // Each buffer freed once its last reader has run (passes/frame/memory.h gives the schedule): only
   // G-buffer words 0-2, the final image (Result) and the display image outlive the frame's passes.
   kUntilLastReader,
 };
@@ -125,8 +125,8 @@ Frame RenderFrame(const Scene& scene, const FrameConfig& config, BufferLifetime 
 
 // Runs the passes from `from` to `to` (inclusive, pipeline order) of the frame RenderFrame would
 // render, on a frame whose buffers that those passes read from earlier passes are filled already
-// (LoadFrameDump in passes/frame_dump.h). Which passes belong to the frame (shadows, reflections) is
-// the frame plan's decision on the G-buffer (passes/frame_plan.h); a pass that does not belong is
+// (LoadFrameDump in passes/frame/dump.h). Which passes belong to the frame (shadows, reflections) is
+// the frame plan's decision on the G-buffer (passes/frame/plan.h); a pass that does not belong is
 // skipped. frame.stats holds the passes that ran.
 void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame,
                     BufferLifetime lifetime = BufferLifetime::kKeepAll);

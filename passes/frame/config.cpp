@@ -1,4 +1,4 @@
-#include "passes/frame_config.h"
+#include "passes/frame/config.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,11 +1,11 @@
-// A scene's mesh prepared for the rasterizer (core/raster.h) from one view: the camera for the
+// A scene's mesh prepared for the rasterizer (core/raster/raster.h) from one view: the camera for the
 // G-buffer, a light for a shadow map (docs/pipeline.md §G-buffer, §Shadow map and blocker search).
 #pragma once
 
 #include <memory>
 
 #include "core/camera.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "core/scene.h"
 #include "core/surface.h"
 

@@ -84,7 +84,7 @@ VisibilityBuffer MakeVisibilityBuffer(int width, int height, RasterOutput output
 // `output`), overwriting every pixel: a target kept from an earlier frame needs no clearing. If
 // `coverageCount` is not null (same size, zeroed), every covered sample adds one to it before the
 // depth test: a watertight mesh tiling the screen gives 1 everywhere. `kernels` picks the tile
-// kernel (core/raster_tile.h); both give the same bytes.
+// kernel (core/raster/raster_tile.h); both give the same bytes.
 RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, RasterOutput output,
                       VisibilityBuffer& target, Plane<uint32_t>* coverageCount = nullptr,
                       KernelPath kernels = KernelPath::kSimd);

@@ -1,4 +1,4 @@
-#include "core/raster.h"
+#include "core/raster/raster.h"
 
 #include <cmath>
 #include <cstring>
@@ -10,7 +10,7 @@
 
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
-#include "core/scene_raster_input.h"
+#include "core/raster/scene_raster_input.h"
 
 namespace ssgi {
 namespace {

@@ -1,5 +1,5 @@
 // The frame plan: which effects the visible pixels need.
-#include "passes/frame_plan.h"
+#include "passes/frame/plan.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,7 +1,7 @@
-// The frame dump (passes/frame_dump.h): every buffer written exactly, read back exactly, and the
+// The frame dump (passes/frame/dump.h): every buffer written exactly, read back exactly, and the
 // pipeline run from any pass on a dump's buffers giving the frame's bytes; bad dumps refused with
 // the layer named.
-#include "passes/frame_dump.h"
+#include "passes/frame/dump.h"
 
 #include <cmath>
 #include <cstring>
@@ -11,7 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.h"
-#include "passes/frame_diff.h"
+#include "passes/frame/diff.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 

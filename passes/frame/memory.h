@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "passes/frame.h"
-#include "passes/frame_config.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/config.h"
 
 namespace ssgi {
 

@@ -1,5 +1,5 @@
 // The frame's memory: estimate, and what the system has.
-#include "passes/frame_memory.h"
+#include "passes/frame/memory.h"
 
 #include <sys/resource.h>
 #include <unistd.h>

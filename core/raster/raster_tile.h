@@ -1,6 +1,6 @@
-// The tile kernel of the rasterizer (core/raster.h, docs/pipeline.md §Rasterizer): the set-up
+// The tile kernel of the rasterizer (core/raster/raster.h, docs/pipeline.md §Rasterizer): the set-up
 // triangles, the tile they are drawn into, and the kernel's two definitions, the scalar one
-// (core/raster.cpp, the readable definition) and its Highway twin (core/raster_simd.cpp), which
+// (core/raster/raster.cpp, the readable definition) and its Highway twin (core/raster/raster_simd.cpp), which
 // must give the same depth keys, triangle indices and coverage counts bit for bit on every target.
 // Internal to the rasterizer and its tests.
 #pragma once
@@ -12,7 +12,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "hwy/cache_control.h"
 
 namespace ssgi {
@@ -80,7 +80,7 @@ struct ProjectedVertex {
 };
 static_assert(sizeof(ProjectedVertex) == 2 * sizeof(int64_t));
 
-// Signed distances of a clip-space vertex to the clip planes (core/raster.h: near, far, and the guard
+// Signed distances of a clip-space vertex to the clip planes (core/raster/raster.h: near, far, and the guard
 // band 16384 pixels beyond each image edge); inside where >= 0.
 struct ClipPlanes {
   ClipPlanes(int width, int height);
@@ -100,7 +100,7 @@ inline glm::vec4 ClipPosition(const glm::vec3& position, const glm::mat4& viewPr
 // Projects vertices 0 .. count - 1 once for all their triangles (docs/pipeline.md §Rasterizer, steps
 // 1-2): each one's clip position tested against the clip planes, and where it is inside all of them
 // snapped to the width x height image's sub-pixel grid with its depth key. The scalar definition
-// (core/raster.cpp) and its Highway twin (core/raster_simd.cpp; lanes are vertices), equal byte for
+// (core/raster/raster.cpp) and its Highway twin (core/raster/raster_simd.cpp; lanes are vertices), equal byte for
 // byte on every target.
 void ProjectVerticesScalar(const glm::vec3* positions, size_t count, const glm::mat4& viewProjection, int width,
                            int height, ProjectedVertex* out);
@@ -128,8 +128,8 @@ enum class TriangleSetUp : uint8_t {
 // The set-up of triangles first .. first + count - 1 (`indices` 3 per triangle into `projected`,
 // `flags` one per triangle, or null for `uniformFlags` on every one): status[i] says what became of
 // triangle first + i, and the ScreenTriangles of those set up (kSetUp) go to out[0], out[1], ... in
-// that order. Returns how many. The scalar definition (core/raster.cpp) and its Highway twin
-// (core/raster_simd.cpp; lanes are triangles), equal field for field on every target.
+// that order. Returns how many. The scalar definition (core/raster/raster.cpp) and its Highway twin
+// (core/raster/raster_simd.cpp; lanes are triangles), equal field for field on every target.
 size_t SetUpTrianglesScalar(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
                             uint8_t uniformFlags, uint32_t first, size_t count, int width, int height,
                             ScreenTriangle* out, TriangleSetUp* status);
@@ -144,7 +144,7 @@ constexpr int TilePixelIndex(int lx, int ly) {
          (ly % kRasterBlockSize) * kRasterBlockSize + lx % kRasterBlockSize;
 }
 
-// The SIMD kernel's box path (core/raster_simd.cpp) loads whole vectors from a box row's first
+// The SIMD kernel's box path (core/raster/raster_simd.cpp) loads whole vectors from a box row's first
 // sample, whose lanes past the row are not used: they can reach this many values past a tile
 // array's last, which the arrays hold (filled with the rest), so no load leaves them.
 inline constexpr int kTileArraySlack = kRasterBlockSize;

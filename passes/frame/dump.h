@@ -13,8 +13,8 @@
 
 #include "core/image_io.h"
 #include "core/scene.h"
-#include "passes/frame.h"
-#include "passes/frame_config.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/config.h"
 
 namespace ssgi {
 

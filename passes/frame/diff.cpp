@@ -1,5 +1,5 @@
 // Pass-by-pass comparison of two frame dumps.
-#include "passes/frame_diff.h"
+#include "passes/frame/diff.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 
 #include "core/error.h"
 #include "core/image_compare.h"
-#include "core/raster.h"
-#include "passes/frame_dump.h"
+#include "core/raster/raster.h"
+#include "passes/frame/dump.h"
 
 namespace ssgi {
 namespace {

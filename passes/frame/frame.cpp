@@ -1,4 +1,4 @@
-#include "passes/frame.h"
+#include "passes/frame/frame.h"
 
 #include <algorithm>
 #include <optional>

@@ -1,7 +1,7 @@
-// `ssgi diff`'s comparison (passes/frame_diff.h): tolerances, the first failing pass in pipeline
+// `ssgi diff`'s comparison (passes/frame/diff.h): tolerances, the first failing pass in pipeline
 // order, percent and hard limits, coverage differences judged by their distance to an edge, and
 // the thresholds file.
-#include "passes/frame_diff.h"
+#include "passes/frame/diff.h"
 
 #include <cstring>
 #include <fstream>
@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "passes/frame_dump.h"
+#include "passes/frame/dump.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 

@@ -1,4 +1,4 @@
-#include "core/raster.h"
+#include "core/raster/raster.h"
 
 #include <algorithm>
 #include <array>
@@ -11,7 +11,7 @@
 
 #include "core/check.h"
 #include "core/parallel.h"
-#include "core/raster_tile.h"
+#include "core/raster/raster_tile.h"
 
 namespace ssgi {
 namespace {

@@ -16,7 +16,7 @@
 #include "core/gbuffer.h"
 #include "core/plane.h"
 #include "core/procedural_mesh.h"
-#include "core/raster.h"
+#include "core/raster/raster.h"
 #include "core/scene.h"
 #include "passes/gbuffer.h"
 
