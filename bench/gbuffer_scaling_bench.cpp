@@ -29,7 +29,7 @@ void BM_GBufferSsgi(benchmark::State& state) {
   RunGBuffer({bench.scene, view}, GBufferParams{}, out);
   for (auto _ : state) {
     covered = RunGBuffer({bench.scene, view}, GBufferParams{}, out).coveredPixels;
-    benchmark::DoNotOptimize(out.gbuffer.word[2].ConstRow(0));
+    benchmark::DoNotOptimize(out.gbuffer.word[GBufferWord::kDepth].ConstRow(0));
   }
   const double pixels = double(size) * double(size);
   state.SetItemsProcessed(int64_t(state.iterations()) * state.range(0));

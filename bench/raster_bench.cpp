@@ -82,7 +82,7 @@ void GBufferPass(benchmark::State& state, const BenchScene& bench) {
     rasterMs += stats.rasterMs;
     resolveMs += stats.resolveMs;
     covered = stats.coveredPixels;
-    benchmark::DoNotOptimize(out.gbuffer.word[2].ConstRow(0));
+    benchmark::DoNotOptimize(out.gbuffer.word[GBufferWord::kDepth].ConstRow(0));
   }
   ReportCommon(state, scene);
   state.counters["rasterMs"] = benchmark::Counter(rasterMs, benchmark::Counter::kAvgIterations);

@@ -40,7 +40,7 @@ const ShadowInputs& Inputs(const BenchScene& bench) {
   in.lightIndex = ShadowCastingLights(scene).front();
   in.light = PrepareLights(scene, in.view.view)[in.lightIndex];
   ShadowMapOutputs out;
-  RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out, in.g.gbuffer.word[3]);
+  RunShadowMap({scene, in.view, in.g.gbuffer, in.lightIndex}, {}, out, in.g.gbuffer.word[GBufferWord::kShadowTerm]);
   return inputs.emplace(&bench, std::move(in)).first->second;
 }
 

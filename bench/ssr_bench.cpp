@@ -29,7 +29,7 @@ void RunKernels(benchmark::State& state, Pass&& pass) {
 void BM_HiZ(benchmark::State& state) {
   HiZ out;
   RunKernels(state, [&](const Frame& f, KernelPath kernels) {
-    return RunHiZ(f.gbuffer.gbuffer.word[2], out, kernels).texels;
+    return RunHiZ(f.gbuffer.gbuffer.word[GBufferWord::kDepth], out, kernels).texels;
   });
 }
 

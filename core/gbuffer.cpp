@@ -25,10 +25,10 @@ float SignNotZero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
 GBuffer MakeGBuffer(int width, int height, NormalEncoding encoding) {
   GBuffer g;
   g.normalEncoding = encoding;
-  g.word[0] = MakePlane<uint32_t>(width, height, 0u);
-  g.word[1] = MakePlane<uint32_t>(width, height, 0u);
-  g.word[2] = MakePlane<uint32_t>(width, height, PackDepth(kBackgroundDepth));
-  g.word[3] = MakePlane<uint32_t>(width, height, kShadowLit);
+  g.word[GBufferWord::kAlbedoMetallic] = MakePlane<uint32_t>(width, height, 0u);
+  g.word[GBufferWord::kNormalRoughness] = MakePlane<uint32_t>(width, height, 0u);
+  g.word[GBufferWord::kDepth] = MakePlane<uint32_t>(width, height, PackDepth(kBackgroundDepth));
+  g.word[GBufferWord::kShadowTerm] = MakePlane<uint32_t>(width, height, kShadowLit);
   return g;
 }
 

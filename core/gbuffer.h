@@ -22,12 +22,17 @@ namespace ssgi {
 inline constexpr float kBackgroundDepth = std::numeric_limits<float>::infinity();
 inline constexpr uint32_t kShadowLit = 0u;  // word 3 of a pixel with no blocker
 
+// The four words by what they hold: the indices of GBuffer::word, and the "gbuffer.wordN" dump layers.
+struct GBufferWord {
+  enum : int { kAlbedoMetallic = 0, kNormalRoughness = 1, kDepth = 2, kShadowTerm = 3 };
+};
+
 struct GBuffer {
   Plane<uint32_t> word[4];
   // How word 1 stores the normal: set by the G-buffer pass, read by every pass that decodes it.
   NormalEncoding normalEncoding = NormalEncoding::kOct24;
-  int width() const { return int(word[0].xsize()); }
-  int height() const { return int(word[0].ysize()); }
+  int width() const { return int(word[GBufferWord::kAlbedoMetallic].xsize()); }
+  int height() const { return int(word[GBufferWord::kAlbedoMetallic].ysize()); }
 };
 
 // A G-buffer of the given size and normal encoding, every pixel background: words 0, 1, 3 zero,

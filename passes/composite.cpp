@@ -44,9 +44,9 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
   ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {
       const CompositeRow row{
-          in.gbuffer.word[0].ConstRow(y),
-          in.gbuffer.word[1].ConstRow(y),
-          in.gbuffer.word[2].ConstRow(y),
+          in.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y),
+          in.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y),
+          in.gbuffer.word[GBufferWord::kDepth].ConstRow(y),
           in.confidence.ConstRow(y),
           {in.direct.c[0].ConstRow(y), in.direct.c[1].ConstRow(y), in.direct.c[2].ConstRow(y)},
           {in.reflected.c[0].ConstRow(y), in.reflected.c[1].ConstRow(y), in.reflected.c[2].ConstRow(y)},

@@ -69,9 +69,10 @@ DirectLightStats RunDirectLight(const DirectLightInputs& in, const DirectLightPa
     size_t shaded = 0;
     for (size_t y = yBegin; y < yEnd; ++y) {
       shaded +=
-          row(context, in.gbuffer.word[0].ConstRow(y), in.gbuffer.word[1].ConstRow(y), in.gbuffer.word[2].ConstRow(y),
-              visibility ? visibility->ConstRow(y) : nullptr, y, width,
-              out.radiance.c[0].MutableRow(y), out.radiance.c[1].MutableRow(y), out.radiance.c[2].MutableRow(y));
+          row(context, in.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y),
+              in.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y),
+              in.gbuffer.word[GBufferWord::kDepth].ConstRow(y), visibility ? visibility->ConstRow(y) : nullptr, y,
+              width, out.radiance.c[0].MutableRow(y), out.radiance.c[1].MutableRow(y), out.radiance.c[2].MutableRow(y));
     }
     shadedPerBand[band] = shaded;
   });

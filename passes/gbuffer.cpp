@@ -103,7 +103,7 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   // The resolve writes every pixel of words 0-3. (A frame that freed its buffers after their last
   // readers has no word 3 left: made anew.)
   if (out.gbuffer.width() == view.width && out.gbuffer.height() == view.height &&
-      out.gbuffer.word[3].xsize() == width) {
+      out.gbuffer.word[GBufferWord::kShadowTerm].xsize() == width) {
     out.gbuffer.normalEncoding = params.normalEncoding;
   } else {
     out.gbuffer = MakeGBuffer(view.width, view.height, params.normalEncoding);
@@ -144,12 +144,12 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
       return;
     }
     for (size_t y = yBegin; y < yEnd; ++y) {
-      coveredPerBand[band] += GBufferResolveRowScalar(context, visibility.triangle.ConstRow(y),
-                                                      visibility.depthKey.ConstRow(y), int(y), view.width,
-                                                      out.gbuffer.word[0].MutableRow(y),
-                                                      out.gbuffer.word[1].MutableRow(y),
-                                                      out.gbuffer.word[2].MutableRow(y),
-                                                      out.gbuffer.word[3].MutableRow(y));
+      coveredPerBand[band] +=
+          GBufferResolveRowScalar(context, visibility.triangle.ConstRow(y), visibility.depthKey.ConstRow(y), int(y),
+                                  view.width, out.gbuffer.word[GBufferWord::kAlbedoMetallic].MutableRow(y),
+                                  out.gbuffer.word[GBufferWord::kNormalRoughness].MutableRow(y),
+                                  out.gbuffer.word[GBufferWord::kDepth].MutableRow(y),
+                                  out.gbuffer.word[GBufferWord::kShadowTerm].MutableRow(y));
     }
   });
   for (size_t n : coveredPerBand) stats.coveredPixels += n;

@@ -400,7 +400,9 @@ size_t GBufferResolveBlocks(const GBufferResolveInputs& in, const GBufferResolve
     const size_t rowCount = HWY_MIN(kHeight, size_t(rows.count) - r);
     const uint32_t* const* triangleRows = rows.triangles + r;
     const float* const* depthKeyRows = rows.depthKeys + r;
-    uint32_t* const* wordRows[4] = {rows.word[0] + r, rows.word[1] + r, rows.word[2] + r, rows.word[3] + r};
+    uint32_t* const* wordRows[4] = {rows.word[GBufferWord::kAlbedoMetallic] + r,
+                                    rows.word[GBufferWord::kNormalRoughness] + r, rows.word[GBufferWord::kDepth] + r,
+                                    rows.word[GBufferWord::kShadowTerm] + r};
     // The view rays' y of the lanes' rows and of the rows below them (PixelRay's, as the columns' x).
     HWY_ALIGN float rayY[kLanes], downRayY[kLanes];
     for (size_t lane = 0; lane < kLanes; ++lane) {

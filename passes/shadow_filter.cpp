@@ -332,7 +332,8 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
   ParallelFor("shadow_filter.penumbra", size_t(tilesY), [&](size_t band) {
     const int y0 = int(band) * kShadowFilterTileSize;
     for (int y = y0; y < std::min(height, y0 + kShadowFilterTileSize); ++y)
-      kernels.penumbra(context, g.word[2].ConstRow(size_t(y)), g.word[3].ConstRow(size_t(y)), 0, y, width,
+      kernels.penumbra(context, g.word[GBufferWord::kDepth].ConstRow(size_t(y)),
+                       g.word[GBufferWord::kShadowTerm].ConstRow(size_t(y)), 0, y, width,
                        out.visibility.MutableRow(size_t(y)), summaries.data() + band * size_t(tilesX));
   });
   ShadowFilterStats stats;
@@ -351,9 +352,10 @@ ShadowFilterStats Run(const ShadowFilterInputs& in, const ShadowFilterParams& pa
     for (int y = r.y0; y < r.y1; ++y) {
       const size_t i = image.Index(r.x0, y);
       const ShadowFilterKernels rowKernels = scratch.kernels + i;
-      kernels.setup(context, g.word[1].ConstRow(size_t(y)) + r.x0, g.word[2].ConstRow(size_t(y)) + r.x0,
-                    g.word[3].ConstRow(size_t(y)) + r.x0, r.x0, y, r.x1 - r.x0, scratch.texels + i,
-                    withKernel ? &rowKernels : nullptr);
+      kernels.setup(context, g.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y)) + r.x0,
+                    g.word[GBufferWord::kDepth].ConstRow(size_t(y)) + r.x0,
+                    g.word[GBufferWord::kShadowTerm].ConstRow(size_t(y)) + r.x0, r.x0, y, r.x1 - r.x0,
+                    scratch.texels + i, withKernel ? &rowKernels : nullptr);
     }
   });
   // Pass 1 along each pixel's major axis; the tiles around the blurred ones keep their hard values,

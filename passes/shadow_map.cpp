@@ -74,7 +74,8 @@ Receivers ScanReceivers(const GBuffer& gbuffer, const ReceiverPositions& positio
   ParallelForRowBands("shadow_map.receivers", height, [&](size_t band, size_t yBegin, size_t yEnd) {
     Receivers& r = partial[band];
     for (int y = int(yBegin); y < int(yEnd); ++y)
-      r.count += boundsRow(gbuffer.word[2].ConstRow(y), width, positions, positions.AtRow(y), r.bounds.lo, r.bounds.hi);
+      r.count += boundsRow(gbuffer.word[GBufferWord::kDepth].ConstRow(y), width, positions, positions.AtRow(y),
+                           r.bounds.lo, r.bounds.hi);
   });
   Receivers all;
   for (const Receivers& r : partial) {
@@ -300,7 +301,8 @@ void RunBlockerSearch(const BlockerSearchContext& context, const GBuffer& gbuffe
   const auto searchRow = kernels == KernelPath::kSimd ? BlockerSearchRowSimd : BlockerSearchRowScalar;
   ParallelForRowBands("shadow_map.blocker_search", size_t(gbuffer.height()), [&](size_t, size_t yBegin, size_t yEnd) {
     for (int y = int(yBegin); y < int(yEnd); ++y)
-      searchRow(context, gbuffer.word[1].ConstRow(y), gbuffer.word[2].ConstRow(y), y, width, shadowTerm.MutableRow(y));
+      searchRow(context, gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y),
+                gbuffer.word[GBufferWord::kDepth].ConstRow(y), y, width, shadowTerm.MutableRow(y));
   });
 }
 

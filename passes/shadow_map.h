@@ -65,9 +65,9 @@ struct ShadowMapStats {
 
 // shadowTerm: the shadow term of every G-buffer pixel (PackShadowTerm), written for every pixel,
 // kShadowLit for background and for receivers outside the shadow map. Same size as the G-buffer;
-// normally the G-buffer's own word[3] (the pass never reads word 3). `out` may hold the map of an
-// earlier frame: one of the same resolution is overwritten in place. `kernels` picks the raster's
-// tile kernel and the blocker search's row kernel; both paths give the same bytes.
+// normally the G-buffer's own word[GBufferWord::kShadowTerm] (the pass never reads word 3). `out` may hold the map of
+// an earlier frame: one of the same resolution is overwritten in place. `kernels` picks the raster's tile kernel and
+// the blocker search's row kernel; both paths give the same bytes.
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
                             Plane<uint32_t>& shadowTerm, KernelPath kernels = KernelPath::kSimd);
 

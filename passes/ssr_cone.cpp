@@ -213,8 +213,8 @@ SsrConeStats RunSsrCone(const SsrConeInputs& in, const SsrConeParams& params, Ss
     for (size_t y = yBegin; y < yEnd; ++y) {
       ForEachConeRun(in, y, out, [&](size_t xBegin, size_t xEnd) {
         const SsrConeCounts counts = SsrConeRowScalar(
-            context, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y),
-            in.confidence.ConstRow(y), y, xBegin, xEnd, out.reflected.c[0].MutableRow(y),
+            context, in.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y), in.hitX.ConstRow(y),
+            in.hitY.ConstRow(y), in.confidence.ConstRow(y), y, xBegin, xEnd, out.reflected.c[0].MutableRow(y),
             out.reflected.c[1].MutableRow(y), out.reflected.c[2].MutableRow(y));
         rowCounts[y].samples += counts.samples;
         rowCounts[y].pixels += counts.pixels;

@@ -279,9 +279,9 @@ void SsrConeRowsSimd(const SsrConeContext& context, const SsrConeInputs& in, siz
   for (size_t y = yBegin; y < yEnd; ++y) {
     ForEachConeRun(in, y, out, [&](size_t xBegin, size_t xEnd) {
       const SsrConeCounts counts = HWY_DYNAMIC_DISPATCH(ConeRow)(
-          frame, in.gbuffer.word[1].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y), in.confidence.ConstRow(y),
-          y, xBegin, xEnd, out.reflected.c[0].MutableRow(y), out.reflected.c[1].MutableRow(y),
-          out.reflected.c[2].MutableRow(y));
+          frame, in.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y), in.hitX.ConstRow(y), in.hitY.ConstRow(y),
+          in.confidence.ConstRow(y), y, xBegin, xEnd, out.reflected.c[0].MutableRow(y),
+          out.reflected.c[1].MutableRow(y), out.reflected.c[2].MutableRow(y));
       rowCounts[y].samples += counts.samples;
       rowCounts[y].pixels += counts.pixels;
     });

@@ -51,9 +51,9 @@ class PixelTracer {
   // Traces pixel (x, y) when it has geometry below the roughness cut-off; counts traced rays.
   PixelHit Trace(int x, int y, SsrTraceCounts& counts) const {
     PixelHit none;
-    const float d = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(y))[x]);
+    const float d = UnpackDepth(in_.gbuffer.word[GBufferWord::kDepth].ConstRow(size_t(y))[x]);
     if (!(d < kBackgroundDepth) || !(d > 0.0f)) return none;
-    const uint32_t word1 = in_.gbuffer.word[1].ConstRow(size_t(y))[x];
+    const uint32_t word1 = in_.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x];
     if (!(UnpackRoughness(word1) < params_.roughnessCutoff)) return none;
 
     const glm::vec3 p = in_.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction * d;
@@ -82,10 +82,10 @@ class PixelTracer {
 
     const int hx = std::min(int(march.position.x), in_.gbuffer.width() - 1);
     const int hy = std::min(int(march.position.y), in_.gbuffer.height() - 1);
-    const float hitDepth = UnpackDepth(in_.gbuffer.word[2].ConstRow(size_t(hy))[hx]);
+    const float hitDepth = UnpackDepth(in_.gbuffer.word[GBufferWord::kDepth].ConstRow(size_t(hy))[hx]);
     if (!(hitDepth < kBackgroundDepth)) return miss;
-    const glm::vec3 hitNormal =
-        UnpackNormal(in_.gbuffer.word[1].ConstRow(size_t(hy))[hx], in_.gbuffer.normalEncoding);
+    const glm::vec3 hitNormal = UnpackNormal(in_.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(hy))[hx],
+                                             in_.gbuffer.normalEncoding);
     // Back faces and surfaces the ray only grazes cannot reflect light back along r.
     if (glm::dot(hitNormal, r) >= 0.0f) return miss;
 

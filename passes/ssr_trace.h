@@ -44,7 +44,7 @@ struct SsrTraceParams {
 struct SsrTraceInputs {
   const GBuffer& gbuffer;        // words 1 (normal, roughness) and 2 (view depth)
   const ViewProjection& view;    // the perspective camera of the G-buffer's size
-  const HiZ& hiz;                // RunHiZ of gbuffer.word[2]
+  const HiZ& hiz;                // RunHiZ of gbuffer.word[GBufferWord::kDepth]
   // FramePlan::reflectionTiles of this G-buffer, or null: its 32x32 tiles hold every pixel that can
   // trace, and the others get "no hit" stored without reading anything (the same bytes).
   const TileMask* tiles = nullptr;

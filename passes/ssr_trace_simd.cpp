@@ -433,10 +433,10 @@ SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
   SsrTraceFrame frame{};
   frame.width = g.width();
   frame.height = g.height();
-  frame.word1 = g.word[1].ConstRow(0);
-  frame.word2 = g.word[2].ConstRow(0);
-  SSGI_CHECK_EQ(g.word[1].PixelsPerRow(), g.word[2].PixelsPerRow());
-  frame.gbufferStride = int32_t(g.word[1].PixelsPerRow());
+  frame.word1 = g.word[GBufferWord::kNormalRoughness].ConstRow(0);
+  frame.word2 = g.word[GBufferWord::kDepth].ConstRow(0);
+  SSGI_CHECK_EQ(g.word[GBufferWord::kNormalRoughness].PixelsPerRow(), g.word[GBufferWord::kDepth].PixelsPerRow());
+  frame.gbufferStride = int32_t(g.word[GBufferWord::kNormalRoughness].PixelsPerRow());
   frame.encoding = g.normalEncoding;
   frame.view = &in.view;
   frame.levels = int(in.hiz.levels.size());

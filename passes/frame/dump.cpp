@@ -34,7 +34,9 @@ struct DecodedGBuffer {
     for (int i = 0; i < kCount; ++i) planes.push_back(MakePlane<float>(width, height, 0.0f));
     for (int y = 0; y < height; ++y) {
       for (int x = 0; x < width; ++x) {
-        const uint32_t w0 = g.word[0].ConstRow(y)[x], w1 = g.word[1].ConstRow(y)[x], w2 = g.word[2].ConstRow(y)[x];
+        const uint32_t w0 = g.word[GBufferWord::kAlbedoMetallic].ConstRow(y)[x],
+                       w1 = g.word[GBufferWord::kNormalRoughness].ConstRow(y)[x],
+                       w2 = g.word[GBufferWord::kDepth].ConstRow(y)[x];
         const float depth = UnpackDepth(w2);
         const glm::vec3 albedo = UnpackAlbedo(w0);
         const glm::vec3 normal = depth == kBackgroundDepth ? glm::vec3(0.0f) : UnpackNormal(w1, g.normalEncoding);
@@ -247,7 +249,7 @@ void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
   const GBuffer& g = frame.gbuffer.gbuffer;
   const int width = g.width(), height = g.height();
   const DecodedGBuffer decoded(g);
-  const DecodedShadowTerm shadowTerm(g.word[3]);
+  const DecodedShadowTerm shadowTerm(g.word[GBufferWord::kShadowTerm]);
   std::optional<Plane3<uint32_t>> display;
   if (frame.display.rgb.size() == size_t(width) * size_t(height) * 3)
     display = DisplayCodes(frame.display, size_t(width), size_t(height));
@@ -260,7 +262,7 @@ void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
   image.channels.push_back(Channel("raster.depthKey", frame.gbuffer.visibility.depthKey));
   image.channels.push_back(Channel("raster.triangle", frame.gbuffer.visibility.triangle));
   if (frame.shadows) {
-    image.channels.push_back(Channel("gbuffer.word3", g.word[3]));
+    image.channels.push_back(Channel("gbuffer.word3", g.word[GBufferWord::kShadowTerm]));
     image.channels.push_back(Channel("shadow.hard", shadowTerm.hard));
     image.channels.push_back(Channel("shadow.blocker", shadowTerm.blocker));
     if (frame.shadowVisibility.visibility.xsize() == size_t(width))
@@ -324,7 +326,7 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
   if (from > FramePass::kGBuffer) {
     for (int w = 0; w < 3; ++w) LoadPlane(dump, file, image, "gbuffer.word" + std::to_string(w), width, height, g.word[w]);
     // Word 3 as the G-buffer pass leaves it, unless the shadow term is loaded below.
-    g.word[3] = MakePlane<uint32_t>(width, height, kShadowLit);
+    g.word[GBufferWord::kShadowTerm] = MakePlane<uint32_t>(width, height, kShadowLit);
     if (HasLayer(dump, image, "raster.triangle")) {
       LoadPlane(dump, file, image, "raster.depthKey", width, height, frame.gbuffer.visibility.depthKey);
       LoadPlane(dump, file, image, "raster.triangle", width, height, frame.gbuffer.visibility.triangle);
@@ -335,7 +337,7 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
   const FramePlan plan = PlanFrame(scene, config, g, MakePerspective(scene.camera, config.width, config.height));
   const bool shadows = plan.shadows.run, reflections = plan.reflections.run;
   if (shadows && before(FramePass::kShadowMap) && (runs(FramePass::kShadowFilter) || HasLayer(dump, image, "gbuffer.word3")))
-    LoadPlane(dump, file, image, "gbuffer.word3", width, height, g.word[3]);
+    LoadPlane(dump, file, image, "gbuffer.word3", width, height, g.word[GBufferWord::kShadowTerm]);
   if (shadows && before(FramePass::kShadowFilter) && runs(FramePass::kDirectLight))
     LoadPlane(dump, file, image, "shadow.visibility", width, height, frame.shadowVisibility.visibility);
   const bool directRead = (reflections && (runs(FramePass::kColorPyramid) || runs(FramePass::kComposite))) ||

@@ -78,8 +78,8 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
   const size_t shadowLight = frame.plan.shadowLight.value_or(0);  // meaningful where frame.shadows
   if (frame.shadows && runs(FramePass::kShadowMap)) {
     if (!frame.shadowMap) frame.shadowMap.emplace();  // a kept frame's map is redrawn in place
-    stats.shadowMap =
-        RunShadowMap({scene, frame.view, gbuffer, shadowLight}, config.shadowMap, *frame.shadowMap, gbuffer.word[3]);
+    stats.shadowMap = RunShadowMap({scene, frame.view, gbuffer, shadowLight}, config.shadowMap, *frame.shadowMap,
+                                   gbuffer.word[GBufferWord::kShadowTerm]);
   }
   drop(frame.shadowMap);
   if (frame.shadows && runs(FramePass::kShadowFilter)) {
@@ -98,7 +98,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     stats.directLight = RunDirectLight(directInputs, config.directLight, frame.direct);
   }
   drop(frame.shadowVisibility);
-  drop(frame.gbuffer.gbuffer.word[3]);  // the shadow term: read by the filter only
+  drop(frame.gbuffer.gbuffer.word[GBufferWord::kShadowTerm]);  // the shadow term: read by the filter only
 
   frame.reflections = frame.plan.reflections.run;
   if (frame.reflections) {
@@ -106,7 +106,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     // direct image becomes the pyramid's level 0 (it is already sanitised), the hits' planes the
     // reflection's red and green, and the composite writes over the direct image and the
     // reflection. Each pass reads a pixel before it writes over it: the same bytes.
-    if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[2], frame.hiz);
+    if (runs(FramePass::kHiZ)) stats.hiz = RunHiZ(gbuffer.word[GBufferWord::kDepth], frame.hiz);
     // No dump reads the frame's reflection buffers: it frees them, or keeps them for reuse.
     const bool undumped = lifetime != BufferLifetime::kKeepAll;
     // Then the direct image is the pyramid's level 0 while the pyramid is made and read.
@@ -141,8 +141,9 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
     if (pyramidAfterTrace) {
       std::optional<ColorPyramidNeeds> needs;
       if (frame.plan.reflections.pixels <= frame.plan.pixels / kPartialPyramidShare) {
-        needs = SsrConePyramidNeeds(gbuffer.word[1], frame.ssrTrace.hitX, frame.ssrTrace.hitY,
-                                    frame.ssrTrace.confidence, reflectionTiles, frame.plan.pixels / 2);
+        needs =
+            SsrConePyramidNeeds(gbuffer.word[GBufferWord::kNormalRoughness], frame.ssrTrace.hitX, frame.ssrTrace.hitY,
+                                frame.ssrTrace.confidence, reflectionTiles, frame.plan.pixels / 2);
       }
       makePyramid(needs ? &*needs : nullptr);
     }
@@ -220,7 +221,7 @@ std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer) {
   const int width = gbuffer.width(), height = gbuffer.height();
   std::vector<uint8_t> rgb(size_t(width) * size_t(height) * 3);
   for (int y = 0; y < height; ++y) {
-    const uint32_t* w0 = gbuffer.word[0].ConstRow(y);
+    const uint32_t* w0 = gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y);
     for (int x = 0; x < width; ++x)
       for (int c = 0; c < 3; ++c) rgb[(size_t(y) * width + x) * 3 + c] = uint8_t(w0[x] >> (8 * c));
   }

@@ -113,8 +113,8 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
     const size_t firstTile = tileRow * size_t(tilesX);
     const int y0 = int(tileRow) * TileMask::kTileSize, y1 = std::min(y0 + TileMask::kTileSize, height);
     for (int y = y0; y < y1; ++y) {
-      const uint32_t* word1 = gbuffer.word[1].ConstRow(size_t(y));
-      const uint32_t* word2 = gbuffer.word[2].ConstRow(size_t(y));
+      const uint32_t* word1 = gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y));
+      const uint32_t* word2 = gbuffer.word[GBufferWord::kDepth].ConstRow(size_t(y));
       CountPlanRowSimd(word1, word2, width, smoothCodes, &geometryPerTile[firstTile], &smoothPerTile[firstTile]);
       for (int x = 0; x < width && seeking(); ++x) {
         const float depth = UnpackDepth(word2[x]);

@@ -30,9 +30,11 @@ struct CompositeFixture {
   CompositeFixture() {
     for (int y = 0; y < 4; ++y) {
       for (int x = 0; x < 4; ++x) {
-        gbuffer.word[0].MutableRow(y)[x] = PackAlbedoMetallic(glm::vec3(0.9f, 0.6f, 0.3f), 1.0f);
-        gbuffer.word[1].MutableRow(y)[x] = PackNormalRoughness({0.0f, 0.0f, 1.0f}, 0.0f, NormalEncoding::kOct24);
-        gbuffer.word[2].MutableRow(y)[x] = PackDepth(3.0f);
+        gbuffer.word[GBufferWord::kAlbedoMetallic].MutableRow(y)[x] =
+            PackAlbedoMetallic(glm::vec3(0.9f, 0.6f, 0.3f), 1.0f);
+        gbuffer.word[GBufferWord::kNormalRoughness].MutableRow(y)[x] =
+            PackNormalRoughness({0.0f, 0.0f, 1.0f}, 0.0f, NormalEncoding::kOct24);
+        gbuffer.word[GBufferWord::kDepth].MutableRow(y)[x] = PackDepth(3.0f);
       }
     }
     confidence.MutableRow(0)[0] = 0.0f;
@@ -58,7 +60,7 @@ TEST_CASE("composite: result = direct + reflected x specular weight x confidence
           CHECK(indirect == 0.0f);  // background, or no confident hit
         } else {
           // A mirror metal seen head-on reflects about its base colour (F0 = albedo) of the traced light.
-          const float albedo = UnpackAlbedo(f.gbuffer.word[0].ConstRow(y)[x])[c];
+          const float albedo = UnpackAlbedo(f.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y)[x])[c];
           CHECK(indirect == Approx(2.0f * 0.5f * albedo).epsilon(0.05));
         }
       }
@@ -69,7 +71,8 @@ TEST_CASE("composite: result = direct + reflected x specular weight x confidence
 TEST_CASE("composite: reflections fade out just below the roughness cut-off", "[composite]") {
   CompositeFixture f;
   auto indirectAt = [&](float roughness) {
-    f.gbuffer.word[1].MutableRow(1)[1] = PackNormalRoughness({0.0f, 0.0f, 1.0f}, roughness, NormalEncoding::kOct24);
+    f.gbuffer.word[GBufferWord::kNormalRoughness].MutableRow(1)[1] =
+        PackNormalRoughness({0.0f, 0.0f, 1.0f}, roughness, NormalEncoding::kOct24);
     return f.Run().indirect.c[0].ConstRow(1)[1];
   };
   const float full = indirectAt(0.5f);
@@ -126,7 +129,10 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
             // Every output row is filled past the row's end, which must stay as it is.
             std::vector<float> expected(6 * kWidth, -1.0f), actual(6 * kWidth);
             const auto rowOf = [&](std::vector<float>& out) {
-              return CompositeRow{words.word[0].data(), words.word[1].data(), words.word[2].data(), in[0].data(),
+              return CompositeRow{words.word[GBufferWord::kAlbedoMetallic].data(),
+                                  words.word[GBufferWord::kNormalRoughness].data(),
+                                  words.word[GBufferWord::kDepth].data(),
+                                  in[0].data(),
                                   {in[1].data(), in[2].data(), in[3].data()},
                                   {in[4].data(), in[5].data(), in[6].data()},
                                   {&out[0], &out[kWidth], &out[2 * kWidth]},

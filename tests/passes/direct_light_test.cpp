@@ -52,9 +52,10 @@ test::TestScene ViewSpaceScene(int width, int height) {
 
 void SetPixel(GBuffer& g, int x, int y, glm::vec3 albedo, float metallic, glm::vec3 normal, float roughness,
               float depth) {
-  g.word[0].MutableRow(size_t(y))[x] = PackAlbedoMetallic(albedo, metallic);
-  g.word[1].MutableRow(size_t(y))[x] = PackNormalRoughness(glm::normalize(normal), roughness, g.normalEncoding);
-  g.word[2].MutableRow(size_t(y))[x] = PackDepth(depth);
+  g.word[GBufferWord::kAlbedoMetallic].MutableRow(size_t(y))[x] = PackAlbedoMetallic(albedo, metallic);
+  g.word[GBufferWord::kNormalRoughness].MutableRow(size_t(y))[x] =
+      PackNormalRoughness(glm::normalize(normal), roughness, g.normalEncoding);
+  g.word[GBufferWord::kDepth].MutableRow(size_t(y))[x] = PackDepth(depth);
 }
 
 glm::vec3 Radiance(const DirectLightOutputs& out, int x, int y) {
@@ -86,7 +87,8 @@ TEST_CASE("direct light: one sun on one surface is the analytic GGX value", "[di
     const DirectLightStats stats = RunDirectLight({g, view, scene}, {}, out);
     CHECK(stats.pixels == 1);
     // What the pass sees: the G-buffer's quantised values.
-    const uint32_t w0 = g.word[0].ConstRow(3)[4], w1 = g.word[1].ConstRow(3)[4];
+    const uint32_t w0 = g.word[GBufferWord::kAlbedoMetallic].ConstRow(3)[4],
+                   w1 = g.word[GBufferWord::kNormalRoughness].ConstRow(3)[4];
     const ViewProjection::Ray ray = view.PixelRay(4.5f, 3.5f);
     const dvec3 v = glm::normalize(-dvec3(ray.direction));
     const dvec3 expected =
@@ -199,14 +201,16 @@ TEST_CASE("direct light: the SIMD kernel equals the scalar kernel on every targe
             const float* visibility = shadowed ? visibilities.data() : nullptr;
             for (int width = 1; width <= kWidth; ++width) {
               std::vector<float> expected(3 * kWidth, -1.0f);
-              const size_t expectedShaded =
-                  DirectLightRowScalar(context, row.word[0].data(), row.word[1].data(), row.word[2].data(), visibility, y,
-                                       width, &expected[0], &expected[kWidth], &expected[2 * kWidth]);
+              const size_t expectedShaded = DirectLightRowScalar(
+                  context, row.word[GBufferWord::kAlbedoMetallic].data(),
+                  row.word[GBufferWord::kNormalRoughness].data(), row.word[GBufferWord::kDepth].data(), visibility, y,
+                  width, &expected[0], &expected[kWidth], &expected[2 * kWidth]);
               test::ForEachSimdTarget([&](const char* target) {
                 std::vector<float> actual(3 * kWidth, -1.0f);
-                const size_t shaded =
-                    DirectLightRowSimd(context, row.word[0].data(), row.word[1].data(), row.word[2].data(), visibility,
-                                       y, width, &actual[0], &actual[kWidth], &actual[2 * kWidth]);
+                const size_t shaded = DirectLightRowSimd(context, row.word[GBufferWord::kAlbedoMetallic].data(),
+                                                         row.word[GBufferWord::kNormalRoughness].data(),
+                                                         row.word[GBufferWord::kDepth].data(), visibility, y, width,
+                                                         &actual[0], &actual[kWidth], &actual[2 * kWidth]);
                 CAPTURE(target, view.orthographic, int(encoding), y, set.lights.size(), set.shadowed, shadowed, width);
                 CHECK(shaded == expectedShaded);
                 // Every pixel the same bits, and nothing written past the row's end.

@@ -53,23 +53,24 @@ TEST_CASE("g-buffer: every pixel of a ground plane has its analytic depth and no
         const double t = glm::dot(planeNormal, planePoint) / glm::dot(planeNormal, direction);
         const glm::dvec3 world(toWorld * glm::dvec4(direction * t, 1.0));
         const double edge = std::max(std::fabs(world.x), std::fabs(world.z));
-        const float depth = UnpackDepth(g.word[2].ConstRow(size_t(y))[x]);
+        const float depth = UnpackDepth(g.word[GBufferWord::kDepth].ConstRow(size_t(y))[x]);
         covered += depth != kBackgroundDepth;
         // Pixels whose centre is clearly on or off the plane; those near its far edge may go either way.
         if (t > 0.0 && edge < kHalf * 0.98) {
           ++checked;
           REQUIRE(depth != kBackgroundDepth);
           CHECK(double(depth) == Approx(t).epsilon(1e-3));  // float32 at grazing angles, as the Embree depth test
-          const uint32_t w0 = g.word[0].ConstRow(size_t(y))[x], w1 = g.word[1].ConstRow(size_t(y))[x];
+          const uint32_t w0 = g.word[GBufferWord::kAlbedoMetallic].ConstRow(size_t(y))[x],
+                         w1 = g.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x];
           CHECK(w0 == PackAlbedoMetallic(scene.materials[0].baseColor, 0.25f));
           CHECK((w1 >> 24) == 77u);  // round(0.3 * 255)
           const double cosine = glm::dot(glm::dvec3(UnpackNormal(w1, encoding)), planeNormal);
           CHECK(std::acos(std::min(cosine, 1.0)) * 180.0 / 3.14159265358979 < maxNormalError);
-          CHECK(g.word[3].ConstRow(size_t(y))[x] == kShadowLit);
+          CHECK(g.word[GBufferWord::kShadowTerm].ConstRow(size_t(y))[x] == kShadowLit);
         } else if (t <= 0.0 || edge > kHalf * 1.02) {
           CHECK(depth == kBackgroundDepth);
-          CHECK(g.word[0].ConstRow(size_t(y))[x] == 0u);
-          CHECK(g.word[1].ConstRow(size_t(y))[x] == 0u);
+          CHECK(g.word[GBufferWord::kAlbedoMetallic].ConstRow(size_t(y))[x] == 0u);
+          CHECK(g.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x] == 0u);
         }
       }
     }
@@ -114,7 +115,8 @@ TEST_CASE("g-buffer: outputs kept from an earlier frame give the bytes of new on
     CameraDesc elsewhere = scene.camera;
     elsewhere.position = {3.0f, 0.5f, -2.0f};
     RunGBuffer({scene, MakePerspective(elsewhere, 67, 45)}, {NormalEncoding::kOct24}, reused, kernels);
-    for (size_t y = 0; y < 45; ++y) std::fill_n(reused.gbuffer.word[3].MutableRow(y), 67, 0x80000001u);
+    for (size_t y = 0; y < 45; ++y)
+      std::fill_n(reused.gbuffer.word[GBufferWord::kShadowTerm].MutableRow(y), 67, 0x80000001u);
     RunGBuffer({scene, view}, {NormalEncoding::kXyz8}, reused, kernels);
     CHECK(reused.gbuffer.normalEncoding == NormalEncoding::kXyz8);
     for (int w = 0; w < 4; ++w) CHECK(test::SameBytes(reused.gbuffer.word[w], fresh.gbuffer.word[w]));

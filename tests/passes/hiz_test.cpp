@@ -178,7 +178,7 @@ TEST_CASE("Hi-Z: the SIMD pass gives the scalar pass's bytes on the default scen
           "[hiz][simd]") {
   std::mt19937 rng(5);
   std::vector<Plane<uint32_t>> depths;
-  depths.push_back(std::move(test::LoadDefaultScene().Render(1024, 1024).gbuffer.gbuffer.word[2]));
+  depths.push_back(std::move(test::LoadDefaultScene().Render(1024, 1024).gbuffer.gbuffer.word[GBufferWord::kDepth]));
   for (const auto& [width, height] : {std::pair<size_t, size_t>{1, 1}, {67, 45}, {1023, 769}})
     depths.push_back(RandomDepth(width, height, rng));
   for (const Plane<uint32_t>& depth : depths) {

@@ -49,8 +49,10 @@ struct Rendered {
   GBufferOutputs g;
   PreparedLight light;
 
-  bool Background(int x, int y) const { return !(UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]) < kBackgroundDepth); }
-  bool Hard(int x, int y) const { return UnpackHardShadow(g.gbuffer.word[3].ConstRow(y)[x]); }
+  bool Background(int x, int y) const {
+    return !(UnpackDepth(g.gbuffer.word[GBufferWord::kDepth].ConstRow(y)[x]) < kBackgroundDepth);
+  }
+  bool Hard(int x, int y) const { return UnpackHardShadow(g.gbuffer.word[GBufferWord::kShadowTerm].ConstRow(y)[x]); }
   glm::vec3 World(int x, int y) const { return test::WorldPosition(camera, g.gbuffer, x, y); }
   glm::vec2 Screen(glm::vec3 world) const {
     const glm::vec4 clip = camera.viewProjection * glm::vec4(world, 1.0f);
@@ -66,7 +68,7 @@ Rendered Render(test::TestScene scene, size_t light = 0) {
   r.camera = MakePerspective(r.scene.camera, r.scene.width, r.scene.height);
   RunGBuffer({r.scene, r.camera}, {r.scene.normalEncoding}, r.g);
   ShadowMapOutputs out;
-  RunShadowMap({r.scene, r.camera, r.g.gbuffer, light}, {}, out, r.g.gbuffer.word[3]);
+  RunShadowMap({r.scene, r.camera, r.g.gbuffer, light}, {}, out, r.g.gbuffer.word[GBufferWord::kShadowTerm]);
   r.light = PrepareLights(r.scene, r.camera.view)[light];
   return r;
 }
@@ -250,7 +252,7 @@ bool ValidVisibility(const GBuffer& g, const Plane<float>& vis) {
     for (int x = 0; x < g.width(); ++x) {
       const float v = vis.ConstRow(y)[x];
       if (!(v >= 0.0f && v <= 1.0f)) return false;
-      if (!(UnpackDepth(g.word[2].ConstRow(y)[x]) < kBackgroundDepth) && v != 1.0f) return false;
+      if (!(UnpackDepth(g.word[GBufferWord::kDepth].ConstRow(y)[x]) < kBackgroundDepth) && v != 1.0f) return false;
     }
   return true;
 }
@@ -276,9 +278,10 @@ GBuffer DegenerateGBuffer(const ViewProjection& camera, NormalEncoding encoding)
         case 2: n = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f)); break;   // back-facing
         default: n = glm::normalize(glm::vec3(0.0f, 1.0f, 0.2f));
       }
-      g.word[1].MutableRow(y)[x] = PackNormalRoughness(n, 0.5f, encoding);
-      g.word[2].MutableRow(y)[x] = PackDepth(depth);
-      g.word[3].MutableRow(y)[x] = PackShadowTerm(((k >> 12) & 1) != 0, distances[(k >> 16) % 6]);
+      g.word[GBufferWord::kNormalRoughness].MutableRow(y)[x] = PackNormalRoughness(n, 0.5f, encoding);
+      g.word[GBufferWord::kDepth].MutableRow(y)[x] = PackDepth(depth);
+      g.word[GBufferWord::kShadowTerm].MutableRow(y)[x] =
+          PackShadowTerm(((k >> 12) & 1) != 0, distances[(k >> 16) % 6]);
     }
   return g;
 }
@@ -416,8 +419,9 @@ struct SetUpImage {
       for (int x = 0; x < g.width(); ++x) {
         const size_t i = image.Index(x, y);
         const ShadowFilterKernels kernels = arrays.kernels + i;
-        ShadowFilterSetupRowScalar(context, g.word[1].ConstRow(y) + x, g.word[2].ConstRow(y) + x,
-                                   g.word[3].ConstRow(y) + x, x, y, 1, arrays.texels + i, &kernels);
+        ShadowFilterSetupRowScalar(
+            context, g.word[GBufferWord::kNormalRoughness].ConstRow(y) + x, g.word[GBufferWord::kDepth].ConstRow(y) + x,
+            g.word[GBufferWord::kShadowTerm].ConstRow(y) + x, x, y, 1, arrays.texels + i, &kernels);
       }
   }
 };
@@ -473,9 +477,9 @@ TEST_CASE("shadow filter: the SIMD set-up kernels equal their scalar definitions
                   y == 17 ? Runs(width) : std::vector<std::pair<int, int>>{{0, width}};
               for (const auto& [x0, x1] : runs) {
                 const int count = x1 - x0;
-                const uint32_t* w1 = g.word[1].ConstRow(y) + x0;
-                const uint32_t* w2 = g.word[2].ConstRow(y) + x0;
-                const uint32_t* w3 = g.word[3].ConstRow(y) + x0;
+                const uint32_t* w1 = g.word[GBufferWord::kNormalRoughness].ConstRow(y) + x0;
+                const uint32_t* w2 = g.word[GBufferWord::kDepth].ConstRow(y) + x0;
+                const uint32_t* w3 = g.word[GBufferWord::kShadowTerm].ConstRow(y) + x0;
                 CAPTURE(set.name, target, light.isSpot, int(filter), maxRadius, y, x0, count);
                 std::vector<float> hardScalar(static_cast<size_t>(count), -7.0f), hardSimd = hardScalar;
                 std::vector<ShadowFilterTileSummary> tilesScalar(static_cast<size_t>(tilesX)), tilesSimd = tilesScalar;

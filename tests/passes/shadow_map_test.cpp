@@ -34,8 +34,10 @@ struct Rendered {
   ViewProjection lightView;
   ShadowMapStats stats;
 
-  uint32_t Term(int x, int y) const { return g.gbuffer.word[3].ConstRow(y)[x]; }
-  bool Background(int x, int y) const { return !(UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]) < kBackgroundDepth); }
+  uint32_t Term(int x, int y) const { return g.gbuffer.word[GBufferWord::kShadowTerm].ConstRow(y)[x]; }
+  bool Background(int x, int y) const {
+    return !(UnpackDepth(g.gbuffer.word[GBufferWord::kDepth].ConstRow(y)[x]) < kBackgroundDepth);
+  }
   glm::vec3 World(int x, int y) const { return test::WorldPosition(camera, g.gbuffer, x, y); }
 };
 
@@ -44,7 +46,8 @@ Rendered Render(const test::TestScene& scene, const ShadowMapParams& params = {}
   r.camera = MakePerspective(scene.camera, scene.width, scene.height);
   RunGBuffer({scene, r.camera}, {scene.normalEncoding}, r.g);
   ShadowMapOutputs out;
-  r.stats = RunShadowMap({scene, r.camera, r.g.gbuffer, light}, params, out, r.g.gbuffer.word[3]);
+  r.stats =
+      RunShadowMap({scene, r.camera, r.g.gbuffer, light}, params, out, r.g.gbuffer.word[GBufferWord::kShadowTerm]);
   r.shadowMap = std::move(out.shadowMap);
   r.lightView = out.lightView;
   return r;
@@ -324,7 +327,8 @@ TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {
     size_t shadowed = 0;
     for (int y = 0; y < 119; ++y) {
       for (const Rendered& run : runs)
-        REQUIRE(std::memcmp(run.g.gbuffer.word[3].ConstRow(y), runs[0].g.gbuffer.word[3].ConstRow(y), 161 * 4) == 0);
+        REQUIRE(std::memcmp(run.g.gbuffer.word[GBufferWord::kShadowTerm].ConstRow(y),
+                            runs[0].g.gbuffer.word[GBufferWord::kShadowTerm].ConstRow(y), 161 * 4) == 0);
       for (int x = 0; x < 161; ++x) shadowed += UnpackHardShadow(runs[0].Term(x, y));
     }
     for (size_t y = 0; y < 517; ++y)
@@ -433,7 +437,7 @@ TEST_CASE("shadow map: the SIMD blocker search equals the scalar definition on e
         ShadowMapParams params;
         params.resolution = resolution;
         ShadowMapOutputs out;
-        RunShadowMap({scene, camera, g.gbuffer, light}, params, out, g.gbuffer.word[3]);
+        RunShadowMap({scene, camera, g.gbuffer, light}, params, out, g.gbuffer.word[GBufferWord::kShadowTerm]);
         const ReceiverPositions receivers(camera, out.lightView.view * glm::inverse(camera.view));
         for (int taps : {16, 3}) {
           const std::vector<glm::vec2> pattern = BlockerSearchPattern(taps);
@@ -443,8 +447,8 @@ TEST_CASE("shadow map: the SIMD blocker search equals the scalar definition on e
           // Whole rows, and on every third row pieces of every length from 1 to 64 pixels (several
           // vectors and a tail on every target) starting anywhere in the row.
           auto check = [&](const char* target, int y, int start, int length) {
-            const uint32_t* word1 = g.gbuffer.word[1].ConstRow(y) + start;
-            const uint32_t* word2 = g.gbuffer.word[2].ConstRow(y) + start;
+            const uint32_t* word1 = g.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y) + start;
+            const uint32_t* word2 = g.gbuffer.word[GBufferWord::kDepth].ConstRow(y) + start;
             BlockerSearchRowScalar(context, word1, word2, y, length, expected.data());
             std::fill(actual.begin(), actual.end(), 0xABABABABu);
             BlockerSearchRowSimd(context, word1, word2, y, length, actual.data());
@@ -461,8 +465,8 @@ TEST_CASE("shadow map: the SIMD blocker search equals the scalar definition on e
             }
           });
           for (int y = 0; y < scene.height; ++y) {
-            BlockerSearchRowScalar(context, g.gbuffer.word[1].ConstRow(y), g.gbuffer.word[2].ConstRow(y), y,
-                                   scene.width, expected.data());
+            BlockerSearchRowScalar(context, g.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y),
+                                   g.gbuffer.word[GBufferWord::kDepth].ConstRow(y), y, scene.width, expected.data());
             for (uint32_t term : expected) shadowed += UnpackHardShadow(term);
           }
         }

@@ -36,7 +36,7 @@ ColorPyramid StepPyramid() {
 GBuffer UniformRoughness(size_t width, size_t height, uint32_t code) {
   GBuffer gbuffer = MakeGBuffer(int(width), int(height), NormalEncoding::kOct24);
   for (size_t y = 0; y < height; ++y) {
-    for (size_t x = 0; x < width; ++x) gbuffer.word[1].MutableRow(y)[x] = code << 24;
+    for (size_t x = 0; x < width; ++x) gbuffer.word[GBufferWord::kNormalRoughness].MutableRow(y)[x] = code << 24;
   }
   return gbuffer;
 }
@@ -200,7 +200,8 @@ TEST_CASE("Cone trace: the pyramid texels it reads are listed, and a pyramid of 
     CAPTURE(code);
     const GBuffer gbuffer = UniformRoughness(kStepWidth, kStepHeight, code);
     const std::optional<ColorPyramidNeeds> needs =
-        SsrConePyramidNeeds(gbuffer.word[1], trace.hitX, trace.hitY, trace.confidence, nullptr, size_t(1) << 30);
+        SsrConePyramidNeeds(gbuffer.word[GBufferWord::kNormalRoughness], trace.hitX, trace.hitY, trace.confidence,
+                            nullptr, size_t(1) << 30);
     REQUIRE(needs);
     size_t texels = 0;
     for (const std::vector<ColumnSpan>& level : needs->rows)
@@ -222,7 +223,8 @@ TEST_CASE("Cone trace: the pyramid texels it reads are listed, and a pyramid of 
     }
     // Past the limit on listed row spans: none, so the whole pyramid is made.
     if (code != 0) {
-      CHECK_FALSE(SsrConePyramidNeeds(gbuffer.word[1], trace.hitX, trace.hitY, trace.confidence, nullptr, 10));
+      CHECK_FALSE(SsrConePyramidNeeds(gbuffer.word[GBufferWord::kNormalRoughness], trace.hitX, trace.hitY,
+                                      trace.confidence, nullptr, 10));
     }
   }
 }
@@ -245,7 +247,8 @@ TEST_CASE("Cone output is byte-identical at 1, 2 and 3 threads", "[cone]") {
   const SsrTraceOutputs trace = VerticalHits(0.37f);
   GBuffer gbuffer = MakeGBuffer(int(kStepWidth), int(kStepHeight), NormalEncoding::kOct24);
   for (size_t y = 0; y < kStepHeight; ++y) {
-    for (size_t x = 0; x < kStepWidth; ++x) gbuffer.word[1].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
+    for (size_t x = 0; x < kStepWidth; ++x)
+      gbuffer.word[GBufferWord::kNormalRoughness].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
   }
   std::vector<std::vector<float>> results;
   for (int threads : {1, 2, 3}) {
@@ -285,9 +288,9 @@ void CheckConeRowTwins(const GBuffer& gbuffer, const ColorPyramid& pyramid, cons
   const auto run = [&](const Segment& s, std::vector<float>& rgb, bool simd) {
     rgb.assign(3 * width, kUntouched);
     const auto kernel = simd ? SsrConeRowSimd : SsrConeRowScalar;
-    return kernel(context, gbuffer.word[1].ConstRow(s.y), trace.hitX.ConstRow(s.y), trace.hitY.ConstRow(s.y),
-                  trace.confidence.ConstRow(s.y), s.y, s.begin, s.end, rgb.data(), rgb.data() + width,
-                  rgb.data() + 2 * width);
+    return kernel(context, gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(s.y), trace.hitX.ConstRow(s.y),
+                  trace.hitY.ConstRow(s.y), trace.confidence.ConstRow(s.y), s.y, s.begin, s.end, rgb.data(),
+                  rgb.data() + width, rgb.data() + 2 * width);
   };
   std::vector<std::vector<float>> expected(segments.size());
   std::vector<SsrConeCounts> expectedCounts(segments.size());
@@ -315,7 +318,8 @@ TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target
     // Every code, neighbours differing: each vector's circles read several levels.
     GBuffer mixed = MakeGBuffer(int(kStepWidth), int(kStepHeight), NormalEncoding::kOct24);
     for (size_t y = 0; y < kStepHeight; ++y) {
-      for (size_t x = 0; x < kStepWidth; ++x) mixed.word[1].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
+      for (size_t x = 0; x < kStepWidth; ++x)
+        mixed.word[GBufferWord::kNormalRoughness].MutableRow(y)[x] = uint32_t((x * 7 + y * 13) & 255) << 24;
     }
     for (const int maxSamples : {1, 7, 64}) CheckConeRowTwins(mixed, pyramid, trace, maxSamples);
   }
@@ -333,7 +337,7 @@ TEST_CASE("Cone trace: the SIMD row kernel equals the scalar one on every target
                             MakePlane<float>(width, height, 0.0f), {}};
       for (size_t y = 0; y < height; ++y) {
         for (size_t x = 0; x < width; ++x) {
-          gbuffer.word[1].MutableRow(y)[x] = code(rng) << 24;
+          gbuffer.word[GBufferWord::kNormalRoughness].MutableRow(y)[x] = code(rng) << 24;
           const int p = pattern(rng);
           if (p == 6) continue;  // no hit
           std::pair<float, float> hit{float(x) + 0.5f, float(y) + 0.5f};

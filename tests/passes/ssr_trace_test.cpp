@@ -45,7 +45,7 @@ Traced TraceMirrorFloor(int width, int height, NormalEncoding encoding, const Ss
   GBufferOutputs g;
   RunGBuffer({scene, t.view}, {encoding}, g);
   t.gbuffer = std::move(g.gbuffer);
-  RunHiZ(t.gbuffer.word[2], t.hiz);
+  RunHiZ(t.gbuffer.word[GBufferWord::kDepth], t.hiz);
   t.stats = RunSsrTrace({t.gbuffer, t.view, t.hiz}, params, t.out);
   return t;
 }
@@ -205,8 +205,9 @@ GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t s
       if (x % 7 == 0) n = {0.0f, 0.0f, 1.0f};  // facing the camera: the ray returns toward it
       if (x % 11 == 0) n = {0.0f, 1.0f, 0.2f};
       const float r = randomRoughness ? float(roughness(rng)) / 255.0f : 0.0f;
-      g.word[1].MutableRow(size_t(y))[x] = PackNormalRoughness(glm::normalize(n), r, encoding);
-      g.word[2].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
+      g.word[GBufferWord::kNormalRoughness].MutableRow(size_t(y))[x] =
+          PackNormalRoughness(glm::normalize(n), r, encoding);
+      g.word[GBufferWord::kDepth].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
     }
   }
   return g;
@@ -219,7 +220,7 @@ TEST_CASE("SSR trace on random G-buffers terminates within the cap with well-for
       CameraDesc camera;
       const ViewProjection view = MakePerspective(camera, width, height);
       HiZ hiz;
-      RunHiZ(g.word[2], hiz);
+      RunHiZ(g.word[GBufferWord::kDepth], hiz);
       for (int cap : {1, 64}) {
         SsrTraceParams params;
         params.maxIterations = cap;
@@ -245,7 +246,7 @@ TEST_CASE("SSR trace outputs are byte-identical at 1, 2 and 3 threads", "[ssr]")
   const GBuffer g = RandomGBuffer(131, 77, NormalEncoding::kOct24, 7);
   const ViewProjection view = MakePerspective(CameraDesc{}, 131, 77);
   HiZ hiz;
-  RunHiZ(g.word[2], hiz);
+  RunHiZ(g.word[GBufferWord::kDepth], hiz);
   std::vector<Traced> floors;
   std::vector<SsrTraceOutputs> randoms;
   for (int threads : {1, 2, 3}) {
@@ -278,8 +279,8 @@ GBuffer AxisAlignedGBuffer(int width, int height, uint32_t seed) {
     for (int x = 0; x < width; ++x) {
       const uint32_t u = code(rng), v = code(rng);
       const uint32_t word = (x + y) % 3 == 0 ? u | 4095u << 12 : (x + y) % 3 == 1 ? 4095u | v << 12 : v << 12;
-      g.word[1].MutableRow(size_t(y))[x] = word;
-      g.word[2].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
+      g.word[GBufferWord::kNormalRoughness].MutableRow(size_t(y))[x] = word;
+      g.word[GBufferWord::kDepth].MutableRow(size_t(y))[x] = PackDepth(depth(rng));
     }
   }
   return g;
@@ -349,7 +350,7 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
         const GBuffer g = RandomGBuffer(width, height, encoding, uint32_t(width * 100 + height), true);
         const ViewProjection view = MakePerspective(CameraDesc{}, width, height);
         HiZ hiz;
-        RunHiZ(g.word[2], hiz);
+        RunHiZ(g.word[GBufferWord::kDepth], hiz);
         for (int startLevel = 0; startLevel <= int(hiz.levels.size()); ++startLevel) {
           for (const int cap : {1, 64}) {
             SsrTraceParams params;
@@ -371,7 +372,7 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
     const GBuffer g = AxisAlignedGBuffer(65, 49, 3);
     const ViewProjection view = MakePerspective(CameraDesc{}, 65, 49);
     HiZ hiz;
-    RunHiZ(g.word[2], hiz);
+    RunHiZ(g.word[GBufferWord::kDepth], hiz);
     // The centre column and row do march along an axis: some of their rays are traced.
     SsrTraceCounts column, row;
     std::vector<float> scratch(4 * 65);

@@ -31,7 +31,7 @@ SpotLight Spot(glm::vec3 position, glm::vec3 direction, float outerConeDegrees, 
 
 glm::vec3 WorldPosition(const ViewProjection& camera, const GBuffer& gbuffer, int x, int y) {
   const ViewProjection::Ray ray = camera.PixelRay(float(x) + 0.5f, float(y) + 0.5f);
-  const glm::vec3 p = ray.origin + ray.direction * UnpackDepth(gbuffer.word[2].ConstRow(y)[x]);
+  const glm::vec3 p = ray.origin + ray.direction * UnpackDepth(gbuffer.word[GBufferWord::kDepth].ConstRow(y)[x]);
   return glm::vec3(glm::inverse(camera.view) * glm::vec4(p, 1.0f));
 }
 
@@ -85,9 +85,9 @@ std::vector<ViewProjection> TwinTestViews(int width, int height) {
 RandomGBufferRow::RandomGBufferRow(size_t width, std::mt19937& rng) {
   std::uniform_real_distribution<float> depth(0.05f, 30.0f);
   for (size_t x = 0; x < width; ++x) {
-    word[0].push_back(uint32_t(rng()));
-    word[1].push_back(uint32_t(rng()));
-    word[2].push_back(PackDepth(rng() % 4 == 0 ? kBackgroundDepth : depth(rng)));
+    word[GBufferWord::kAlbedoMetallic].push_back(uint32_t(rng()));
+    word[GBufferWord::kNormalRoughness].push_back(uint32_t(rng()));
+    word[GBufferWord::kDepth].push_back(PackDepth(rng() % 4 == 0 ? kBackgroundDepth : depth(rng)));
   }
 }
 

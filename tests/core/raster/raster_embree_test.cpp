@@ -122,7 +122,7 @@ class EmbreeScene {
 DepthImage GBufferDepth(const GBuffer& gbuffer) {
   DepthImage depth(size_t(gbuffer.width()) * size_t(gbuffer.height()));
   for (int y = 0; y < gbuffer.height(); ++y) {
-    const uint32_t* row = gbuffer.word[2].ConstRow(y);
+    const uint32_t* row = gbuffer.word[GBufferWord::kDepth].ConstRow(y);
     for (int x = 0; x < gbuffer.width(); ++x) depth[size_t(y) * gbuffer.width() + x] = UnpackDepth(row[x]);
   }
   return depth;

@@ -183,7 +183,7 @@ TEST_CASE("reference primary visibility matches the rasterizer", "[reference]") 
         cutOut += scene.mesh.materials[triangle] == kCutOutMaterial;
         away += scene.mesh.materials[triangle] == kAwayMaterial;
       }
-      const float raster = UnpackDepth(g.gbuffer.word[2].ConstRow(y)[x]);
+      const float raster = UnpackDepth(g.gbuffer.word[GBufferWord::kDepth].ConstRow(y)[x]);
       const float traced = ref.depth.ConstRow(y)[x];
       if (IsBackground(raster) == IsBackground(traced)) ++agree;
       if (IsBackground(traced)) ++background;
@@ -473,15 +473,17 @@ TEST_CASE("an inconsistently wound OBJ renders like the consistent one in both t
   size_t covered = 0, coverageMismatch = 0, normalMismatch = 0, radianceMismatch = 0;
   for (int y = 0; y < 120; ++y) {
     for (int x = 0; x < 160; ++x) {
-      const bool a = !IsBackground(UnpackDepth(consistent.g.gbuffer.word[2].ConstRow(y)[x]));
-      const bool b = !IsBackground(UnpackDepth(flipped.g.gbuffer.word[2].ConstRow(y)[x]));
+      const bool a = !IsBackground(UnpackDepth(consistent.g.gbuffer.word[GBufferWord::kDepth].ConstRow(y)[x]));
+      const bool b = !IsBackground(UnpackDepth(flipped.g.gbuffer.word[GBufferWord::kDepth].ConstRow(y)[x]));
       const bool ta = !IsBackground(consistent.reference.depth.ConstRow(y)[x]);
       const bool tb = !IsBackground(flipped.reference.depth.ConstRow(y)[x]);
       coverageMismatch += a != b || ta != tb;
       if (!a || !b) continue;
       ++covered;
-      const glm::vec3 na = DecodeNormal(consistent.g.gbuffer.word[1].ConstRow(y)[x] & 0xFFFFFFu, NormalEncoding::kOct24);
-      const glm::vec3 nb = DecodeNormal(flipped.g.gbuffer.word[1].ConstRow(y)[x] & 0xFFFFFFu, NormalEncoding::kOct24);
+      const glm::vec3 na = DecodeNormal(
+          consistent.g.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y)[x] & 0xFFFFFFu, NormalEncoding::kOct24);
+      const glm::vec3 nb = DecodeNormal(
+          flipped.g.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y)[x] & 0xFFFFFFu, NormalEncoding::kOct24);
       normalMismatch += glm::dot(na, nb) < std::cos(glm::radians(0.5f));
       for (int c = 0; c < 3; ++c) {
         const float ra = consistent.reference.result.c[c].ConstRow(y)[x];

@@ -201,8 +201,9 @@ TEST_CASE("frame plan: the reflection tiles are the tiles with a smooth pixel", 
       bool smooth = false;
       for (int y = tileY * TileMask::kTileSize; y < std::min(kHeight, (tileY + 1) * TileMask::kTileSize); ++y) {
         for (int x = tileX * TileMask::kTileSize; x < std::min(kWidth, (tileX + 1) * TileMask::kTileSize); ++x) {
-          const uint32_t word1 = gbuffer.word[1].ConstRow(size_t(y))[x];
-          const bool geometry = UnpackDepth(gbuffer.word[2].ConstRow(size_t(y))[x]) != kBackgroundDepth;
+          const uint32_t word1 = gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x];
+          const bool geometry =
+              UnpackDepth(gbuffer.word[GBufferWord::kDepth].ConstRow(size_t(y))[x]) != kBackgroundDepth;
           smooth = smooth || (geometry && UnpackRoughness(word1) < test::ConfigOf(scene).ssrTrace.roughnessCutoff);
         }
       }
