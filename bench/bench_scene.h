@@ -29,7 +29,7 @@ struct BenchScene {
 const BenchScene& DefaultBenchScene();
 
 // A torus knot (core/procedural_mesh.h) of exactly `triangles` triangles (10k, 30k, 100k, 300k or
-// 1M; 10k, 100k and 1M are the sizes DESIGN.md §13 gives for llvmpipe), default material, seen along
+// 1M; 10k, 100k and 1M are the sizes docs/design.md §13 gives for llvmpipe), default material, seen along
 // its symmetry axis so it fills most of a square image: 68% of it, with many silhouettes and
 // self-occlusion. Made once per size; another count gives a scene whose error says so.
 const BenchScene& KnotScene(int64_t triangles);
@@ -42,7 +42,7 @@ const BenchScene& BenchSceneOf(int64_t scene);
 
 // The arguments of the G-buffer comparison with llvmpipe, the same for ssgi (BM_GBufferSsgi) and the
 // peer (BM_GBufferLlvmpipe): scene (a KnotScene's triangle count), threads (1 or 2), size (of the
-// square image). The knots of DESIGN.md §13 at 1 and 2 threads at 1024x1024, and at 2 threads every
+// square image). The knots of docs/design.md §13 at 1 and 2 threads at 1024x1024, and at 2 threads every
 // knot at 1024 and the 100k knot from 512 to 4096, the two sweeps the README plots.
 void GBufferPeerArgs(benchmark::internal::Benchmark* benchmark);
 

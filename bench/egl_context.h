@@ -1,5 +1,5 @@
 // An OpenGL 4.5 core context on Mesa's llvmpipe, the CPU OpenGL a user would otherwise run a
-// deferred pipeline on (DESIGN.md §13): the peer of the benchmarks, and the context a GLSL port of
+// deferred pipeline on (docs/design.md §13): the peer of the benchmarks, and the context a GLSL port of
 // the passes can run in. No window system and no GPU: EGL's surfaceless platform
 // (EGL_MESA_platform_surfaceless) with a context that has no config and no surface
 // (EGL_KHR_no_config_context, EGL_KHR_surfaceless_context), so every image is a framebuffer object.

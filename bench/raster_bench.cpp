@@ -1,4 +1,4 @@
-// Rasterizer and G-buffer pass timings at 1024x1024 (DESIGN.md §13: at least 3x faster than Mesa
+// Rasterizer and G-buffer pass timings at 1024x1024 (docs/design.md §13: at least 3x faster than Mesa
 // llvmpipe writing the same G-buffer). bench/README.md says what each benchmark measures and
 // records results.
 #include <cstdint>

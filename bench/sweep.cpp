@@ -1,4 +1,4 @@
-// "What accuracy costs in time" (DESIGN.md §10): renders a scene under a list of quality settings,
+// "What accuracy costs in time" (docs/design.md §10): renders a scene under a list of quality settings,
 // measures each pass's median time over repeated frames and the final image's error against a
 // reference image (normally `ssgi reference`'s), and writes one CSV row per setting. Plot it with
 // bench/plot_sweep.py; bench/README.md says how.

@@ -1,4 +1,4 @@
-// The ssgi command line. The only place an error becomes a message and an exit code (DESIGN.md §12).
+// The ssgi command line. The only place an error becomes a message and an exit code (docs/design.md §12).
 // Every error is one printable line "ssgi: error: ..." on stderr; the exit code says whose it is:
 // 0 success, 1 bad input (scene, model, texture, output path, option value), 2 a command line that
 // does not parse (unknown command or option, missing or malformed value), 3 an internal failure.
@@ -360,7 +360,7 @@ struct ReferenceOptions {
   int threads = 0;
 };
 
-// The Embree ground truth (DESIGN.md §10): one EXR holding the final image as R, G, B and the
+// The Embree ground truth (docs/design.md §10): one EXR holding the final image as R, G, B and the
 // matching buffers under the names --dump uses, so `ssgi compare --layer` pairs them.
 int Reference(const ReferenceOptions& options) {
   const ssgi::ThreadLimit threadLimit(options.threads);
@@ -410,7 +410,7 @@ struct CompareOptions {
   double heatmapScale = 0.0;
 };
 
-// Error of a test image against a reference (DESIGN.md §10): RMSE and PSNR on linear values, the
+// Error of a test image against a reference (docs/design.md §10): RMSE and PSNR on linear values, the
 // largest error and where, and mean SSIM of the tonemapped luminance as the perceptual score.
 int Compare(const CompareOptions& options) {
   if (!options.heatmap.empty() && ssgi::CheckOutputPath(options.heatmap) != ssgi::ImageFileKind::kPng)

@@ -1,5 +1,5 @@
 // Highway twins of the BRDF (core/brdf.h) for the passes' SIMD kernels: the same operations in the
-// same order, so every target gives the scalar bits (DESIGN.md §11; tests/core/brdf_simd_test.cpp).
+// same order, so every target gives the scalar bits (docs/design.md §11; tests/core/brdf_simd_test.cpp).
 // Lanes are shaded points.
 //
 // A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after

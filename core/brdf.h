@@ -1,4 +1,4 @@
-// The metallic-roughness BRDF every path shares (DESIGN.md §5), the screen-space passes and the
+// The metallic-roughness BRDF every path shares (docs/design.md §5), the screen-space passes and the
 // Embree reference alike: Lambert diffuse + Cook-Torrance specular with the GGX distribution,
 // height-correlated Smith visibility and Schlick Fresnel, F0 = mix(0.04, albedo, metallic), as in
 // Filament's "Physically Based Rendering in Filament" §4; and the split-sum DFG table (Karis 2013,

@@ -1,5 +1,5 @@
 // Highway twin of ViewProjection::PixelRay (core/camera.h) for the passes' SIMD kernels: the same
-// operations in the same order, so every target gives its bits (DESIGN.md §11;
+// operations in the same order, so every target gives its bits (docs/design.md §11;
 // tests/core/camera_simd_test.cpp). Lanes are pixels of one row.
 //
 // A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after

@@ -1,4 +1,4 @@
-// Cameras and the projection convention every pass shares (DESIGN.md §2, docs/pipeline.md §Conventions).
+// Cameras and the projection convention every pass shares (docs/design.md §2, docs/pipeline.md §Conventions).
 //
 // World: right-handed, y up, metres. View space is glm::lookAt's: the camera looks down -z, and the
 // view depth of a point is d = -z_view > 0.

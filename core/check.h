@@ -1,4 +1,4 @@
-// Invariant checks (DESIGN.md §12, tier 1): a failed check is a bug in ssgi, never bad input.
+// Invariant checks (docs/design.md §12, tier 1): a failed check is a bug in ssgi, never bad input.
 // It prints the expression, the operand values and the source location, then aborts.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Colour encodings shared by textures, the G-buffer and image output (DESIGN.md §2: linear HDR
+// Colour encodings shared by textures, the G-buffer and image output (docs/design.md §2: linear HDR
 // inside, sRGB-encoded albedo textures and 8-bit outputs). 8-bit conversions go through tables
 // built once, so every caller and every SIMD target gets the same bits without calling pow.
 #pragma once

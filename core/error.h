@@ -1,4 +1,4 @@
-// Recoverable errors (DESIGN.md §12, tier 2): bad input found at the edges (scene, OBJ/MTL, texture,
+// Recoverable errors (docs/design.md §12, tier 2): bad input found at the edges (scene, OBJ/MTL, texture,
 // command-line values, output path). Thrown where the problem is found, with the file and, where
 // known, the line; only cli/ turns one into a message and an exit code.
 #pragma once

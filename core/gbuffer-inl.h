@@ -1,5 +1,5 @@
 // Highway twins of the G-buffer's normal encoding and unpacking (core/gbuffer.h) for the passes' SIMD kernels: the same
-// operations in the same order as the scalar functions, so every target gives their bits (DESIGN.md
+// operations in the same order as the scalar functions, so every target gives their bits (docs/design.md
 // §11; tests/core/gbuffer_simd_test.cpp checks every code). Lanes are pixels.
 //
 // A per-target header in Highway's "-inl.h" convention: a *_simd.cpp includes it after

@@ -1,4 +1,4 @@
-// The packed 128-bit G-buffer (DESIGN.md §3, docs/pipeline.md §G-buffer): four 32-bit words per
+// The packed 128-bit G-buffer (docs/design.md §3, docs/pipeline.md §G-buffer): four 32-bit words per
 // pixel, stored as four planes (one per word) so streaming passes load only the words they need.
 //
 // word 0: bits 0-7 / 8-15 / 16-23 albedo R / G / B (8-bit sRGB codes), bits 24-31 metallic (unorm8)

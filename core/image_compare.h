@@ -1,4 +1,4 @@
-// Image comparison for accuracy measurements (DESIGN.md §10): error metrics between a test image
+// Image comparison for accuracy measurements (docs/design.md §10): error metrics between a test image
 // and a reference, on linear HDR values, plus a perceptual score.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Image files, all through OpenImageIO (DESIGN.md §8). Writes are atomic: the image goes to a
+// Image files, all through OpenImageIO (docs/design.md §8). Writes are atomic: the image goes to a
 // temporary file in the destination folder, which is renamed over the destination only when
 // complete, so a failed or interrupted write never leaves a half-written file.
 #pragma once

@@ -1,4 +1,4 @@
-// Light sources seen from a shaded point (DESIGN.md §5): one evaluation for the screen-space passes
+// Light sources seen from a shaded point (docs/design.md §5): one evaluation for the screen-space passes
 // and the Embree reference. A light is prepared once per frame in the space the caller shades in
 // (view space for the passes, world space for the reference), then evaluated per point.
 #pragma once

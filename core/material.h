@@ -1,4 +1,4 @@
-// Metallic-roughness materials (DESIGN.md §2), as carried by OBJ/MTL and scene overrides.
+// Metallic-roughness materials (docs/design.md §2), as carried by OBJ/MTL and scene overrides.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Highway twins of the std:: and glm operations the scalar kernels are written with (DESIGN.md §11):
+// Highway twins of the std:: and glm operations the scalar kernels are written with (docs/design.md §11):
 // the same operations in the same order, so every target gives the scalar bits. glm 0.9.9 without
 // GLM_FORCE_INTRINSICS computes component by component: dot(a, b) = (a.x b.x + a.y b.y) + a.z b.z,
 // length(v) = sqrt(dot(v, v)), normalize(v) = v * (1 / sqrt(dot(v, v))), mix(x, y, a) =

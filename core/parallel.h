@@ -1,6 +1,6 @@
-// The one doorway to oneTBB (DESIGN.md §12: threading only in drivers, one place includes TBB).
+// The one doorway to oneTBB (docs/design.md §12: threading only in drivers, one place includes TBB).
 // Work is split into fixed, index-addressed items, and each item writes only its own output, so
-// results never depend on the thread count or on scheduling (DESIGN.md §11).
+// results never depend on the thread count or on scheduling (docs/design.md §11).
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
-// Planes: single-channel images with aligned, padded rows (Highway's hwy::Image, DESIGN.md §12).
+// Planes: single-channel images with aligned, padded rows (Highway's hwy::Image, docs/design.md §12).
 // Move-only. MakePlane initialises every byte, padding included, so no buffer ever holds
-// uninitialised memory (DESIGN.md §11).
+// uninitialised memory (docs/design.md §11).
 #pragma once
 
 #include <cstddef>

@@ -7,7 +7,7 @@ namespace ssgi {
 // How G-buffer word 1 stores the 24-bit view-space normal (core/gbuffer.h).
 enum class NormalEncoding { kXyz8, kOct24 };
 
-// "auto": run the effect when the scene calls for it (DESIGN.md §9); on / off force it.
+// "auto": run the effect when the scene calls for it (docs/design.md §9); on / off force it.
 enum class EffectMode { kAuto, kOn, kOff };
 
 // The display curve of the tonemap pass (passes/tonemap.h).

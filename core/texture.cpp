@@ -46,7 +46,7 @@ void AppendLevel(Texture& texture, int width, int height, const std::vector<floa
 }
 
 // log2 for x > 1 (normal, finite) from its exponent and mantissa bits and the atanh series of ln,
-// not libm, so every build and SIMD target picks the same mip blend (DESIGN.md §11). |s| < 1/3, so
+// not libm, so every build and SIMD target picks the same mip blend (docs/design.md §11). |s| < 1/3, so
 // six terms are accurate to ~1e-7.
 float Log2(float x) {
   const uint32_t bits = std::bit_cast<uint32_t>(x);

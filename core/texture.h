@@ -1,4 +1,4 @@
-// Mip-mapped textures, read by OpenImageIO (DESIGN.md §4).
+// Mip-mapped textures, read by OpenImageIO (docs/design.md §4).
 // Texels are kept as 8 bits per channel, four channels (RGBA), with a full mip chain down to 1x1
 // built from the linear values. Colour textures (map_Kd) are sRGB-encoded and decoded to linear
 // before filtering; data textures (map_Pm, map_Pr, map_d) are linear. Addressing repeats (OBJ UVs

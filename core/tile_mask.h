@@ -1,6 +1,6 @@
 // Which 32x32 tiles of an image need an effect: the frame plan (passes/frame/plan.h) classifies the
 // tiles once, and every pass that can skip work runs its kernel on the needed tiles' pixels only,
-// storing elsewhere what its kernel would store there (DESIGN.md §9: cost follows need).
+// storing elsewhere what its kernel would store there (docs/design.md §9: cost follows need).
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// Colour pyramid (DESIGN.md §6; docs/pipeline.md §Colour pyramid): the direct-light image
+// Colour pyramid (docs/design.md §6; docs/pipeline.md §Colour pyramid): the direct-light image
 // pre-convolved level by level, so the cone trace of Uludag (GPU Pro 5, "Hi-Z Screen-Space
 // Cone-Traced Reflections") reads a blurred radiance whose footprint matches each cone circle with a
 // single fetch. Level sizes equal the Hi-Z's (PyramidLevelSizes, core/pyramid.h), so one level index

@@ -1,4 +1,4 @@
-// Composite pass (DESIGN.md §7-§8, docs/pipeline.md §Composite): the final linear HDR image,
+// Composite pass (docs/design.md §7-§8, docs/pipeline.md §Composite): the final linear HDR image,
 // result = direct + indirect, where indirect = reflected radiance x specular weight x confidence x
 // roughness fade:
 // the cone-traced screen-space reflection (passes/ssr_cone.h), weighted by the split-sum specular

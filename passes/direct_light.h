@@ -1,4 +1,4 @@
-// Direct light pass (DESIGN.md §5, docs/pipeline.md §Direct light): shades every G-buffer pixel with
+// Direct light pass (docs/design.md §5, docs/pipeline.md §Direct light): shades every G-buffer pixel with
 // every light of the scene using core/brdf.h; the shadowed light's term is multiplied by its
 // visibility from the shadow filter. Background pixels get the scene's background radiance. No ambient term.
 #pragma once

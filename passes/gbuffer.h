@@ -1,4 +1,4 @@
-// G-buffer pass (DESIGN.md §3-4, docs/pipeline.md §G-buffer): rasterizes the scene's triangles into a
+// G-buffer pass (docs/design.md §3-4, docs/pipeline.md §G-buffer): rasterizes the scene's triangles into a
 // visibility buffer (core/raster/raster.h, core/raster/scene_raster_input.h), then resolves each visible pixel
 // once: barycentrics from the view ray through the pixel centre and the original (unclipped)
 // triangle, interpolated normal and UV, mip-mapped texture lookups with the UV footprint of the

@@ -1,4 +1,4 @@
-// Hi-Z pyramid (DESIGN.md §6; docs/pipeline.md §Hi-Z pyramid): the closest depth per cell, level by
+// Hi-Z pyramid (docs/design.md §6; docs/pipeline.md §Hi-Z pyramid): the closest depth per cell, level by
 // level, for the hierarchical screen-space ray march of Uludag (GPU Pro 5, "Hi-Z Screen-Space
 // Cone-Traced Reflections"). Stores INVERSE view depth 1/d, in 1/metres, because a screen-space ray
 // is linear in (x, y, 1/d), not in d: the trace compares the quantity it interpolates. The closest

@@ -165,7 +165,7 @@ struct TilePlan {
   std::vector<size_t> slotTiles;   // per slot: its tile; the blurred tiles first
 };
 
-// Blur-area control (DESIGN.md §5, §9). A tile is skipped, its output the hard value, when (a) no
+// Blur-area control (docs/design.md §5, §9). A tile is skipped, its output the hard value, when (a) no
 // pixel of it has a kernel (each output uses only its own kernel in the second pass and its own tap
 // in the first), or (b) every pixel within the two passes' reach (2 * maxRadius, rounded up to whole
 // tiles) is shadowed or background: every accepted tap is then 0, and so is the blur. Both give the

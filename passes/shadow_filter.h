@@ -1,4 +1,4 @@
-// Screen-space soft shadows from the G-buffer's shadow term (DESIGN.md §5, §9; docs/pipeline.md
+// Screen-space soft shadows from the G-buffer's shadow term (docs/design.md §5, §9; docs/pipeline.md
 // §Shadow filter (SSABSS)). Blurs the hard-shadow mask of word 3 with a kernel whose size is the
 // PCSS penumbra width (Fernando 2005, "Percentage-Closer Soft Shadows", eq. 1) of the word's average
 // blocker distance, projected to pixels at the receiver's view depth:

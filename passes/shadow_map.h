@@ -1,4 +1,4 @@
-// Shadow map and PCSS blocker search (DESIGN.md §3 word 3, §4, §5; docs/pipeline.md §Shadow map and
+// Shadow map and PCSS blocker search (docs/design.md §3 word 3, §4, §5; docs/pipeline.md §Shadow map and
 // blocker search). For one shadow-casting light:
 //  1. rasterizes the scene's depth from the light with the G-buffer's rasterizer (depth only, both
 //     faces): orthographic for a directional light, fitted to the receivers the camera sees and

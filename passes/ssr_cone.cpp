@@ -39,7 +39,7 @@ glm::vec3 SampleLevel(const ColorPyramid& pyramid, int level, float x, float y) 
 
 // Trilinear fetch for a circle of the given diameter (px, >= 1): level = log2(diameter), the level
 // whose texel is as wide as the circle. log2 is piecewise linear between powers of two (frexp is
-// exact), so no libm transcendental runs per pixel (DESIGN.md §11); exact at every level.
+// exact), so no libm transcendental runs per pixel (docs/design.md §11); exact at every level.
 glm::vec3 SampleCircle(const ColorPyramid& pyramid, float x, float y, float diameter) {
   int exponent = 0;
   const float mantissa = std::frexp(diameter, &exponent);  // diameter = mantissa * 2^exponent, [0.5, 1)

@@ -1,4 +1,4 @@
-// SSR cone trace (DESIGN.md §7; docs/pipeline.md §SSR: cone trace): turns each Hi-Z trace hit into
+// SSR cone trace (docs/design.md §7; docs/pipeline.md §SSR: cone trace): turns each Hi-Z trace hit into
 // reflected radiance by walking the circles inscribed in the roughness cone's screen-space triangle
 // and reading the pre-blurred colour pyramid, after Uludag (GPU Pro 5, "Hi-Z Screen-Space
 // Cone-Traced Reflections", cone tracing section).

@@ -1,4 +1,4 @@
-// SSR Hi-Z trace (DESIGN.md §7; docs/pipeline.md §SSR: Hi-Z trace): per pixel, reflect the view ray
+// SSR Hi-Z trace (docs/design.md §7; docs/pipeline.md §SSR: Hi-Z trace): per pixel, reflect the view ray
 // about the G-buffer normal and march the reflected ray in screen space through the Hi-Z pyramid,
 // after Uludag (GPU Pro 5, "Hi-Z Screen-Space Cone-Traced Reflections"), with the fixes of the
 // Bitsquid/Stingray notes and AMD FidelityFX SSSR (origin snapped into its cell, un-offset cell planes

@@ -1,4 +1,4 @@
-// Tonemap pass (DESIGN.md §8, docs/pipeline.md §Tonemap): linear HDR radiance -> 8-bit sRGB.
+// Tonemap pass (docs/design.md §8, docs/pipeline.md §Tonemap): linear HDR radiance -> 8-bit sRGB.
 // colour * 2^exposureEv, then per channel either the ACES filmic curve fitted by Narkowicz (2015),
 // x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), or a plain clamp, then clamped to [0, 1] and
 // encoded to the nearest 8-bit sRGB code (core/color.h): as a count of the code boundaries at or

@@ -1,6 +1,6 @@
 // Rows of floats for testing a core SIMD twin against its scalar function: the tests fill input
 // rows and the scalar results, a per-target kernel reads the inputs and writes output rows through
-// row pointers, and every target's outputs must equal the scalar ones bit for bit (DESIGN.md §11).
+// row pointers, and every target's outputs must equal the scalar ones bit for bit (docs/design.md §11).
 #pragma once
 
 #include <cstddef>

@@ -68,7 +68,7 @@ CommandResult RunProgram(const std::filesystem::path& program, const std::string
 
 // Calls body(targetName) once for every SIMD target that Highway compiled and this machine supports,
 // with dispatch restricted to that target, then restores normal dispatch. Returns the number of
-// targets (DESIGN.md §11: each Highway twin must equal its scalar definition on every one).
+// targets (docs/design.md §11: each Highway twin must equal its scalar definition on every one).
 size_t ForEachSimdTarget(const std::function<void(const char* targetName)>& body);
 
 // The first index at which a and b hold different bits (NaN payloads and signed zeros count), or n

@@ -1,4 +1,4 @@
-// The tile-based rasterizer (DESIGN.md §4, docs/pipeline.md §Rasterizer).
+// The tile-based rasterizer (docs/design.md §4, docs/pipeline.md §Rasterizer).
 //
 // It writes a visibility buffer: per pixel the reversed-Z depth key of the nearest surface and the
 // index of its triangle. Attributes are resolved afterwards, once per visible pixel, so overdraw

@@ -1,4 +1,4 @@
-// The Embree ground truth (DESIGN.md §10, docs/pipeline.md §Embree reference): the light transport
+// The Embree ground truth (docs/design.md §10, docs/pipeline.md §Embree reference): the light transport
 // the screen-space pipeline approximates, ray traced with Embree 3 over the same world-space mesh,
 // materials, textures, BRDF (core/brdf.h) and lights (core/lighting.h):
 //

@@ -1,4 +1,4 @@
-// How a frame is rendered (DESIGN.md §12 "One configuration, one table"): FrameConfig holds every
+// How a frame is rendered (docs/design.md §12 "One configuration, one table"): FrameConfig holds every
 // setting, and FrameSettings() declares each one once (name, help, valid values, default, setter).
 // The command line's options, a scene file's "render" block, the sweep's knobs and the quality
 // presets are all derived from that table, so a new knob is one entry there plus the code that

@@ -69,7 +69,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
   drop(frame.gbuffer.visibility);
   GBuffer& gbuffer = frame.gbuffer.gbuffer;
 
-  // Only the effects the visible pixels need (DESIGN.md §9). G-buffer word 3 has room for one
+  // Only the effects the visible pixels need (docs/design.md §9). G-buffer word 3 has room for one
   // light's term: the first shadow-casting light's.
   Stopwatch planning;
   frame.plan = PlanFrame(scene, config, gbuffer, frame.view);

@@ -1,6 +1,6 @@
-// The frame, as one straight script (DESIGN.md §1): it owns every buffer and runs the passes in
+// The frame, as one straight script (docs/design.md §1): it owns every buffer and runs the passes in
 // order, each a free function with typed inputs and outputs. A pass the scene does not need is not
-// run (DESIGN.md §9).
+// run (docs/design.md §9).
 #pragma once
 
 #include <optional>

@@ -1,4 +1,4 @@
-// The frame's memory (DESIGN.md §9, issue 14): what its buffers take, estimated before any of them
+// The frame's memory (docs/design.md §9): what its buffers take, estimated before any of them
 // is allocated, so that a frame too large for the machine is refused with one clear line instead of
 // ending in std::bad_alloc or the kernel's out-of-memory killer.
 #pragma once

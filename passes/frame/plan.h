@@ -1,4 +1,4 @@
-// The frame plan (DESIGN.md §9: simulate only the effects a scene calls for): after the G-buffer,
+// The frame plan (docs/design.md §9: simulate only the effects a scene calls for): after the G-buffer,
 // which effects the pixels on screen need. Shadows run only if some visible pixel faces the
 // shadow-casting light (elsewhere its term is 0 whatever the visibility); reflections only if some
 // visible pixel is smoother than the trace's cut-off (elsewhere the composite adds nothing). A

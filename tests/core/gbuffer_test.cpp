@@ -40,7 +40,7 @@ TEST_CASE("normal encodings: measured max angular error", "[gbuffer]") {
   const double xyz8 = MaxNormalError(NormalEncoding::kXyz8);
   const double oct24 = MaxNormalError(NormalEncoding::kOct24);
   WARN("max angular error: xyz8 " << xyz8 << " deg, oct24 " << oct24 << " deg");
-  // DESIGN.md §3: about 0.39 deg for the paper's 3 x 8 bits, about 0.06 deg for octahedral 2 x 12.
+  // docs/design.md §3: about 0.39 deg for the paper's 3 x 8 bits, about 0.06 deg for octahedral 2 x 12.
   CHECK(xyz8 > 0.2);
   CHECK(xyz8 < 0.45);
   CHECK(oct24 < 0.07);

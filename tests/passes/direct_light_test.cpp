@@ -25,7 +25,7 @@ using glm::dvec3;
 
 // Radiance toward the viewer of one directional light of zero size on a metallic-roughness surface:
 // (Lambert + D V F) n.l E, with GGX D, height-correlated Smith V (Heitz 2014) and Schlick F
-// (Filament's formulation, DESIGN.md §5). Unit vectors n (normal), v (to viewer), l (to light).
+// (Filament's formulation, docs/design.md §5). Unit vectors n (normal), v (to viewer), l (to light).
 dvec3 AnalyticRadiance(dvec3 albedo, double metallic, double roughness, dvec3 n, dvec3 v, dvec3 l, dvec3 irradiance) {
   const double pi = 3.14159265358979323846;
   const double nl = glm::dot(n, l), nv = glm::dot(n, v);

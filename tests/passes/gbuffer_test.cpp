@@ -44,7 +44,7 @@ TEST_CASE("g-buffer: every pixel of a ground plane has its analytic depth and no
     const glm::dvec3 planeNormal = glm::normalize(glm::dmat3(toView) * glm::dvec3(0.0, 1.0, 0.0));
     const glm::dvec3 planePoint(toView * glm::dvec4(0.0, 0.0, 0.0, 1.0));
     const glm::dmat4 toWorld = glm::inverse(toView);
-    const double maxNormalError = encoding == NormalEncoding::kOct24 ? 0.07 : 0.4;  // degrees, DESIGN.md §3
+    const double maxNormalError = encoding == NormalEncoding::kOct24 ? 0.07 : 0.4;  // degrees, docs/design.md §3
     size_t covered = 0, checked = 0;
     for (int y = 0; y < kHeight; ++y) {
       for (int x = 0; x < kWidth; ++x) {

@@ -370,7 +370,7 @@ TEST_CASE("shadow filter: same bits at 1, 2, 3 threads and with or without tile 
   }
 }
 
-// ---- The SIMD twins against their scalar definitions, bit for bit on every target (DESIGN.md §11)
+// ---- The SIMD twins against their scalar definitions, bit for bit on every target (docs/design.md §11)
 
 bool SameFloats(const float* a, const float* b, size_t count) {
   return test::FirstDifferentBits(a, b, count) == count;

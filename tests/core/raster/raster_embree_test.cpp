@@ -1,4 +1,4 @@
-// The rasterizer's primary visibility against Embree's (DESIGN.md §10): the same triangles, the same
+// The rasterizer's primary visibility against Embree's (docs/design.md §10): the same triangles, the same
 // camera, one ray through every pixel centre. Depth may differ only by rounding and the 1/256-pixel
 // vertex snapping, except on silhouettes, where snapping legitimately moves coverage by a pixel.
 #include <algorithm>
