@@ -1,4 +1,4 @@
-// ssgi's side of the fill-rate comparison (issue 12; llvmpipe's is in bench/llvmpipe_bench.cpp):
+// ssgi's side of the fill-rate comparison (llvmpipe's is in bench/llvmpipe_bench.cpp):
 // the rasterizer alone (core/raster/raster.h) on FillrateTriangles, visibility output, at 1 and 2 threads.
 // The G-buffer pass is not measured here: it resolves each pixel once, after the raster, so the
 // overdraw of these scenes would only show in its raster half.

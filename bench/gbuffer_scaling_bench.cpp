@@ -1,4 +1,4 @@
-// ssgi's side of the G-buffer comparison with llvmpipe (bench/llvmpipe_bench.cpp, issue 12): the
+// ssgi's side of the G-buffer comparison with llvmpipe (bench/llvmpipe_bench.cpp, the 3x target): the
 // whole G-buffer pass on the torus knots at every size and thread count the peer draws, so each
 // ratio comes from one run. At 1024x1024 it is BM_GBuffer's work (freshPages:0).
 #include <cstdint>

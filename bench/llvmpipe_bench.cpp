@@ -1,4 +1,4 @@
-// The peer (docs/design.md §13, issue 12): Mesa's llvmpipe drawing what ssgi draws, in the same binary and
+// The peer (docs/design.md §13, the G-buffer target): Mesa's llvmpipe drawing what ssgi draws, in the same binary and
 // run, so that bench/README.md quotes ratios. BM_GBufferLlvmpipe writes ssgi's G-buffer for the
 // torus knots (BM_GBufferSsgi's arguments and camera), BM_FillrateLlvmpipe the visibility buffer of
 // the fill-rate triangles (BM_FillrateRasterize's). Every frame is clear + draw + glFinish into

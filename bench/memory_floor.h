@@ -1,4 +1,4 @@
-// The memory floor of a streaming pass (docs/design.md §12-§13: "streaming passes within 2x of a memory
+// The memory floor of a streaming pass (docs/design.md §13: "streaming passes within 2x of a memory
 // copy of the same bytes"): a benchmark that reads and writes, per pixel, as many bytes as the pass
 // does, with the pass's split into row bands, so that the pass's time is quoted as a ratio to it,
 // both measured in the same binary and run. bench/README.md lists the floors registered.

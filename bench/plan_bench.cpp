@@ -1,4 +1,4 @@
-// Cost that follows need (issue 14, docs/design.md §9): whole frames of a floor whose smooth share grows
+// Cost that follows need (docs/design.md §9): whole frames of a floor whose smooth share grows
 // strip by strip, against the same frame with reflections switched off. bench/README.md records
 // results; bench/plot_cost_share.py draws them.
 #include <benchmark/benchmark.h>
