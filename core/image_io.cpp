@@ -109,9 +109,9 @@ ImageFileKind CheckOutputPath(const fs::path& path) {
 void WritePng(const fs::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
   SSGI_CHECK_EQ(rgb.size(), size_t(width) * size_t(height) * 3);
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  // Deflate level 3 with the "up" row filter instead of libpng's level 6 trying every filter: a
-  // 1024x1024 render is written 2.5-3x faster (default scene 36.7 -> 10.9 ms, Sponza 73 -> 22.7) into a
-  // file 14-20% larger; the pixels are the same.
+  // Deflate level 3 with the "up" row filter instead of libpng's level 6 trying every filter: the
+  // file is written several times faster for 14-20% more bytes (docs/perf-log.md); the pixels are
+  // the same.
   spec.attribute("png:compressionLevel", 3);
   spec.attribute("png:filter", 0x20);  // PNG_FILTER_UP
   WriteAtomically(path, {spec}, [&](OIIO::ImageOutput& out, size_t) {

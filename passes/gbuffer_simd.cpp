@@ -180,8 +180,7 @@ HWY_INLINE uint64_t ValueStarts(hn::Vec<DU> values, hn::Mask<DU> among, const Ea
 // lanes hold some lane's data, never stored. A vector meets few triangles, and each is broadcast
 // into the lanes it covers (a triangle met twice by ValueStarts, twice: the same lanes get the same
 // values): even at about a triangle per lane (the 1M-triangle knot) that is no slower than
-// gathering 19 values per lane (BM_GBuffer, 1 thread, back to back with gathers beyond 4, 8 or 16
-// triangles: 1M 80 / 80 / 69 ms, 100k 20.7 / 17.5 / 16.9 ms).
+// gathering 19 values per lane (docs/perf-log.md).
 TriangleData LoadTriangles(const GBufferResolveInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                            hn::Mask<DU> drawn, const EarlierLanes& earlier) {
   const DF df;
@@ -269,10 +268,9 @@ struct TextureCache {
 // ids, directionX and directionY their rays' (z is -1), rightX and downY the x of the rays one pixel
 // right and the y of those one pixel down, the rest as GBufferResolveBlocks computes them): the
 // constant words with the textures' samples packed in. Out of line: inlined, its sampler's registers
-// and stack slots slowed the untextured vectors of the resolve (10k knot, 1 thread: 4.7 -> 6.0 ms).
-// Its aggregates are taken by value and its words returned: an object whose address a call takes
-// stays in memory throughout the loop, its vectors stored and loaded again (10k knot, 1 thread:
-// 3.9 -> 4.5 ms with the view ray's direction passed by reference).
+// and stack slots slow the untextured vectors of the resolve. Its aggregates are taken by value and
+// its words returned: an object whose address a call takes stays in memory throughout the loop, its
+// vectors stored and loaded again.
 struct Words01 {
   hn::Vec<DU> word0, word1;
 };
@@ -412,17 +410,16 @@ size_t GBufferResolveBlocks(const GBufferResolveInputs& in, const GBufferResolve
     const VF directionY = hn::Load(df, rayY), downY = hn::Load(df, downRayY);
     for (size_t x = 0; x < width; x += kWidth) {
       // A row of the visibility buffer is a page of its own at 1024 pixels, where the hardware's
-      // prefetch stops: the rows of the next blocks down are asked for along these (the 10k knot's
-      // resolve at 1 thread: 3.8 -> 3.4 ms, a row at a time).
+      // prefetch stops: the rows of the next blocks down are asked for along these.
       if (x % (64 / sizeof(uint32_t)) == 0) {  // once per line
         for (size_t next = r + kHeight; next < r + 2 * kHeight; ++next) {
           hwy::Prefetch(rows.triangles[next] + x);
           hwy::Prefetch(rows.depthKeys[next] + x);
         }
       }
-      // A large mesh's vertex data is asked for two vectors ahead, its corners four (1M knot at 1
-      // thread: 35.9-36.5 -> 34.3-35.1 ms; asked where the vertex data stays in the caches, it cost the
-      // 10k and 100k knots 7%).
+      // A large mesh's vertex data is asked for two vectors ahead, its corners four: beyond the
+      // caches the vertex fetches are the resolve's wait; where the data stays in the caches
+      // (in.prefetchVertices false) the extra requests only cost.
       if (in.prefetchVertices && x > 0) {
         for (int ahead : {2, 4}) {
           const size_t at = x + size_t(ahead) * kWidth;

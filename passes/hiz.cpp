@@ -27,8 +27,7 @@ void ShapeLevels(size_t width, size_t height, std::vector<Plane<float>>& levels)
 // core/parallel.h) and the levels 1..4 they make.
 constexpr size_t kLevelsPerRegion = 5;
 // A region of levels from one this small (the last two of a 1024 or 2048 image) is microseconds of
-// downsampling, less than waking a worker for it: 0.077 -> 0.069 ms for the 1024 pyramid at 2
-// threads when made inline.
+// downsampling, less than waking a worker for it, so it is made inline.
 constexpr size_t kTexelsMadeInline = size_t(128) * 128;
 
 }  // namespace

@@ -215,7 +215,7 @@ TilePlan PlanTiles(const std::vector<ShadowFilterTileSummary>& summaries, const 
 // the same in every region and frame (ParallelForRuns): a tile's neighbours, whose scratch its
 // passes read, were then mostly set up and blurred by that thread. Where the two threads sit on
 // different L3 caches, running each tile wherever a thread was free made the filter about a fifth
-// slower (bench/README.md, "The shadow filter's tiles kept on their threads").
+// slower (docs/perf-log.md, "The shadow filter's tiles kept on their threads").
 struct TileRuns {
   std::vector<std::vector<size_t>> setup, major, minor;
 };
