@@ -53,7 +53,7 @@ enum class PortRuns { kChained, kChainedAndOracleInputs };
 // says and checks every layer the port writes against the oracle's. Every layer must be bit-exact: the
 // spec pins each operation and its order, and the shaders' `precise` forbids the contractions GLSL
 // otherwise allows (tests/port/README.md); a tolerance here would hide a departure from the spec.
-// (Thresholds for GPUs with approximate division or sqrt are `ssgi diff`'s, issue 13.)
+// (Thresholds for GPUs with approximate division or sqrt are `ssgi diff`'s, data/diff_thresholds.json.)
 void CheckPort(const std::filesystem::path& sceneFile, int width, int height, PortRuns runs = PortRuns::kChained) {
   if (std::string(kGlPortPath).empty()) {
     WARN("the GLSL port is not built (no EGL/OpenGL development files): skipped");
