@@ -15,18 +15,20 @@ namespace ssgi {
 
 namespace {
 
-BenchScene LoadBenchScene(const char* path) {
+BenchScene LoadBenchScene(const char* path, const char* hint = "") {
   try {
     SceneFile file = LoadSceneFile(path);
     const FrameConfig config = FrameConfigFromSceneFile(file);
     return BenchScene{std::move(file.scene), config, {}};
   } catch (const std::exception& e) {
-    return BenchScene{{}, {}, std::string("cannot load ") + path + ": " + e.what()};
+    return BenchScene{{}, {}, std::string("cannot load ") + path + ": " + e.what() + hint};
   }
 }
 
 const BenchScene& SponzaBenchScene() {
-  static const BenchScene scene = LoadBenchScene(SSGI_SOURCE_DATA_DIR "/scenes/sponza.json");
+  static const BenchScene scene =
+      LoadBenchScene(SSGI_SOURCE_DATA_DIR "/scenes/sponza.json",
+                     " (fetch the model with data/scenes/fetch.sh sponza, or --from DIR for a local copy)");
   return scene;
 }
 

@@ -35,9 +35,9 @@ const BenchScene& DefaultBenchScene();
 const BenchScene& KnotScene(int64_t triangles);
 
 // The scene a benchmark's `scene` argument names: 0 the default scene, -1 data/scenes/sponza.json
-// (Dabrovic Sponza from ../shared/scenes: 66k triangles, textured, alpha cut-outs; loaded once, and
-// where the shared scenes are absent its error says so and the benchmark skips), else the knot of
-// that many triangles.
+// (Dabrovic Sponza in data/scenes/models, fetched by data/scenes/fetch.sh: 66k triangles, textured,
+// alpha cut-outs; loaded once, and where the model is absent its error says so and how to fetch it,
+// and the benchmark skips), else the knot of that many triangles.
 const BenchScene& BenchSceneOf(int64_t scene);
 
 // The arguments of the G-buffer comparison with llvmpipe, the same for ssgi (BM_GBufferSsgi) and the

@@ -109,7 +109,7 @@ void BM_ShadowFilter(benchmark::State& state) {
 
 // Arguments: the kernel path (1 SIMD, 0 scalar: the raster's tile kernel and the blocker search's
 // row kernel), threads (1, 2), the shadow map resolution, then the scene (BenchSceneOf: 0 the default
-// scene, -1 Sponza, skipped where the shared scenes are absent).
+// scene, -1 Sponza, skipped where its model is not fetched).
 BENCHMARK(BM_ShadowMap)
     ->ArgNames({"simd", "threads", "resolution", "scene"})
     ->ArgsProduct({{0, 1}, {1, 2}, {1024, 2048}, {0}})

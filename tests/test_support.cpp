@@ -19,7 +19,12 @@ namespace ssgi::test {
 
 std::filesystem::path SourceDir() { return SSGI_SOURCE_DIR; }
 std::filesystem::path CliPath() { return SSGI_CLI_PATH; }
-std::filesystem::path ThirdPartyScenesDir() { return SourceDir().parent_path() / "shared" / "scenes"; }
+std::filesystem::path ThirdPartyScenesDir() { return SourceDir() / "data" / "scenes" / "models"; }
+std::string MissingScenesMessage(const std::filesystem::path& missing) {
+  return "skipped: " + missing.string() +
+         " is not present; fetch the third-party models with data/scenes/fetch.sh (downloads them) or "
+         "data/scenes/fetch.sh --from DIR (copies a local mirror)";
+}
 
 ScratchDir::ScratchDir(const std::string& name) {
   path_ = std::filesystem::temp_directory_path() / ("ssgi-test-" + name + "-" + std::to_string(::getpid()));

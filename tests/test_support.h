@@ -15,10 +15,12 @@ namespace ssgi::test {
 // The project's source folder (for data/) and the built ssgi executable.
 std::filesystem::path SourceDir();
 std::filesystem::path CliPath();
-// The third-party scenes (Sponza, Sibenik, bunny, ...) in ../shared/scenes beside the checkout, as
-// the scene files in data/scenes name them; not part of the repository, so tests that need them
-// skip with a warning where the folder is absent.
+// The third-party models (Sponza, Sibenik, bunny, ...) in data/scenes/models/<folder>/, where the
+// scene files in data/scenes find them and data/scenes/fetch.sh puts them; not part of the
+// repository, so tests that need them skip with MissingScenesMessage where they are absent.
 std::filesystem::path ThirdPartyScenesDir();
+// "skipped: <missing> is not present; ..." and how to fetch the models, for a test's WARN.
+std::string MissingScenesMessage(const std::filesystem::path& missing);
 
 // A fresh empty folder under the system temp folder, removed when the object dies.
 class ScratchDir {

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 #include <catch2/catch.hpp>
 
@@ -198,12 +199,16 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
 
 TEST_CASE("render: the real-scene files render where their models are present", "[cli][real_scenes]") {
   ScratchDir dir("cli-real-scenes");
-  const fs::path shared = ThirdPartyScenesDir();
-  if (!fs::exists(shared)) {
-    WARN("skipped: " << shared << " does not exist (the third-party models are not part of the repository)");
-    return;
-  }
-  for (const char* name : {"sponza", "sibenik", "bunny", "armadillo", "teapot"}) {
+  const std::pair<const char*, const char*> scenes[] = {{"sponza", "dabrovic-sponza/sponza.obj"},
+                                                        {"sibenik", "sibenik-cathedral/sibenik.obj"},
+                                                        {"bunny", "stanford-bunny/bunny.obj"},
+                                                        {"armadillo", "stanford-armadillo/armadillo.obj"},
+                                                        {"teapot", "utah-teapot/teapot.obj"}};
+  for (const auto& [name, model] : scenes) {
+    if (!fs::exists(ThirdPartyScenesDir() / model)) {
+      WARN(MissingScenesMessage(ThirdPartyScenesDir() / model));
+      continue;
+    }
     const fs::path png = dir / (std::string(name) + ".png");
     const CommandResult r = RunCli("render " + Quote(SourceDir() / "data" / "scenes" / (std::string(name) + ".json")) +
                                    " --size 64x48 -o " + Quote(png));

@@ -155,7 +155,7 @@ TEST_CASE("roughness comes from Ns when Pr is absent", "[obj]") {
 TEST_CASE("the Dabrovic Sponza loads with every texture resolved", "[obj][sponza]") {
   const fs::path folder = test::ThirdPartyScenesDir() / "dabrovic-sponza";
   if (!fs::exists(folder / "sponza.obj")) {
-    WARN("skipped: " << folder << " is not present");
+    WARN(test::MissingScenesMessage(folder / "sponza.obj"));
     return;
   }
   const ObjModel model = LoadObjModel(folder / "sponza.obj");

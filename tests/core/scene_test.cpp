@@ -183,7 +183,7 @@ TEST_CASE("DefaultLight comes from the upper left with a 2 degree sun", "[scene]
 TEST_CASE("Sponza loads as a bare OBJ with its textures", "[scene][sponza]") {
   const fs::path file = test::ThirdPartyScenesDir() / "dabrovic-sponza" / "sponza.obj";
   if (!fs::exists(file)) {
-    WARN("skipped: " << file << " is not present");
+    WARN(test::MissingScenesMessage(file));
     return;
   }
   const Scene scene = LoadScene(file);

@@ -125,10 +125,11 @@ TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed s
 
 TEST_CASE("the GLSL port matches the oracle on Sponza and under Sibenik's shadowed spot", "[port][sponza]") {
   for (const char* scene : {"sponza", "sibenik"}) {
-    const std::filesystem::path folder =
-        test::ThirdPartyScenesDir() / (scene == std::string("sponza") ? "dabrovic-sponza" : "sibenik-cathedral");
-    if (!std::filesystem::exists(folder)) {
-      WARN("skipped: " << folder << " is not present");
+    const std::filesystem::path model =
+        test::ThirdPartyScenesDir() /
+        (scene == std::string("sponza") ? "dabrovic-sponza/sponza.obj" : "sibenik-cathedral/sibenik.obj");
+    if (!std::filesystem::exists(model)) {
+      WARN(test::MissingScenesMessage(model));
       continue;
     }
     CheckPort(test::SourceDir() / "data" / "scenes" / (std::string(scene) + ".json"), 256, 192);
