@@ -2,7 +2,8 @@
 # ssgi's one set-up script. On a fresh Debian 12 machine (as root, or with sudo) it installs the
 # Debian packages that are missing, builds in Release, then:
 #   ./setup.sh            renders the built-in default scene to default.png (with --stats)
-#   ./setup.sh test       runs the whole test suite (ctest)
+#   ./setup.sh test       runs the whole test suite (ctest), first fetching the third-party scenes
+#                         from ../shared/scenes where that mirror is beside the checkout
 #   ./setup.sh build      only installs and builds
 # BUILD_DIR (default: build) picks the build folder.
 set -euo pipefail
@@ -11,9 +12,9 @@ cd "$(dirname "$0")"
 # The last four are Mesa's OpenGL on the CPU, for the llvmpipe peer (bench/llvmpipe_bench.cpp) and
 # the GLSL port the tests check against the oracle (tests/port/): EGL and OpenGL headers and
 # libraries, Mesa's EGL, and Mesa's software drivers (llvmpipe). The build and the tests run
-# without them (the peer is left out, the port's test skips).
+# without them (the peer is left out, the port's test skips). python3 runs data/scenes/fetch.sh.
 packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libopenimageio-dev
-          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev
+          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev python3
           libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${packages[@]}"; do
@@ -36,7 +37,10 @@ echo "setup: built in $((SECONDS - built_from)) s"
 
 case "${1:-render}" in
   render) "$build/cli/ssgi" render --stats ;;
-  test) ctest --test-dir "$build" --output-on-failure --parallel "$(nproc)" ;;
+  test)
+    # The scene tests skip without the models; CI keeps a mirror beside the checkout.
+    if [[ -d ../shared/scenes ]]; then data/scenes/fetch.sh --from ../shared/scenes --quiet; fi
+    ctest --test-dir "$build" --output-on-failure --parallel "$(nproc)" ;;
   build) ;;
   *) echo "usage: $0 [render|test|build]" >&2; exit 2 ;;
 esac
