@@ -10,6 +10,7 @@ machine only if its models are the same bytes. Python 3 standard library only.
 import argparse
 import dataclasses
 import hashlib
+import http.client
 import os
 import shutil
 import struct
@@ -342,8 +343,8 @@ def stage_from_upstream(scene, files, folder, work, base_url=RAW_BASE_URL, quiet
     try:
         with urllib.request.urlopen(request, timeout=60) as response:
             actual = copy_hashed(response, archive)
-    except OSError as error:
-        raise FetchError("%s: cannot download: %s" % (url, error)) from None
+    except (OSError, http.client.HTTPException) as error:
+        raise FetchError("%s: cannot download: %s" % (url, error or type(error).__name__)) from None
     check_digest(url, actual, scene.zip_sha256, "the zip's hash in fetch.py")
     conversion = scene.conversion
     wanted = set(files) | ({conversion.source} if conversion else set())
