@@ -636,12 +636,16 @@ int main(int argc, char** argv) {
   passesCommand->add_option("-o,--output", passes.output, "Dump (.exr) to write.")->required();
   passesCommand->add_option("--scene", passes.scene,
                             "Scene file (camera, lights, materials, settings). Default: the scene the dump names.");
-  passesCommand->add_option("--from", passes.from, "First pass to run (default gbuffer): gbuffer, shadow_map, "
-                                                   "shadow_filter, direct_light, hiz, color_pyramid, ssr_trace, "
-                                                   "ssr_cone, composite, tonemap.");
+  passesCommand->add_option("--from", passes.from,
+                            "First pass to run (default gbuffer): " + ssgi::FramePassNames() + ".");
   passesCommand->add_option("--to", passes.to, "Last pass to run (default tonemap).");
   passesCommand->add_option("--threads", passes.threads, "Worker threads (0 = all).")->check(CLI::Range(0, 1024));
   passesCommand->add_flag("--stats", passes.stats, "Print each pass's time.");
+  std::string passList = "\nThe passes, in pipeline order:\n";
+  for (const ssgi::PassDeclaration& pass : ssgi::FramePasses())
+    passList += "  " + std::string(pass.name) + std::string(16 - std::min<size_t>(pass.name.size(), 15), ' ') +
+                std::string(pass.summary) + "\n";
+  passesCommand->footer(passList);
 
   DiffOptions diff;
   CLI::App* diffCommand = app.add_subcommand(

@@ -106,11 +106,6 @@ void LoadPlane(const ExrFile& dump, const std::filesystem::path& file, const std
   }
 }
 
-void LoadPlane3(const ExrFile& dump, const std::filesystem::path& file, const std::string& part,
-                const std::string& prefix, size_t width, size_t height, Plane3<float>& planes) {
-  for (int c = 0; c < 3; ++c) LoadPlane(dump, file, part, prefix + kRgb[c], width, height, planes.c[c]);
-}
-
 bool HasLayer(const ExrFile& dump, const std::string& part, const std::string& name) {
   return dump.Find(part, name) != nullptr;
 }
@@ -118,70 +113,18 @@ bool HasLayer(const ExrFile& dump, const std::string& part, const std::string& n
 }  // namespace
 
 const std::vector<DumpLayer>& DumpLayers() {
-  using P = FramePass;
-  static const std::vector<DumpLayer> layers = {
-      {"gbuffer.word0", P::kGBuffer, true, DumpPart::kImage, false,
-       "albedo R, G, B 8-bit sRGB codes (bits 0-23), metallic code (24-31)"},
-      {"gbuffer.word1", P::kGBuffer, true, DumpPart::kImage, false,
-       "view-space normal, 24-bit encoding (bits 0-23), perceptual roughness code (24-31)"},
-      {"gbuffer.word2", P::kGBuffer, true, DumpPart::kImage, false, "view depth, float32 bits, metres; +inf background"},
-      {"albedo.R", P::kGBuffer, false, DumpPart::kImage, true, "linear albedo from word 0, [0, 1]"},
-      {"albedo.G", P::kGBuffer, false, DumpPart::kImage, true, "linear albedo from word 0, [0, 1]"},
-      {"albedo.B", P::kGBuffer, false, DumpPart::kImage, true, "linear albedo from word 0, [0, 1]"},
-      {"metallic", P::kGBuffer, false, DumpPart::kImage, true, "metallic from word 0, [0, 1]"},
-      {"normal.X", P::kGBuffer, false, DumpPart::kImage, true, "view-space unit normal from word 1; 0 on background"},
-      {"normal.Y", P::kGBuffer, false, DumpPart::kImage, true, "view-space unit normal from word 1; 0 on background"},
-      {"normal.Z", P::kGBuffer, false, DumpPart::kImage, true, "view-space unit normal from word 1; 0 on background"},
-      {"roughness", P::kGBuffer, false, DumpPart::kImage, true, "perceptual roughness from word 1, [0, 1]"},
-      {"depth", P::kGBuffer, false, DumpPart::kImage, true, "view depth from word 2, metres; +inf background"},
-      {"raster.depthKey", P::kGBuffer, false, DumpPart::kImage, false,
-       "visibility buffer: reversed-Z depth key z_ndc of the nearest surface, (0, 1]; 0 = nothing drawn"},
-      {"raster.triangle", P::kGBuffer, true, DumpPart::kImage, false,
-       "visibility buffer: triangle index of the nearest surface; 0xFFFFFFFF = nothing drawn"},
-      {"depthKey", P::kShadowMap, false, DumpPart::kShadowMap, false,
-       "shadow map: reversed-Z depth key seen from the light, [0, 1]; 0 = nothing drawn"},
-      {"gbuffer.word3", P::kShadowMap, true, DumpPart::kImage, false,
-       "shadow term: hard-shadow flag (bit 31), average blocker distance float32 bits without sign (0-30); 0 = lit"},
-      {"shadow.hard", P::kShadowMap, false, DumpPart::kImage, true, "hard shadow from word 3: 1 occluded, 0 lit"},
-      {"shadow.blocker", P::kShadowMap, false, DumpPart::kImage, true,
-       "average blocker distance from word 3, metres, >= 0; 0 = no blocker"},
-      {"shadow.visibility", P::kShadowFilter, false, DumpPart::kImage, false,
-       "filtered light visibility of the shadowed light, [0, 1], 1 = lit; 1 on background"},
-      {"direct.R", P::kDirectLight, false, DumpPart::kImage, false, "direct radiance, linear RGB, [0, 65504]; background colour"},
-      {"direct.G", P::kDirectLight, false, DumpPart::kImage, false, "direct radiance, linear RGB, [0, 65504]; background colour"},
-      {"direct.B", P::kDirectLight, false, DumpPart::kImage, false, "direct radiance, linear RGB, [0, 65504]; background colour"},
-      {"Y", P::kHiZ, false, DumpPart::kHiZLevels, false,
-       "Hi-Z level L: max inverse view depth 1/d over the texel's footprint, 1/metres, >= 0; 0 = background only"},
-      {"R", P::kColorPyramid, false, DumpPart::kPyramidLevels, false,
-       "colour pyramid level L: blurred direct radiance, linear, [0, 65504]"},
-      {"G", P::kColorPyramid, false, DumpPart::kPyramidLevels, false,
-       "colour pyramid level L: blurred direct radiance, linear, [0, 65504]"},
-      {"B", P::kColorPyramid, false, DumpPart::kPyramidLevels, false,
-       "colour pyramid level L: blurred direct radiance, linear, [0, 65504]"},
-      {"ssr.hitX", P::kSsrTrace, false, DumpPart::kImage, false,
-       "trace hit, level-0 pixel coordinates (centres at +0.5), [0, width); -1 = no hit"},
-      {"ssr.hitY", P::kSsrTrace, false, DumpPart::kImage, false,
-       "trace hit, level-0 pixel coordinates (centres at +0.5), [0, height); -1 = no hit"},
-      {"ssr.confidence", P::kSsrTrace, false, DumpPart::kImage, false,
-       "trace confidence, [0, 1]; 0 exactly where there is no hit"},
-      {"ssr.iterations", P::kSsrTrace, false, DumpPart::kImage, false,
-       "Hi-Z steps the pixel's ray took, a whole number in [0, ssr_iterations]; 0 where no ray was traced"},
-      {"ssr.reflected.R", P::kSsrCone, false, DumpPart::kImage, false,
-       "cone-traced radiance before the specular weight, linear, [0, 65504]; 0 without hit"},
-      {"ssr.reflected.G", P::kSsrCone, false, DumpPart::kImage, false,
-       "cone-traced radiance before the specular weight, linear, [0, 65504]; 0 without hit"},
-      {"ssr.reflected.B", P::kSsrCone, false, DumpPart::kImage, false,
-       "cone-traced radiance before the specular weight, linear, [0, 65504]; 0 without hit"},
-      {"indirect.R", P::kComposite, false, DumpPart::kImage, false, "indirect radiance, linear, >= 0"},
-      {"indirect.G", P::kComposite, false, DumpPart::kImage, false, "indirect radiance, linear, >= 0"},
-      {"indirect.B", P::kComposite, false, DumpPart::kImage, false, "indirect radiance, linear, >= 0"},
-      {"result.R", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-      {"result.G", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-      {"result.B", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-      {"display.R", P::kTonemap, true, DumpPart::kImage, false, "the 8-bit image: sRGB code 0-255"},
-      {"display.G", P::kTonemap, true, DumpPart::kImage, false, "the 8-bit image: sRGB code 0-255"},
-      {"display.B", P::kTonemap, true, DumpPart::kImage, false, "the 8-bit image: sRGB code 0-255"},
-  };
+  static const std::vector<DumpLayer> layers = [] {
+    std::vector<DumpLayer> all;
+    for (const PassDeclaration& pass : FramePasses()) {
+      const auto add = [&](FrameBuffer id) {
+        for (const DumpLayer& layer : FrameBufferDeclaration(id).buffer->layers)
+          if (layer.pass == pass.pass) all.push_back(layer);
+      };
+      for (const BufferDeclaration& buffer : pass.makes) add(buffer.id);
+      for (FrameBuffer written : pass.writes) add(written);
+    }
+    return all;
+  }();
   return layers;
 }
 
@@ -244,133 +187,151 @@ DumpScene LoadDumpScene(const ExrFile& dump, const std::filesystem::path& file,
   return {std::move(loaded.scene), config};
 }
 
+template <class T>
+void DumpSink::Add(DumpPart part, int level, std::string_view name, const Plane<T>& plane) {
+  PartFor(part, level, plane.xsize(), plane.ysize()).channels.push_back(Channel(std::string(name), plane));
+}
+
+void DumpSink::Add3(DumpPart part, int level, std::string_view prefix, const Plane3<float>& planes) {
+  for (int c = 0; c < 3; ++c) Add(part, level, std::string(prefix) + kRgb[c], planes.c[c]);
+}
+
+template <class T>
+void DumpSink::AddOwned(DumpPart part, int level, std::string_view name, Plane<T> plane) {
+  if constexpr (std::is_same_v<T, uint32_t>) {
+    Add(part, level, name, uints_.emplace_back(std::move(plane)));
+  } else {
+    Add(part, level, name, floats_.emplace_back(std::move(plane)));
+  }
+}
+
+void DumpSink::AddGBufferWords(const GBuffer& g) {
+  Add(DumpPart::kImage, 0, "gbuffer.word0", g.word[GBufferWord::kAlbedoMetallic]);
+  Add(DumpPart::kImage, 0, "gbuffer.word1", g.word[GBufferWord::kNormalRoughness]);
+  Add(DumpPart::kImage, 0, "gbuffer.word2", g.word[GBufferWord::kDepth]);
+  DecodedGBuffer decoded(g);
+  for (int i = 0; i < DecodedGBuffer::kCount; ++i)
+    AddOwned(DumpPart::kImage, 0, DecodedGBuffer::kNames[i], std::move(decoded.planes[size_t(i)]));
+}
+
+void DumpSink::AddShadowTerm(const Plane<uint32_t>& word3) {
+  Add(DumpPart::kImage, 0, "gbuffer.word3", word3);
+  DecodedShadowTerm decoded(word3);
+  AddOwned(DumpPart::kImage, 0, "shadow.hard", std::move(decoded.hard));
+  AddOwned(DumpPart::kImage, 0, "shadow.blocker", std::move(decoded.blocker));
+}
+
+void DumpSink::AddDisplay(const TonemapOutputs& display) {
+  if (parts_.empty()) return;  // the image part sizes the display image
+  const size_t width = size_t(parts_.front().width), height = size_t(parts_.front().height);
+  if (display.rgb.size() != width * height * 3) return;
+  Plane3<uint32_t> codes = DisplayCodes(display, width, height);
+  for (int c = 0; c < 3; ++c) AddOwned(DumpPart::kImage, 0, std::string("display.") + kRgb[c], std::move(codes.c[c]));
+}
+
+ExrPart& DumpSink::PartFor(DumpPart part, int level, size_t width, size_t height) {
+  const std::string name = DumpPartName(part, level);
+  for (ExrPart& existing : parts_)
+    if (existing.name == name) return existing;
+  return parts_.emplace_back(ExrPart{name, int(width), int(height), {}});
+}
+
+DumpSource::DumpSource(const ExrFile& dump, const std::filesystem::path& file, size_t width, size_t height)
+    : dump_(dump), file_(file), width_(width), height_(height) {}
+
+bool DumpSource::Has(DumpPart part, int level, std::string_view name) const {
+  return HasLayer(dump_, DumpPartName(part, level), std::string(name));
+}
+
+template <class T>
+void DumpSource::Load(DumpPart part, int level, std::string_view name, Plane<T>& plane) const {
+  size_t width = width_, height = height_;
+  if (part == DumpPart::kHiZLevels || part == DumpPart::kPyramidLevels) {
+    const PyramidSize size = PyramidLevelSizes(width_, height_)[size_t(level)];
+    width = size.width;
+    height = size.height;
+  }
+  LoadPlane(dump_, file_, DumpPartName(part, level), std::string(name), width, height, plane);
+}
+
+void DumpSource::Load3(DumpPart part, int level, std::string_view prefix, Plane3<float>& planes) const {
+  for (int c = 0; c < 3; ++c) Load(part, level, std::string(prefix) + kRgb[c], planes.c[c]);
+}
+
+void DumpSource::LoadLevels(std::vector<Plane<float>>& levels) const {
+  levels.resize(PyramidLevelSizes(width_, height_).size());
+  for (size_t k = 0; k < levels.size(); ++k) Load(DumpPart::kHiZLevels, int(k), "Y", levels[k]);
+}
+
+void DumpSource::LoadLevels(std::vector<Plane3<float>>& levels) const {
+  levels.resize(PyramidLevelSizes(width_, height_).size());
+  for (size_t k = 0; k < levels.size(); ++k) Load3(DumpPart::kPyramidLevels, int(k), "", levels[k]);
+}
+
+void DumpSource::LoadGBufferWords(GBuffer& g) const {
+  for (int w = 0; w < 3; ++w) Load(DumpPart::kImage, 0, "gbuffer.word" + std::to_string(w), g.word[w]);
+  g.word[GBufferWord::kShadowTerm] = MakePlane<uint32_t>(width_, height_, kShadowLit);
+}
+
+template void DumpSource::Load(DumpPart, int, std::string_view, Plane<float>&) const;
+template void DumpSource::Load(DumpPart, int, std::string_view, Plane<uint32_t>&) const;
+template void DumpSink::Add(DumpPart, int, std::string_view, const Plane<float>&);
+template void DumpSink::Add(DumpPart, int, std::string_view, const Plane<uint32_t>&);
+
 void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
                     const std::map<std::string, std::string>& metadata) {
-  const GBuffer& g = frame.gbuffer.gbuffer;
-  const int width = g.width(), height = g.height();
-  const DecodedGBuffer decoded(g);
-  const DecodedShadowTerm shadowTerm(g.word[GBufferWord::kShadowTerm]);
-  std::optional<Plane3<uint32_t>> display;
-  if (frame.display.rgb.size() == size_t(width) * size_t(height) * 3)
-    display = DisplayCodes(frame.display, size_t(width), size_t(height));
-
-  ExrPart image{DumpPartName(DumpPart::kImage, 0), width, height, {}};
-  std::vector<ExrPart> parts;
-  for (int w = 0; w < 3; ++w) image.channels.push_back(Channel("gbuffer.word" + std::to_string(w), g.word[w]));
-  for (int i = 0; i < DecodedGBuffer::kCount; ++i)
-    image.channels.push_back(Channel(DecodedGBuffer::kNames[i], decoded.planes[size_t(i)]));
-  image.channels.push_back(Channel("raster.depthKey", frame.gbuffer.visibility.depthKey));
-  image.channels.push_back(Channel("raster.triangle", frame.gbuffer.visibility.triangle));
-  if (frame.shadows) {
-    image.channels.push_back(Channel("gbuffer.word3", g.word[GBufferWord::kShadowTerm]));
-    image.channels.push_back(Channel("shadow.hard", shadowTerm.hard));
-    image.channels.push_back(Channel("shadow.blocker", shadowTerm.blocker));
-    if (frame.shadowVisibility.visibility.xsize() == size_t(width))
-      image.channels.push_back(Channel("shadow.visibility", frame.shadowVisibility.visibility));
-  }
-  if (frame.direct.radiance.c[0].xsize() == size_t(width))
-    for (int c = 0; c < 3; ++c) image.channels.push_back(Channel(std::string("direct.") + kRgb[c], frame.direct.radiance.c[c]));
-  if (frame.reflections) {
-    if (frame.ssrTrace.hitX.xsize() == size_t(width)) {
-      image.channels.push_back(Channel("ssr.hitX", frame.ssrTrace.hitX));
-      image.channels.push_back(Channel("ssr.hitY", frame.ssrTrace.hitY));
-      image.channels.push_back(Channel("ssr.confidence", frame.ssrTrace.confidence));
-      if (frame.ssrTrace.iterations.xsize() == size_t(width))
-        image.channels.push_back(Channel("ssr.iterations", frame.ssrTrace.iterations));
-    }
-    if (frame.ssrCone.reflected.c[0].xsize() == size_t(width))
-      for (int c = 0; c < 3; ++c)
-        image.channels.push_back(Channel(std::string("ssr.reflected.") + kRgb[c], frame.ssrCone.reflected.c[c]));
-    if (frame.composite.result.c[0].xsize() == size_t(width)) {
-      for (int c = 0; c < 3; ++c)
-        image.channels.push_back(Channel(std::string("indirect.") + kRgb[c], frame.composite.indirect.c[c]));
-      for (int c = 0; c < 3; ++c)
-        image.channels.push_back(Channel(std::string("result.") + kRgb[c], frame.composite.result.c[c]));
-    }
-  }
-  if (display)
-    for (int c = 0; c < 3; ++c) image.channels.push_back(Channel(std::string("display.") + kRgb[c], display->c[c]));
-  parts.push_back(std::move(image));
-
-  if (frame.shadowMap) {
-    const Plane<float>& depthKey = frame.shadowMap->shadowMap.depthKey;
-    parts.push_back({DumpPartName(DumpPart::kShadowMap, 0), int(depthKey.xsize()), int(depthKey.ysize()),
-                     {Channel("depthKey", depthKey)}});
-  }
-  if (frame.reflections) {
-    for (size_t k = 0; k < frame.hiz.levels.size(); ++k) {
-      const Plane<float>& level = frame.hiz.levels[k];
-      parts.push_back({DumpPartName(DumpPart::kHiZLevels, int(k)), int(level.xsize()), int(level.ysize()),
-                       {Channel("Y", level)}});
-    }
-    for (size_t k = 0; k < frame.colorPyramid.levels.size(); ++k) {
-      const Plane3<float>& level = frame.colorPyramid.levels[k];
-      ExrPart part{DumpPartName(DumpPart::kPyramidLevels, int(k)), int(level.c[0].xsize()), int(level.c[0].ysize()), {}};
-      for (int c = 0; c < 3; ++c) part.channels.push_back(Channel(kRgb[c], level.c[c]));
-      parts.push_back(std::move(part));
-    }
-  }
-  WriteExrParts(path, parts, metadata);
+  DumpSink sink;
+  for (const MadeBuffer& made : FrameBuffers())
+    if (made.buffer->dump) made.buffer->dump(frame, sink);
+  WriteExrParts(path, sink.Parts(), metadata);
 }
+
+namespace {
+
+bool Belongs(FrameEffect effect, bool shadows, bool reflections) {
+  return effect == FrameEffect::kAlways || (effect == FrameEffect::kShadows && shadows) ||
+         (effect == FrameEffect::kReflections && reflections);
+}
+
+}  // namespace
 
 void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const Scene& scene,
                    const FrameConfig& config, FramePass from, FramePass to, Frame& frame) {
-  const size_t width = size_t(config.width), height = size_t(config.height);
-  const std::string image = DumpPartName(DumpPart::kImage, 0);
-  const auto before = [&](FramePass pass) { return pass < from; };
-  const auto runs = [&](FramePass pass) { return from <= pass && pass <= to; };
-  // A layer is loaded when an earlier pass writes it and a pass that runs reads it, or, for the
-  // G-buffer words, whenever the G-buffer pass does not run: every later pass reads them.
-  GBuffer& g = frame.gbuffer.gbuffer;
-  g.normalEncoding = config.normalEncoding;
-  if (from > FramePass::kGBuffer) {
-    for (int w = 0; w < 3; ++w) LoadPlane(dump, file, image, "gbuffer.word" + std::to_string(w), width, height, g.word[w]);
-    // Word 3 as the G-buffer pass leaves it, unless the shadow term is loaded below.
-    g.word[GBufferWord::kShadowTerm] = MakePlane<uint32_t>(width, height, kShadowLit);
-    if (HasLayer(dump, image, "raster.triangle")) {
-      LoadPlane(dump, file, image, "raster.depthKey", width, height, frame.gbuffer.visibility.depthKey);
-      LoadPlane(dump, file, image, "raster.triangle", width, height, frame.gbuffer.visibility.triangle);
-    }
-  }
+  frame.gbuffer.gbuffer.normalEncoding = config.normalEncoding;
   if (from == FramePass::kGBuffer) return;
-  // Which effects belong to the frame: the plan on the G-buffer, as RunFramePasses will make it.
-  const FramePlan plan = PlanFrame(scene, config, g, MakePerspective(scene.camera, config.width, config.height));
-  const bool shadows = plan.shadows.run, reflections = plan.reflections.run;
-  if (shadows && before(FramePass::kShadowMap) && (runs(FramePass::kShadowFilter) || HasLayer(dump, image, "gbuffer.word3")))
-    LoadPlane(dump, file, image, "gbuffer.word3", width, height, g.word[GBufferWord::kShadowTerm]);
-  if (shadows && before(FramePass::kShadowFilter) && runs(FramePass::kDirectLight))
-    LoadPlane(dump, file, image, "shadow.visibility", width, height, frame.shadowVisibility.visibility);
-  const bool directRead = (reflections && (runs(FramePass::kColorPyramid) || runs(FramePass::kComposite))) ||
-                          (!reflections && runs(FramePass::kTonemap));
-  if (before(FramePass::kDirectLight) && directRead)
-    LoadPlane3(dump, file, image, "direct.", width, height, frame.direct.radiance);
-  if (!reflections) return;
-  const std::vector<PyramidSize> sizes = PyramidLevelSizes(width, height);
-  if (before(FramePass::kHiZ) && runs(FramePass::kSsrTrace)) {
-    frame.hiz.levels.resize(sizes.size());
-    for (size_t k = 0; k < sizes.size(); ++k)
-      LoadPlane(dump, file, DumpPartName(DumpPart::kHiZLevels, int(k)), "Y", sizes[k].width, sizes[k].height,
-                frame.hiz.levels[k]);
-  }
-  if (before(FramePass::kColorPyramid) && runs(FramePass::kSsrCone)) {
-    frame.colorPyramid.levels.resize(sizes.size());
-    for (size_t k = 0; k < sizes.size(); ++k)
-      LoadPlane3(dump, file, DumpPartName(DumpPart::kPyramidLevels, int(k)), "", sizes[k].width, sizes[k].height,
-                 frame.colorPyramid.levels[k]);
-  }
-  if (before(FramePass::kSsrTrace) && (runs(FramePass::kSsrCone) || runs(FramePass::kComposite))) {
-    LoadPlane(dump, file, image, "ssr.hitX", width, height, frame.ssrTrace.hitX);
-    LoadPlane(dump, file, image, "ssr.hitY", width, height, frame.ssrTrace.hitY);
-    LoadPlane(dump, file, image, "ssr.confidence", width, height, frame.ssrTrace.confidence);
-    if (HasLayer(dump, image, "ssr.iterations"))
-      LoadPlane(dump, file, image, "ssr.iterations", width, height, frame.ssrTrace.iterations);
-  }
-  if (before(FramePass::kSsrCone) && runs(FramePass::kComposite))
-    LoadPlane3(dump, file, image, "ssr.reflected.", width, height, frame.ssrCone.reflected);
-  if (before(FramePass::kComposite) && runs(FramePass::kTonemap)) {
-    LoadPlane3(dump, file, image, "result.", width, height, frame.composite.result);
-    if (HasLayer(dump, image, "indirect.R")) LoadPlane3(dump, file, image, "indirect.", width, height, frame.composite.indirect);
-  }
+  const DumpSource source(dump, file, size_t(config.width), size_t(config.height));
+  // A buffer is loaded when every pass writing its layers comes before `from`, its effect belongs to
+  // the frame, and a pass that runs reads it (or the frame plan does, or the dump has it and it is
+  // carried through).
+  bool shadows = true, reflections = true;  // until the plan has decided
+  const auto load = [&](const MadeBuffer& made) {
+    const BufferDeclaration& buffer = *made.buffer;
+    if (!buffer.load) return;
+    for (const DumpLayer& layer : buffer.layers) {
+      if (layer.pass >= from || !Belongs(FramePassDeclaration(layer.pass).effect, shadows, reflections)) return;
+    }
+    bool read = buffer.readByPlan ||
+                (buffer.carriedThrough && source.Has(buffer.layers.front().part, 0, buffer.layers.front().name));
+    for (FramePass pass = from; pass <= to && !read; pass = FramePass(int(pass) + 1)) {
+      const PassDeclaration& reader = FramePassDeclaration(pass);
+      if (!Belongs(reader.effect, shadows, reflections)) continue;
+      for (FrameBuffer id : reader.reads) {
+        const BufferDeclaration& readBuffer = *FrameBufferDeclaration(id).buffer;
+        const bool present = Belongs(FrameBufferDeclaration(id).maker->effect, shadows, reflections);
+        if (id == buffer.id || (!present && readBuffer.absentAs == buffer.id)) read = true;
+      }
+    }
+    if (read) buffer.load(source, frame);
+  };
+  // The G-buffer pass's buffers first: the plan reads them and decides which effects belong.
+  for (const MadeBuffer& made : FrameBuffers())
+    if (made.maker->pass == FramePass::kGBuffer && made.buffer->readByPlan) load(made);
+  const FramePlan plan =
+      PlanFrame(scene, config, frame.gbuffer.gbuffer, MakePerspective(scene.camera, config.width, config.height));
+  shadows = plan.shadows.run;
+  reflections = plan.reflections.run;
+  for (const MadeBuffer& made : FrameBuffers())
+    if (!made.buffer->readByPlan) load(made);
 }
 
 }  // namespace ssgi

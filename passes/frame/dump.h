@@ -5,6 +5,7 @@
 // ("hiz.0", "hiz.1", ...) and colour-pyramid level ("pyramid.0", ...).
 #pragma once
 
+#include <deque>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -13,31 +14,14 @@
 
 #include "core/image_io.h"
 #include "core/scene.h"
-#include "passes/frame/frame.h"
 #include "passes/frame/config.h"
+#include "passes/frame/frame.h"
+#include "passes/frame/registry.h"
 
 namespace ssgi {
 
-// Where a layer lives in the file.
-enum class DumpPart {
-  kImage,          // part "frame", the image's size
-  kShadowMap,      // part "shadowmap", the shadow map's resolution squared
-  kHiZLevels,      // parts "hiz.L", one per level, PyramidLevelSizes of the image
-  kPyramidLevels,  // parts "pyramid.L", likewise
-};
-
-struct DumpLayer {
-  std::string_view name;  // the channel's name in its part(s)
-  FramePass pass;         // the pass that writes it
-  bool isUint = false;    // uint32 samples (exact words, ids, codes); else float32
-  DumpPart part = DumpPart::kImage;
-  // Decoded from another layer for reading convenience (the G-buffer words' fields): no pass reads
-  // it, so `ssgi passes` never takes it as an input.
-  bool decoded = false;
-  std::string_view meaning;  // units, space and range, as docs/pipeline.md §Dumps gives them
-};
-
-// Every layer a frame can have, in pipeline order.
+// Every layer a frame can have, in pipeline order: each pass's layers (PassDeclaration in
+// passes/frame/registry.h), those of the buffers it makes, then those it writes into earlier ones.
 const std::vector<DumpLayer>& DumpLayers();
 
 // The name of the part holding `layer` at `level` (levels: 0 .. for the pyramids, ignored else).
@@ -64,6 +48,53 @@ struct DumpScene {
 };
 DumpScene LoadDumpScene(const ExrFile& dump, const std::filesystem::path& file,
                         const std::filesystem::path& sceneFile);
+
+// A dump being written: each buffer's declaration adds the layers the frame holds (BufferDeclaration::dump),
+// as channels of named parts, a part per name in order of first appearance.
+class DumpSink {
+ public:
+  // A channel of a plane the frame holds: the plane must outlive the write.
+  template <class T>
+  void Add(DumpPart part, int level, std::string_view name, const Plane<T>& plane);
+  // Three channels prefix + "R", "G", "B".
+  void Add3(DumpPart part, int level, std::string_view prefix, const Plane3<float>& planes);
+  // The words 0-2 and their decoded fields; word 3 and its two fields; the display image's codes.
+  void AddGBufferWords(const GBuffer& gbuffer);
+  void AddShadowTerm(const Plane<uint32_t>& word3);
+  void AddDisplay(const TonemapOutputs& display);
+  const std::vector<ExrPart>& Parts() const { return parts_; }
+
+ private:
+  ExrPart& PartFor(DumpPart part, int level, size_t width, size_t height);
+  template <class T>
+  void AddOwned(DumpPart part, int level, std::string_view name, Plane<T> plane);
+
+  std::vector<ExrPart> parts_;
+  // Planes decoded or converted for the dump; a deque keeps their addresses.
+  std::deque<Plane<float>> floats_;
+  std::deque<Plane<uint32_t>> uints_;
+};
+
+// A dump being read into a frame (BufferDeclaration::load): every layer checked as LoadFrameDump
+// documents, sized by the image (`width` x `height`) or the pyramid level it belongs to.
+class DumpSource {
+ public:
+  DumpSource(const ExrFile& dump, const std::filesystem::path& file, size_t width, size_t height);
+  bool Has(DumpPart part, int level, std::string_view name) const;
+  template <class T>
+  void Load(DumpPart part, int level, std::string_view name, Plane<T>& plane) const;
+  void Load3(DumpPart part, int level, std::string_view prefix, Plane3<float>& planes) const;
+  // Every level of a Hi-Z (Plane<float>, channel "Y") or colour pyramid (Plane3<float>).
+  void LoadLevels(std::vector<Plane<float>>& levels) const;
+  void LoadLevels(std::vector<Plane3<float>>& levels) const;
+  // Words 0-2, and word 3 as the G-buffer pass leaves it (kShadowLit), for the shadow term to overwrite.
+  void LoadGBufferWords(GBuffer& gbuffer) const;
+
+ private:
+  const ExrFile& dump_;
+  const std::filesystem::path& file_;
+  size_t width_, height_;
+};
 
 // Writes every buffer the frame holds (the passes that ran) as the catalogue's layers.
 void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,

@@ -3,6 +3,7 @@
 // run (docs/design.md §9).
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -11,11 +12,12 @@
 #include "core/camera.h"
 #include "core/plane.h"
 #include "core/scene.h"
-#include "passes/frame/config.h"
-#include "passes/frame/plan.h"
 #include "passes/color_pyramid.h"
 #include "passes/composite.h"
 #include "passes/direct_light.h"
+#include "passes/frame/config.h"
+#include "passes/frame/plan.h"
+#include "passes/frame/registry.h"
 #include "passes/gbuffer.h"
 #include "passes/hiz.h"
 #include "passes/shadow_filter.h"
@@ -44,40 +46,20 @@ struct FrameStats {
   size_t pixels = 0;     // of the image
 };
 
-// One stage of FrameStats as a row of a table (`--stats`, the sweep's CSV columns): its wall time
-// and what it processed.
-struct StageStats {
-  std::string name;
-  double ms = 0.0;
-  double items = 0.0;    // what it processed, in itemUnit
-  std::string itemUnit;  // "triangles", "pixels", "texels", "rays"
-};
-// The stages that ran, in pipeline order, ending with "frame total".
+// The stages that ran, in pipeline order (each pass's rows in the registry), ending with "frame total".
 std::vector<StageStats> StageRows(const FrameStats& stats);
 
-// The frame's passes in pipeline order, as `ssgi passes --from / --to` and the dump's layers name
-// them (FramePassName).
-enum class FramePass {
-  kGBuffer,
-  kShadowMap,  // the shadow map and the blocker search: G-buffer word 3
-  kShadowFilter,
-  kDirectLight,
-  kHiZ,
-  kColorPyramid,
-  kSsrTrace,
-  kSsrCone,
-  kComposite,
-  kTonemap,
-};
-inline constexpr FramePass kFramePasses[] = {
-    FramePass::kGBuffer, FramePass::kShadowMap,    FramePass::kShadowFilter, FramePass::kDirectLight,
-    FramePass::kHiZ,     FramePass::kColorPyramid, FramePass::kSsrTrace,     FramePass::kSsrCone,
-    FramePass::kComposite, FramePass::kTonemap};
-// "gbuffer", "shadow_map", "shadow_filter", "direct_light", "hiz", "color_pyramid", "ssr_trace",
-// "ssr_cone", "composite", "tonemap".
+// Every pass, in pipeline order.
+inline constexpr FramePass kFramePasses[] = {FramePass::kGBuffer,     FramePass::kShadowMap, FramePass::kShadowFilter,
+                                             FramePass::kDirectLight, FramePass::kHiZ,       FramePass::kColorPyramid,
+                                             FramePass::kSsrTrace,    FramePass::kSsrCone,   FramePass::kComposite,
+                                             FramePass::kTonemap};
+// The pass's registry name: "gbuffer", "shadow_map", ..., "tonemap".
 std::string_view FramePassName(FramePass pass);
 // The pass of that name; throws InputError listing the names for any other.
 FramePass ParseFramePass(std::string_view name);
+// The pass names in pipeline order, comma separated: for help texts and messages.
+std::string FramePassNames();
 
 struct Frame {
   ViewProjection view;
@@ -101,6 +83,8 @@ struct Frame {
   TonemapOutputs display;  // 8-bit sRGB of the final image
   FrameStats stats;
 
+  // Whether the effect's passes belong to this frame.
+  bool Has(FrameEffect effect) const;
   // The final linear HDR image: result = direct + indirect (direct alone without reflections).
   const Plane3<float>& Result() const { return reflections ? composite.result : direct.radiance; }
 };
@@ -120,6 +104,31 @@ enum class BufferLifetime {
   kUntilLastReader,
 };
 
+// What a pass's step (PassDeclaration::step) works with: the frame being rendered and how.
+struct FrameStep {
+  const Scene& scene;
+  const FrameConfig& config;
+  Frame& frame;
+  BufferLifetime lifetime;
+  FramePass from, to;
+
+  // Whether the pass is in the run's range (a step may still hand buffers on around a pass it does
+  // not run).
+  bool Runs(FramePass pass) const { return from <= pass && pass <= to; }
+  // No dump reads the frame's buffers: they are freed, or kept for the next frame to render into.
+  bool Undumped() const { return lifetime != BufferLifetime::kKeepAll; }
+  bool Releases() const { return lifetime == BufferLifetime::kUntilLastReader; }
+  // Whether the direct image is the colour pyramid's level 0 while the pyramid is made and read.
+  bool DirectInPyramid() const { return Undumped() && Runs(FramePass::kColorPyramid); }
+  // Whether the trace and the cone trace leave the tiles without a smooth pixel as they were: the
+  // cone trace and the composite in place read neither there.
+  bool LeavesSkippedTiles() const { return Undumped() && Runs(FramePass::kComposite); }
+  // Whether the composite writes over the direct image and the reflection.
+  bool ComposesInPlace() const {
+    return Releases() || (lifetime == BufferLifetime::kKeepForReuse && Runs(FramePass::kComposite));
+  }
+};
+
 // Renders the scene as the configuration says.
 Frame RenderFrame(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime = BufferLifetime::kKeepAll);
 
@@ -128,11 +137,13 @@ Frame RenderFrame(const Scene& scene, const FrameConfig& config, BufferLifetime 
 // (LoadFrameDump in passes/frame/dump.h). Which passes belong to the frame (shadows, reflections) is
 // the frame plan's decision on the G-buffer (passes/frame/plan.h); a pass that does not belong is
 // skipped. frame.stats holds the passes that ran.
+// observer, when given, sees the frame after each step (FrameSteps) and before the buffers whose last
+// reader that step was are freed: the lifetime test weighs what the frame holds there.
+using FrameStepObserver = std::function<void(FramePass step, const Frame& frame)>;
 void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass from, FramePass to, Frame& frame,
-                    BufferLifetime lifetime = BufferLifetime::kKeepAll);
+                    BufferLifetime lifetime = BufferLifetime::kKeepAll, const FrameStepObserver& observer = {});
 
 // The G-buffer's albedo as 8-bit sRGB RGB rows (background black): the paper's "albedo" image.
 std::vector<uint8_t> AlbedoImage(const GBuffer& gbuffer);
-
 
 }  // namespace ssgi

@@ -10,20 +10,12 @@
 
 #include "core/error.h"
 #include "core/plane.h"
-#include "core/pyramid.h"
+#include "passes/frame/dump.h"
+#include "passes/frame/registry.h"
 #include "passes/shadow_map.h"
 
 namespace ssgi {
 namespace {
-
-// The bytes of a Plane<T> of that size: hwy::Image pads each row to its alignment and vector size.
-template <class T>
-size_t PlaneBytes(size_t width, size_t height) {
-  return hwy::ImageBase::BytesPerRow(width, sizeof(T)) * height;
-}
-
-// What the rasterizer keeps per submitted triangle: the set-up triangle and its tile-bin entries.
-constexpr size_t kRasterBytesPerTriangle = 160;
 
 // Field `field` (0 the size, 1 the resident set, 2 its file-backed part: RssFile + RssShmem) of
 // /proc/self/statm, in bytes; 0 where unknown.
@@ -38,61 +30,48 @@ size_t StatmBytes(int field) {
 
 FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
                                         bool dumped) {
-  using P = FramePass;
-  const size_t w = size_t(config.width), h = size_t(config.height);
-  FrameMemoryEstimate estimate;
-  const auto add = [&](std::string name, size_t bytes, P made, P lastRead) {
-    estimate.buffers.push_back({std::move(name), bytes, made, lastRead});
+  const bool release = lifetime == BufferLifetime::kUntilLastReader;
+  const FrameShape shape{size_t(config.width), size_t(config.height), scene.mesh.TriangleCount(),
+                         size_t(config.shadowMap.resolution), release};
+  const auto mayRun = [&](FrameEffect effect) {
+    switch (effect) {
+      case FrameEffect::kAlways:
+        return true;
+      case FrameEffect::kShadows:
+        return config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty();
+      case FrameEffect::kReflections:
+        return config.reflections != EffectMode::kOff;
+    }
+    return false;
   };
-  const size_t floatPlane = PlaneBytes<float>(w, h);
-  const size_t setUp = kRasterBytesPerTriangle * scene.mesh.TriangleCount();
-  add("g-buffer words 0-2", 3 * floatPlane, P::kGBuffer, P::kTonemap);
-  add("g-buffer word 3", floatPlane, P::kGBuffer, P::kShadowFilter);
-  add("visibility buffer", 2 * floatPlane, P::kGBuffer, P::kGBuffer);
-  add("g-buffer raster set-up", setUp, P::kGBuffer, P::kGBuffer);
-  if (config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty()) {
-    const size_t side = size_t(config.shadowMap.resolution);
-    add("shadow map", PlaneBytes<float>(side, side), P::kShadowMap, P::kShadowMap);  // depth keys only
-    add("shadow-map raster set-up", setUp, P::kShadowMap, P::kShadowMap);
-    add("shadow visibility", floatPlane, P::kShadowFilter, P::kDirectLight);
-  }
-  const bool reflections = config.reflections != EffectMode::kOff;
-  // Freeing early, the frame hands buffers on instead of copying them (RunFramePasses): the direct
-  // image is the pyramid's level 0 and then the result; the hits become the reflection's red and
-  // green, and the reflection the indirect term.
-  const bool handOver = lifetime == BufferLifetime::kUntilLastReader;
-  add("direct light", 3 * floatPlane, P::kDirectLight, reflections && !handOver ? P::kComposite : P::kTonemap);
-  if (reflections) {
-    size_t hiz = 0, pyramid = 0;
-    const std::vector<PyramidSize> levels = PyramidLevelSizes(w, h);
-    for (size_t k = 0; k < levels.size(); ++k) {
-      hiz += PlaneBytes<float>(levels[k].width, levels[k].height);
-      if (k > 0 || !handOver) pyramid += 3 * PlaneBytes<float>(levels[k].width, levels[k].height);
+  const size_t lastStep = FrameSteps().size() - 1;
+  FrameMemoryEstimate estimate;
+  for (const PassDeclaration& pass : FramePasses()) {
+    if (!mayRun(pass.effect)) continue;
+    const size_t step = StepOf(pass.pass);
+    for (const BufferDeclaration& buffer : pass.makes) {
+      const size_t end = release ? LastStepOf(buffer.id).value_or(lastStep) : lastStep;
+      estimate.buffers.push_back({std::string(buffer.name), buffer.bytes(shape), step, end});
     }
-    add("hi-z", hiz, P::kHiZ, P::kSsrTrace);
-    // Handing over, the frame makes the pyramid after the trace (RunFramePasses), when the Hi-Z is freed.
-    add("colour pyramid", pyramid, handOver ? P::kSsrCone : P::kColorPyramid, P::kSsrCone);
-    add("ssr hits", 2 * floatPlane, P::kSsrTrace, handOver ? P::kComposite : P::kSsrCone);
-    if (!handOver) add("ssr steps", floatPlane, P::kSsrTrace, P::kSsrTrace);
-    add("ssr confidence", floatPlane, P::kSsrTrace, P::kComposite);
-    add("cone trace", (handOver ? 1 : 3) * floatPlane, P::kSsrCone, P::kComposite);
-    if (!handOver) {
-      add("indirect", 3 * floatPlane, P::kComposite, P::kComposite);
-      add("result", 3 * floatPlane, P::kComposite, P::kTonemap);
-    }
+    if (pass.scratchBytes)
+      estimate.buffers.push_back({std::string(pass.scratchName), pass.scratchBytes(shape), step, step});
   }
-  add("display image", w * h * 3, P::kTonemap, P::kTonemap);
-  // The dump's decoded G-buffer and shadow-term layers (11) and 8-bit codes as uint32 (3).
-  if (dumped) add("dump's decoded layers", 14 * floatPlane, P::kTonemap, P::kTonemap);
-  for (FramePass pass : kFramePasses) {
+  if (dumped) {
+    // The dump's decoded layers and the display image's codes, as uint32 planes, while it is written.
+    size_t decoded = 0;
+    for (const DumpLayer& layer : DumpLayers()) decoded += layer.decoded ? 1 : 0;
+    estimate.buffers.push_back({"dump's decoded layers",
+                                decoded * hwy::ImageBase::BytesPerRow(shape.width, 4) * shape.height, lastStep,
+                                lastStep});
+  }
+  for (size_t step = 0; step <= lastStep; ++step) {
     size_t alive = 0;
-    for (const FrameMemoryEstimate::Buffer& buffer : estimate.buffers) {
-      const FramePass end = lifetime == BufferLifetime::kUntilLastReader ? buffer.lastRead : P::kTonemap;
-      if (buffer.made <= pass && pass <= end) alive += buffer.bytes;
-    }
+    for (const FrameMemoryEstimate::Buffer& buffer : estimate.buffers)
+      if (buffer.madeStep <= step && step <= buffer.endStep) alive += buffer.bytes;
+    estimate.stepBytes.push_back(alive);
     if (alive > estimate.bytes) {
       estimate.bytes = alive;
-      estimate.peakPass = pass;
+      estimate.peakPass = FrameSteps()[step];
     }
   }
   return estimate;

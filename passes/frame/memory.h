@@ -17,20 +17,25 @@ struct FrameMemoryEstimate {
   struct Buffer {
     std::string name;
     size_t bytes = 0;
-    FramePass made;      // the pass that allocates it
-    FramePass lastRead;  // the last pass that reads it (kTonemap: kept to the frame's end)
+    // Alive from the step (FrameSteps) of the pass that makes it to the step after which it is freed
+    // (the last step: kept to the frame's end).
+    size_t madeStep = 0;
+    size_t endStep = 0;
   };
-  std::vector<Buffer> buffers;  // every buffer of the frame, for the effects that may run
-  size_t bytes = 0;             // the most alive at once: during the pass where the sum peaks
+  // Every buffer of the frame and each pass's scratch memory, for the effects that may run, as the
+  // pass registry declares them (passes/frame/registry.h).
+  std::vector<Buffer> buffers;
+  std::vector<size_t> stepBytes;  // per step: the bytes alive during it
+  size_t bytes = 0;               // the most alive at once: during the step where the sum peaks
   FramePass peakPass = FramePass::kGBuffer;
 };
 
 // The peak bytes of the buffers of a frame of this scene and configuration: every plane at its
 // padded row size, the shadow map and the rasterizers' per-triangle set-up, counting every effect
 // the scene and configuration allow (the frame plan may still skip some), each buffer alive from
-// the pass that makes it to the end (kKeepAll) or to its last reader (kUntilLastReader, as
-// RunFramePasses frees them). dumped: the frame is written as a dump at its end (WriteFrameDump's
-// decoded layers counted too).
+// the step that makes it to the end (kKeepAll, kKeepForReuse) or until RunFramePasses frees it
+// (kUntilLastReader: LastStepOf in passes/frame/registry.h). dumped: the frame is written as a dump
+// at its end (WriteFrameDump's decoded layers counted too).
 FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
                                         bool dumped = false);
 

@@ -68,7 +68,7 @@ std::vector<ViewProjection> TwinTestViews(int width, int height);
 // G-buffer words 0 to 2 of one row of `width` random pixels: any words 0 and 1 (every bit pattern is
 // a valid code), a depth in word 2 or, for about one pixel in four, background.
 struct RandomGBufferRow {
-  std::vector<uint32_t> word[GBufferWord::kShadowTerm];
+  std::vector<uint32_t> word[3];  // words 0-2
   RandomGBufferRow(size_t width, std::mt19937& rng);
 };
 

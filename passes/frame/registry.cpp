@@ -1,0 +1,690 @@
+// The pass registry: the frame's passes in pipeline order, each with its buffers, stats rows and
+// step. Read top to bottom, it is the frame: scene -> G-buffer -> shadow map and blocker search ->
+// shadow filter -> direct light -> Hi-Z -> colour pyramid -> SSR trace -> cone trace -> composite ->
+// tonemap (docs/design.md §1). A buffer handed on to another is left empty (std::exchange), never
+// moved-from with its old size, which a later reader would take for a filled buffer.
+#include "passes/frame/registry.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "core/check.h"
+#include "core/lighting.h"
+#include "core/pyramid.h"
+#include "passes/frame/dump.h"
+#include "passes/frame/frame.h"
+
+namespace ssgi {
+namespace {
+
+using B = FrameBuffer;
+using P = FramePass;
+
+// Beyond 1 / kPartialPyramidShare of the image needing reflections, the hits are not listed: so many
+// cones read most of the pyramid.
+constexpr size_t kPartialPyramidShare = 10;
+
+// What the rasterizer keeps per submitted triangle: the set-up triangle and its tile-bin entries.
+constexpr size_t kRasterBytesPerTriangle = 160;
+
+// The bytes of a Plane<T> of that size: hwy::Image pads each row to its alignment and vector size.
+template <class T = float>
+size_t PlaneBytes(size_t width, size_t height) {
+  return hwy::ImageBase::BytesPerRow(width, sizeof(T)) * height;
+}
+size_t ImagePlanes(const FrameShape& s, size_t planes) { return planes * PlaneBytes(s.width, s.height); }
+
+template <class T>
+size_t Held(const Plane<T>& plane) {
+  return plane.bytes_per_row() * plane.ysize();
+}
+template <class T>
+size_t Held(const Plane3<T>& planes) {
+  return Held(planes.c[0]) + Held(planes.c[1]) + Held(planes.c[2]);
+}
+template <class Level>
+size_t HeldLevels(const std::vector<Level>& levels) {
+  size_t bytes = 0;
+  for (const Level& level : levels) bytes += Held(level);
+  return bytes;
+}
+
+// Whether the frame holds an image-sized plane (a buffer freed, or not loaded from a dump, has none).
+template <class T>
+bool ImageSized(const Frame& f, const Plane<T>& plane) {
+  return plane.xsize() == size_t(f.gbuffer.gbuffer.width()) && plane.xsize() > 0;
+}
+
+std::optional<StageStats> Row(double ms, double items, std::string unit) {
+  return StageStats{"", ms, items, std::move(unit)};
+}
+
+template <class Levels>
+void DumpLevels(DumpPart part, const Levels& levels, DumpSink& sink) {
+  for (size_t k = 0; k < levels.size(); ++k) {
+    if constexpr (std::is_same_v<typename Levels::value_type, Plane<float>>)
+      sink.Add(part, int(k), "Y", levels[k]);
+    else
+      sink.Add3(part, int(k), "", levels[k]);
+  }
+}
+
+// ---- G-buffer (passes/gbuffer.h) ----
+
+void GBufferStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (s.Runs(P::kGBuffer)) f.stats.gbuffer = RunGBuffer({s.scene, f.view}, {s.config.normalEncoding}, f.gbuffer);
+}
+
+const char kWord0Meaning[] = "albedo R, G, B 8-bit sRGB codes (bits 0-23), metallic code (24-31)";
+const char kWord1Meaning[] = "view-space normal, 24-bit encoding (bits 0-23), perceptual roughness code (24-31)";
+const char kNormalMeaning[] = "view-space unit normal from word 1; 0 on background";
+const char kAlbedoMeaning[] = "linear albedo from word 0, [0, 1]";
+
+PassDeclaration GBufferPass() {
+  PassDeclaration pass{P::kGBuffer, "gbuffer",
+                       "rasterize the visibility buffer and resolve the packed 128-bit G-buffer"};
+  pass.makes = {
+      {.id = B::kGBufferWords,
+       .name = "g-buffer words 0-2",
+       .frameOutput = true,
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 3); },
+       .layers = {{"gbuffer.word0", P::kGBuffer, true, DumpPart::kImage, false, kWord0Meaning},
+                  {"gbuffer.word1", P::kGBuffer, true, DumpPart::kImage, false, kWord1Meaning},
+                  {"gbuffer.word2", P::kGBuffer, true, DumpPart::kImage, false,
+                   "view depth, float32 bits, metres; +inf background"},
+                  {"albedo.R", P::kGBuffer, false, DumpPart::kImage, true, kAlbedoMeaning},
+                  {"albedo.G", P::kGBuffer, false, DumpPart::kImage, true, kAlbedoMeaning},
+                  {"albedo.B", P::kGBuffer, false, DumpPart::kImage, true, kAlbedoMeaning},
+                  {"metallic", P::kGBuffer, false, DumpPart::kImage, true, "metallic from word 0, [0, 1]"},
+                  {"normal.X", P::kGBuffer, false, DumpPart::kImage, true, kNormalMeaning},
+                  {"normal.Y", P::kGBuffer, false, DumpPart::kImage, true, kNormalMeaning},
+                  {"normal.Z", P::kGBuffer, false, DumpPart::kImage, true, kNormalMeaning},
+                  {"roughness", P::kGBuffer, false, DumpPart::kImage, true, "perceptual roughness from word 1, [0, 1]"},
+                  {"depth", P::kGBuffer, false, DumpPart::kImage, true,
+                   "view depth from word 2, metres; +inf background"}},
+       .heldBytes =
+           [](const Frame& f) {
+             const GBuffer& g = f.gbuffer.gbuffer;
+             return Held(g.word[GBufferWord::kAlbedoMetallic]) + Held(g.word[GBufferWord::kNormalRoughness]) +
+                    Held(g.word[GBufferWord::kDepth]);
+           },
+       .release = nullptr,  // a frame output
+       .dump = [](const Frame& f, DumpSink& sink) { sink.AddGBufferWords(f.gbuffer.gbuffer); },
+       .load = [](const DumpSource& source, Frame& f) { source.LoadGBufferWords(f.gbuffer.gbuffer); },
+       .readByPlan = true},
+      // Allocated with the G-buffer and set to "lit" by its resolve; its term is the shadow map's.
+      {.id = B::kShadowTerm,
+       .name = "g-buffer word 3",
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 1); },
+       .layers = {{"gbuffer.word3", P::kShadowMap, true, DumpPart::kImage, false,
+                   "shadow term: hard-shadow flag (bit 31), average blocker distance float32 bits without sign "
+                   "(0-30); 0 = lit"},
+                  {"shadow.hard", P::kShadowMap, false, DumpPart::kImage, true,
+                   "hard shadow from word 3: 1 occluded, 0 lit"},
+                  {"shadow.blocker", P::kShadowMap, false, DumpPart::kImage, true,
+                   "average blocker distance from word 3, metres, >= 0; 0 = no blocker"}},
+       .heldBytes = [](const Frame& f) { return Held(f.gbuffer.gbuffer.word[GBufferWord::kShadowTerm]); },
+       .release = [](Frame& f) { f.gbuffer.gbuffer.word[GBufferWord::kShadowTerm] = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.shadows) sink.AddShadowTerm(f.gbuffer.gbuffer.word[GBufferWord::kShadowTerm]);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             source.Load(DumpPart::kImage, 0, "gbuffer.word3", f.gbuffer.gbuffer.word[GBufferWord::kShadowTerm]);
+           },
+       .carriedThrough = true},
+      {.id = B::kVisibility,
+       .name = "visibility buffer",
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 2); },
+       .layers = {{"raster.depthKey", P::kGBuffer, false, DumpPart::kImage, false,
+                   "visibility buffer: reversed-Z depth key z_ndc of the nearest surface, (0, 1]; 0 = nothing drawn"},
+                  {"raster.triangle", P::kGBuffer, true, DumpPart::kImage, false,
+                   "visibility buffer: triangle index of the nearest surface; 0xFFFFFFFF = nothing drawn"}},
+       .heldBytes =
+           [](const Frame& f) { return Held(f.gbuffer.visibility.depthKey) + Held(f.gbuffer.visibility.triangle); },
+       .release = [](Frame& f) { f.gbuffer.visibility = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (!ImageSized(f, f.gbuffer.visibility.triangle)) return;
+             sink.Add(DumpPart::kImage, 0, "raster.depthKey", f.gbuffer.visibility.depthKey);
+             sink.Add(DumpPart::kImage, 0, "raster.triangle", f.gbuffer.visibility.triangle);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             source.Load(DumpPart::kImage, 0, "raster.depthKey", f.gbuffer.visibility.depthKey);
+             source.Load(DumpPart::kImage, 0, "raster.triangle", f.gbuffer.visibility.triangle);
+           },
+       .carriedThrough = true},
+  };
+  pass.scratchName = "g-buffer raster set-up";
+  pass.scratchBytes = [](const FrameShape& s) { return kRasterBytesPerTriangle * s.triangles; };
+  pass.stats = {
+      {"g-buffer raster",
+       [](const FrameStats& s) { return Row(s.gbuffer.rasterMs, double(s.triangles), "triangles"); }},
+      {"g-buffer resolve",
+       [](const FrameStats& s) { return Row(s.gbuffer.resolveMs, double(s.gbuffer.coveredPixels), "pixels"); }},
+      // The frame plan runs right after the G-buffer pass, on its buffer.
+      {"frame plan", [](const FrameStats& s) { return Row(s.planMs, double(s.pixels), "pixels"); }},
+  };
+  pass.step = GBufferStep;
+  return pass;
+}
+
+// ---- Shadow map and blocker search (passes/shadow_map.h): the first shadow-casting light's ----
+
+void ShadowMapStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (!s.Runs(P::kShadowMap)) return;
+  if (!f.shadowMap) f.shadowMap.emplace();  // a kept frame's map is redrawn in place
+  GBuffer& g = f.gbuffer.gbuffer;
+  f.stats.shadowMap = RunShadowMap({s.scene, f.view, g, f.plan.shadowLight.value_or(0)}, s.config.shadowMap,
+                                   *f.shadowMap, g.word[GBufferWord::kShadowTerm]);
+}
+
+PassDeclaration ShadowMapPass() {
+  PassDeclaration pass{P::kShadowMap, "shadow_map",
+                       "the shadowed light's shadow map and the PCSS blocker search into G-buffer word 3"};
+  pass.effect = FrameEffect::kShadows;
+  pass.makes = {
+      {.id = B::kShadowMap,
+       .name = "shadow map",
+       // Depth keys only: the shadow map's raster writes no triangle indices.
+       .bytes = [](const FrameShape& s) { return PlaneBytes(s.shadowMapResolution, s.shadowMapResolution); },
+       .layers = {{"depthKey", P::kShadowMap, false, DumpPart::kShadowMap, false,
+                   "shadow map: reversed-Z depth key seen from the light, [0, 1]; 0 = nothing drawn"}},
+       .heldBytes =
+           [](const Frame& f) {
+             return f.shadowMap ? Held(f.shadowMap->shadowMap.depthKey) + Held(f.shadowMap->shadowMap.triangle) : 0;
+           },
+       .release = [](Frame& f) { f.shadowMap.reset(); },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.shadowMap) sink.Add(DumpPart::kShadowMap, 0, "depthKey", f.shadowMap->shadowMap.depthKey);
+           }},
+  };
+  pass.reads = {B::kGBufferWords};
+  pass.writes = {B::kShadowTerm};
+  pass.scratchName = "shadow-map raster set-up";
+  pass.scratchBytes = [](const FrameShape& s) { return kRasterBytesPerTriangle * s.triangles; };
+  pass.stats = {
+      {"shadow map",
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.shadowMap) return std::nullopt;
+         return Row(s.shadowMap->fitMs + s.shadowMap->rasterMs, double(s.shadowMap->triangles), "triangles");
+       }},
+      {"blocker search",
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.shadowMap) return std::nullopt;
+         return Row(s.shadowMap->searchMs, double(s.shadowMap->pixels), "pixels");
+       }},
+  };
+  pass.step = ShadowMapStep;
+  return pass;
+}
+
+// ---- Shadow filter (passes/shadow_filter.h): SSABSS, SSPCSS or the hard test ----
+
+void ShadowFilterStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (!s.Runs(P::kShadowFilter)) return;
+  const std::vector<PreparedLight> viewLights = PrepareLights(s.scene, f.view.view);
+  f.stats.shadowFilter = RunShadowFilter({f.gbuffer.gbuffer, f.view, viewLights[f.plan.shadowLight.value_or(0)]},
+                                         s.config.shadowFilter, f.shadowVisibility);
+}
+
+PassDeclaration ShadowFilterPass() {
+  PassDeclaration pass{P::kShadowFilter, "shadow_filter",
+                       "the shadowed light's soft visibility from word 3 (SSABSS, SSPCSS or hard)"};
+  pass.effect = FrameEffect::kShadows;
+  pass.makes = {
+      {.id = B::kShadowVisibility,
+       .name = "shadow visibility",
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 1); },
+       .layers = {{"shadow.visibility", P::kShadowFilter, false, DumpPart::kImage, false,
+                   "filtered light visibility of the shadowed light, [0, 1], 1 = lit; 1 on background"}},
+       .heldBytes = [](const Frame& f) { return Held(f.shadowVisibility.visibility); },
+       .release = [](Frame& f) { f.shadowVisibility = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.shadows && ImageSized(f, f.shadowVisibility.visibility))
+               sink.Add(DumpPart::kImage, 0, "shadow.visibility", f.shadowVisibility.visibility);
+           },
+       .load = [](const DumpSource& source,
+                  Frame& f) { source.Load(DumpPart::kImage, 0, "shadow.visibility", f.shadowVisibility.visibility); }},
+  };
+  pass.reads = {B::kGBufferWords, B::kShadowTerm};
+  pass.stats = {{"shadow filter", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.shadowFilter) return std::nullopt;
+                   return Row(s.shadowFilter->ms, double(s.pixels), "pixels");
+                 }}};
+  pass.step = ShadowFilterStep;
+  return pass;
+}
+
+// ---- Direct light (passes/direct_light.h) ----
+
+void DirectLightStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (!s.Runs(P::kDirectLight)) return;
+  DirectLightInputs inputs{f.gbuffer.gbuffer, f.view, s.scene};
+  inputs.shadeLights = &f.plan.lightReaches;
+  if (f.shadows) {
+    inputs.lightVisibility = &f.shadowVisibility.visibility;
+    inputs.shadowedLight = f.plan.shadowLight.value_or(0);
+  }
+  f.stats.directLight = RunDirectLight(inputs, s.config.directLight, f.direct);
+}
+
+const char kDirectMeaning[] = "direct radiance, linear RGB, [0, 65504]; background colour";
+
+PassDeclaration DirectLightPass() {
+  PassDeclaration pass{P::kDirectLight, "direct_light", "each light's BRDF term times its visibility"};
+  pass.makes = {
+      {.id = B::kDirect,
+       .name = "direct light",
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 3); },
+       .layers = {{"direct.R", P::kDirectLight, false, DumpPart::kImage, false, kDirectMeaning},
+                  {"direct.G", P::kDirectLight, false, DumpPart::kImage, false, kDirectMeaning},
+                  {"direct.B", P::kDirectLight, false, DumpPart::kImage, false, kDirectMeaning}},
+       .heldBytes = [](const Frame& f) { return Held(f.direct.radiance); },
+       .release = nullptr,  // its storage becomes the result's
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (ImageSized(f, f.direct.radiance.c[0])) sink.Add3(DumpPart::kImage, 0, "direct.", f.direct.radiance);
+           },
+       .load = [](const DumpSource& source,
+                  Frame& f) { source.Load3(DumpPart::kImage, 0, "direct.", f.direct.radiance); }},
+  };
+  pass.reads = {B::kGBufferWords, B::kShadowVisibility};
+  pass.stats = {
+      {"direct light", [](const FrameStats& s) { return Row(s.directLight.ms, double(s.pixels), "pixels"); }}};
+  pass.step = DirectLightStep;
+  return pass;
+}
+
+// ---- Hi-Z (passes/hiz.h) ----
+
+void HiZStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (s.Runs(P::kHiZ)) f.stats.hiz = RunHiZ(f.gbuffer.gbuffer.word[GBufferWord::kDepth], f.hiz);
+}
+
+PassDeclaration HiZPass() {
+  PassDeclaration pass{P::kHiZ, "hiz", "the max-inverse-depth pyramid the trace marches"};
+  pass.effect = FrameEffect::kReflections;
+  pass.makes = {
+      {.id = B::kHiZ,
+       .name = "hi-z",
+       .bytes =
+           [](const FrameShape& s) {
+             size_t bytes = 0;
+             for (const PyramidSize& level : PyramidLevelSizes(s.width, s.height))
+               bytes += PlaneBytes(level.width, level.height);
+             return bytes;
+           },
+       .layers = {{"Y", P::kHiZ, false, DumpPart::kHiZLevels, false,
+                   "Hi-Z level L: max inverse view depth 1/d over the texel's footprint, 1/metres, >= 0; 0 = "
+                   "background only"}},
+       .heldBytes = [](const Frame& f) { return HeldLevels(f.hiz.levels); },
+       .release = [](Frame& f) { f.hiz = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.reflections) DumpLevels(DumpPart::kHiZLevels, f.hiz.levels, sink);
+           },
+       .load = [](const DumpSource& source, Frame& f) { source.LoadLevels(f.hiz.levels); }},
+  };
+  pass.reads = {B::kGBufferWords};
+  pass.stats = {{"hi-z", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.hiz) return std::nullopt;
+                   return Row(s.hiz->ms, double(s.hiz->texels), "texels");
+                 }}};
+  pass.step = HiZStep;
+  return pass;
+}
+
+// ---- Colour pyramid (passes/color_pyramid.h) ----
+
+// Made after the trace (FrameSteps): where few pixels reflect, only the texels their cones read.
+void ColorPyramidStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (!s.DirectInPyramid()) {
+    if (s.Runs(P::kColorPyramid)) f.stats.colorPyramid = RunColorPyramid(f.direct.radiance, f.colorPyramid);
+    return;
+  }
+  std::optional<ColorPyramidNeeds> needs;
+  if (s.Runs(P::kSsrTrace) && s.Runs(P::kSsrCone) &&
+      f.plan.reflections.pixels <= f.plan.pixels / kPartialPyramidShare) {
+    needs = SsrConePyramidNeeds(f.gbuffer.gbuffer.word[GBufferWord::kNormalRoughness], f.ssrTrace.hitX, f.ssrTrace.hitY,
+                                f.ssrTrace.confidence, &f.plan.reflectionTiles, f.plan.pixels / 2);
+  }
+  // The direct image is already sanitised: it is level 0 until the cone trace has read it.
+  f.colorPyramid.levels.resize(std::max<size_t>(f.colorPyramid.levels.size(), 1));
+  f.colorPyramid.levels[0] = std::exchange(f.direct.radiance, {});
+  f.stats.colorPyramid = RunColorPyramidOnLevelZero(f.colorPyramid, KernelPath::kSimd, needs ? &*needs : nullptr);
+}
+
+PassDeclaration ColorPyramidPass() {
+  PassDeclaration pass{P::kColorPyramid, "color_pyramid", "the direct image pre-convolved level by level"};
+  pass.effect = FrameEffect::kReflections;
+  pass.makes = {
+      {.id = B::kColorPyramid,
+       .name = "colour pyramid",
+       .storageOf = B::kDirect,  // level 0 is the direct image
+       .bytes =
+           [](const FrameShape& s) {
+             size_t bytes = 0;
+             const std::vector<PyramidSize> levels = PyramidLevelSizes(s.width, s.height);
+             for (size_t k = s.handOver ? 1 : 0; k < levels.size(); ++k)
+               bytes += 3 * PlaneBytes(levels[k].width, levels[k].height);
+             return bytes;
+           },
+       .layers = {{"R", P::kColorPyramid, false, DumpPart::kPyramidLevels, false,
+                   "colour pyramid level L: blurred direct radiance, linear, [0, 65504]"},
+                  {"G", P::kColorPyramid, false, DumpPart::kPyramidLevels, false,
+                   "colour pyramid level L: blurred direct radiance, linear, [0, 65504]"},
+                  {"B", P::kColorPyramid, false, DumpPart::kPyramidLevels, false,
+                   "colour pyramid level L: blurred direct radiance, linear, [0, 65504]"}},
+       .heldBytes = [](const Frame& f) { return HeldLevels(f.colorPyramid.levels); },
+       .release = [](Frame& f) { f.colorPyramid = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.reflections) DumpLevels(DumpPart::kPyramidLevels, f.colorPyramid.levels, sink);
+           },
+       .load = [](const DumpSource& source, Frame& f) { source.LoadLevels(f.colorPyramid.levels); }},
+  };
+  // The trace's hits name the texels a partial pyramid makes.
+  pass.reads = {B::kDirect, B::kSsrTrace};
+  pass.stats = {{"colour pyramid", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.colorPyramid) return std::nullopt;
+                   return Row(s.colorPyramid->ms, double(s.colorPyramid->texels), "texels");
+                 }}};
+  pass.step = ColorPyramidStep;
+  return pass;
+}
+
+// ---- SSR trace (passes/ssr_trace.h) ----
+
+void SsrTraceStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (!s.Runs(P::kSsrTrace)) return;
+  // Only the plan's reflection tiles can trace.
+  f.stats.ssrTrace = RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz, &f.plan.reflectionTiles, s.LeavesSkippedTiles()},
+                                 s.config.ssrTrace, f.ssrTrace, KernelPath::kSimd,
+                                 s.Undumped() ? SsrTraceSteps::kSkip : SsrTraceSteps::kRecord);  // for dumps
+}
+
+const char kReflectedMeaning[] = "cone-traced radiance before the specular weight, linear, [0, 65504]; 0 without hit";
+
+PassDeclaration SsrTracePass() {
+  PassDeclaration pass{P::kSsrTrace, "ssr_trace", "each smooth pixel's reflected ray marched through the Hi-Z"};
+  pass.effect = FrameEffect::kReflections;
+  pass.makes = {
+      {.id = B::kSsrTrace,
+       .name = "ssr hits, confidence and steps",
+       // The steps are recorded only for a dump.
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, s.handOver ? 3 : 4); },
+       .layers = {{"ssr.hitX", P::kSsrTrace, false, DumpPart::kImage, false,
+                   "trace hit, level-0 pixel coordinates (centres at +0.5), [0, width); -1 = no hit"},
+                  {"ssr.hitY", P::kSsrTrace, false, DumpPart::kImage, false,
+                   "trace hit, level-0 pixel coordinates (centres at +0.5), [0, height); -1 = no hit"},
+                  {"ssr.confidence", P::kSsrTrace, false, DumpPart::kImage, false,
+                   "trace confidence, [0, 1]; 0 exactly where there is no hit"},
+                  {"ssr.iterations", P::kSsrTrace, false, DumpPart::kImage, false,
+                   "Hi-Z steps the pixel's ray took, a whole number in [0, ssr_iterations]; 0 where no ray was "
+                   "traced"}},
+       .heldBytes =
+           [](const Frame& f) {
+             const SsrTraceOutputs& t = f.ssrTrace;
+             return Held(t.hitX) + Held(t.hitY) + Held(t.confidence) + Held(t.iterations);
+           },
+       .release = [](Frame& f) { f.ssrTrace = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             const SsrTraceOutputs& t = f.ssrTrace;
+             if (!f.reflections || !ImageSized(f, t.hitX)) return;
+             sink.Add(DumpPart::kImage, 0, "ssr.hitX", t.hitX);
+             sink.Add(DumpPart::kImage, 0, "ssr.hitY", t.hitY);
+             sink.Add(DumpPart::kImage, 0, "ssr.confidence", t.confidence);
+             if (ImageSized(f, t.iterations)) sink.Add(DumpPart::kImage, 0, "ssr.iterations", t.iterations);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             SsrTraceOutputs& t = f.ssrTrace;
+             source.Load(DumpPart::kImage, 0, "ssr.hitX", t.hitX);
+             source.Load(DumpPart::kImage, 0, "ssr.hitY", t.hitY);
+             source.Load(DumpPart::kImage, 0, "ssr.confidence", t.confidence);
+             if (source.Has(DumpPart::kImage, 0, "ssr.iterations"))
+               source.Load(DumpPart::kImage, 0, "ssr.iterations", t.iterations);
+           }},
+  };
+  pass.reads = {B::kGBufferWords, B::kHiZ};
+  pass.stats = {{"ssr trace", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.ssrTrace) return std::nullopt;
+                   return Row(s.ssrTrace->ms, double(s.ssrTrace->rays), "rays");
+                 }}};
+  pass.step = SsrTraceStep;
+  return pass;
+}
+
+// ---- Cone trace (passes/ssr_cone.h) ----
+
+void SsrConeStep(FrameStep& s) {
+  Frame& f = s.frame;
+  // Freeing early, the hits' planes become the reflection's red and green: the cone trace reads a
+  // pixel's hit before it writes its reflection.
+  if (s.Releases()) {
+    f.ssrCone.reflected.c[0] = std::exchange(f.ssrTrace.hitX, {});
+    f.ssrCone.reflected.c[1] = std::exchange(f.ssrTrace.hitY, {});
+  }
+  if (s.Runs(P::kSsrCone)) {
+    const Plane3<float>& reflected = f.ssrCone.reflected;
+    const Plane<float>& hitX = s.Releases() ? reflected.c[0] : f.ssrTrace.hitX;
+    const Plane<float>& hitY = s.Releases() ? reflected.c[1] : f.ssrTrace.hitY;
+    // The cone skips the tiles the trace skipped only after this run's trace: hits read from a
+    // port's file are taken as they are.
+    const TileMask* tracedTiles = s.Runs(P::kSsrTrace) ? &f.plan.reflectionTiles : nullptr;
+    f.stats.ssrCone = RunSsrCone(
+        {f.gbuffer.gbuffer, f.colorPyramid, hitX, hitY, f.ssrTrace.confidence, tracedTiles, s.LeavesSkippedTiles()},
+        s.config.ssrCone, f.ssrCone);
+  }
+  if (s.DirectInPyramid()) f.direct.radiance = std::exchange(f.colorPyramid.levels[0], {});
+}
+
+PassDeclaration SsrConePass() {
+  PassDeclaration pass{P::kSsrCone, "ssr_cone", "each hit's radiance gathered over the roughness cone"};
+  pass.effect = FrameEffect::kReflections;
+  pass.makes = {
+      {.id = B::kReflected,
+       .name = "cone trace",
+       .storageOf = B::kSsrTrace,  // the hits' planes hold the reflection's red and green
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, s.handOver ? 1 : 3); },
+       .layers = {{"ssr.reflected.R", P::kSsrCone, false, DumpPart::kImage, false, kReflectedMeaning},
+                  {"ssr.reflected.G", P::kSsrCone, false, DumpPart::kImage, false, kReflectedMeaning},
+                  {"ssr.reflected.B", P::kSsrCone, false, DumpPart::kImage, false, kReflectedMeaning}},
+       .heldBytes = [](const Frame& f) { return Held(f.ssrCone.reflected); },
+       .release = [](Frame& f) { f.ssrCone = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.reflections && ImageSized(f, f.ssrCone.reflected.c[0]))
+               sink.Add3(DumpPart::kImage, 0, "ssr.reflected.", f.ssrCone.reflected);
+           },
+       .load = [](const DumpSource& source,
+                  Frame& f) { source.Load3(DumpPart::kImage, 0, "ssr.reflected.", f.ssrCone.reflected); }},
+  };
+  pass.reads = {B::kGBufferWords, B::kColorPyramid, B::kSsrTrace};
+  pass.stats = {{"cone trace", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.ssrCone) return std::nullopt;
+                   return Row(s.ssrCone->ms, double(s.ssrCone->pixels), "pixels");
+                 }}};
+  pass.step = SsrConeStep;
+  return pass;
+}
+
+// ---- Composite (passes/composite.h) ----
+
+void CompositeStep(FrameStep& s) {
+  Frame& f = s.frame;
+  // In place where no later reader needs the direct image and the reflection apart: freed, they are
+  // handed on; kept for reuse, their planes trade places with the result's and the indirect term's,
+  // which the next frame writes again. The composite reads a pixel before it writes over it.
+  if (s.Releases()) {
+    f.composite.result = std::exchange(f.direct.radiance, {});
+    f.composite.indirect = std::exchange(f.ssrCone.reflected, {});
+  } else if (s.ComposesInPlace()) {
+    std::swap(f.composite.result, f.direct.radiance);
+    std::swap(f.composite.indirect, f.ssrCone.reflected);
+  }
+  if (!s.Runs(P::kComposite)) return;
+  const Plane3<float>& direct = s.ComposesInPlace() ? f.composite.result : f.direct.radiance;
+  const Plane3<float>& reflected = s.ComposesInPlace() ? f.composite.indirect : f.ssrCone.reflected;
+  const TileMask* tracedTiles = s.Runs(P::kSsrTrace) ? &f.plan.reflectionTiles : nullptr;
+  f.stats.composite = RunComposite({f.gbuffer.gbuffer, f.view, direct, reflected, f.ssrTrace.confidence,
+                                    s.config.ssrTrace.roughnessCutoff, tracedTiles},
+                                   f.composite);
+}
+
+PassDeclaration CompositePass() {
+  PassDeclaration pass{P::kComposite, "composite",
+                       "indirect = reflection x specular weight; result = direct + indirect"};
+  pass.effect = FrameEffect::kReflections;
+  pass.makes = {
+      {.id = B::kIndirect,
+       .name = "indirect",
+       .storageOf = B::kReflected,
+       .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
+       .layers = {{"indirect.R", P::kComposite, false, DumpPart::kImage, false, "indirect radiance, linear, >= 0"},
+                  {"indirect.G", P::kComposite, false, DumpPart::kImage, false, "indirect radiance, linear, >= 0"},
+                  {"indirect.B", P::kComposite, false, DumpPart::kImage, false, "indirect radiance, linear, >= 0"}},
+       .heldBytes = [](const Frame& f) { return Held(f.composite.indirect); },
+       .release = [](Frame& f) { f.composite.indirect = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.reflections && ImageSized(f, f.composite.result.c[0]) && ImageSized(f, f.composite.indirect.c[0]))
+               sink.Add3(DumpPart::kImage, 0, "indirect.", f.composite.indirect);
+           },
+       .load = [](const DumpSource& source,
+                  Frame& f) { source.Load3(DumpPart::kImage, 0, "indirect.", f.composite.indirect); },
+       .carriedThrough = true},
+      {.id = B::kResult,
+       .name = "result",
+       .frameOutput = true,
+       .storageOf = B::kDirect,
+       .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
+       .layers =
+           {{"result.R", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
+            {"result.G", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
+            {"result.B", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"}},
+       .heldBytes = [](const Frame& f) { return Held(f.composite.result); },
+       .release = nullptr,  // a frame output
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.reflections && ImageSized(f, f.composite.result.c[0]))
+               sink.Add3(DumpPart::kImage, 0, "result.", f.composite.result);
+           },
+       .load = [](const DumpSource& source,
+                  Frame& f) { source.Load3(DumpPart::kImage, 0, "result.", f.composite.result); },
+       // Without reflections the final image is the direct image.
+       .absentAs = B::kDirect},
+  };
+  pass.reads = {B::kGBufferWords, B::kDirect, B::kReflected, B::kSsrTrace};
+  pass.stats = {{"composite", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.composite) return std::nullopt;
+                   return Row(s.composite->ms, double(s.composite->pixels), "pixels");
+                 }}};
+  pass.step = CompositeStep;
+  return pass;
+}
+
+// ---- Tonemap (passes/tonemap.h) ----
+
+void TonemapStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (s.Runs(P::kTonemap)) f.stats.tonemap = RunTonemap(f.Result(), s.config.tonemap, f.display);
+}
+
+const char kDisplayMeaning[] = "the 8-bit image: sRGB code 0-255";
+
+PassDeclaration TonemapPass() {
+  PassDeclaration pass{P::kTonemap, "tonemap", "exposure, display curve and 8-bit sRGB encoding"};
+  pass.makes = {
+      {.id = B::kDisplay,
+       .name = "display image",
+       .frameOutput = true,
+       .bytes = [](const FrameShape& s) { return s.width * s.height * 3; },
+       // The image's bytes, converted to a uint32 plane per channel for the dump.
+       .layers = {{"display.R", P::kTonemap, true, DumpPart::kImage, true, kDisplayMeaning},
+                  {"display.G", P::kTonemap, true, DumpPart::kImage, true, kDisplayMeaning},
+                  {"display.B", P::kTonemap, true, DumpPart::kImage, true, kDisplayMeaning}},
+       .heldBytes = [](const Frame& f) { return f.display.rgb.capacity(); },
+       .release = nullptr,  // a frame output
+       .dump = [](const Frame& f, DumpSink& sink) { sink.AddDisplay(f.display); }},
+  };
+  pass.reads = {B::kResult};
+  pass.stats = {{"tonemap", [](const FrameStats& s) { return Row(s.tonemap.ms, double(s.tonemap.pixels), "pixels"); }}};
+  pass.step = TonemapStep;
+  return pass;
+}
+
+std::vector<PassDeclaration> MakeRegistry() {
+  std::vector<PassDeclaration> passes = {GBufferPass(),   ShadowMapPass(),    ShadowFilterPass(), DirectLightPass(),
+                                         HiZPass(),       ColorPyramidPass(), SsrTracePass(),     SsrConePass(),
+                                         CompositePass(), TonemapPass()};
+  for (size_t i = 0; i < passes.size(); ++i) SSGI_CHECK(size_t(passes[i].pass) == i);
+  return passes;
+}
+
+}  // namespace
+
+const std::vector<PassDeclaration>& FramePasses() {
+  static const std::vector<PassDeclaration> passes = MakeRegistry();
+  return passes;
+}
+
+const PassDeclaration& FramePassDeclaration(FramePass pass) { return FramePasses()[size_t(pass)]; }
+
+const std::vector<MadeBuffer>& FrameBuffers() {
+  static const std::vector<MadeBuffer> buffers = [] {
+    std::vector<MadeBuffer> all;
+    for (const PassDeclaration& pass : FramePasses())
+      for (const BufferDeclaration& buffer : pass.makes) all.push_back({&buffer, &pass});
+    std::sort(all.begin(), all.end(),
+              [](const MadeBuffer& a, const MadeBuffer& b) { return a.buffer->id < b.buffer->id; });
+    for (size_t i = 0; i < all.size(); ++i) SSGI_CHECK(size_t(all[i].buffer->id) == i);
+    return all;
+  }();
+  return buffers;
+}
+
+const MadeBuffer& FrameBufferDeclaration(FrameBuffer buffer) { return FrameBuffers()[size_t(buffer)]; }
+
+const std::vector<FramePass>& FrameSteps() {
+  static const std::vector<FramePass> steps = {P::kGBuffer,   P::kShadowMap, P::kShadowFilter, P::kDirectLight,
+                                               P::kHiZ,       P::kSsrTrace,  P::kColorPyramid, P::kSsrCone,
+                                               P::kComposite, P::kTonemap};
+  return steps;
+}
+
+size_t StepOf(FramePass pass) {
+  const std::vector<FramePass>& steps = FrameSteps();
+  return size_t(std::find(steps.begin(), steps.end(), pass) - steps.begin());
+}
+
+std::optional<size_t> LastStepOf(FrameBuffer id) {
+  const MadeBuffer& made = FrameBufferDeclaration(id);
+  if (made.buffer->frameOutput) return std::nullopt;
+  size_t last = StepOf(made.maker->pass);
+  for (const PassDeclaration& pass : FramePasses())
+    if (std::find(pass.reads.begin(), pass.reads.end(), id) != pass.reads.end())
+      last = std::max(last, StepOf(pass.pass));
+  for (const MadeBuffer& other : FrameBuffers()) {
+    if (other.buffer->storageOf != id) continue;
+    const std::optional<size_t> end = LastStepOf(other.buffer->id);
+    if (!end) return std::nullopt;
+    last = std::max(last, *end);
+  }
+  return last;
+}
+
+}  // namespace ssgi
