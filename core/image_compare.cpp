@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -115,6 +117,7 @@ FloatImage ReadFloatImage(const std::filesystem::path& file) {
   image.width = spec.width;
   image.height = spec.height;
   image.channelNames = spec.channelnames;
+  image.integerCodes = !spec.format.is_floating_point();
   image.pixels.resize(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
     throw InputError(file, "cannot read image: " + in->geterror());
@@ -197,10 +200,48 @@ ImageDifference CompareImages(const FloatImage& a, const FloatImage& b) {
   return d;
 }
 
-std::vector<uint8_t> ErrorHeatmap(const FloatImage& a, const FloatImage& b, double scale) {
+namespace {
+
+// A 3x5 pixel font for the legend's numbers: each glyph five rows of three bits, the top row first.
+constexpr struct {
+  char c;
+  uint8_t rows[5];
+} kGlyphs[] = {{'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}}, {'3', {7, 1, 7, 1, 7}},
+               {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}}, {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}},
+               {'8', {7, 5, 7, 5, 7}}, {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'e', {0, 7, 7, 4, 7}},
+               {'-', {0, 0, 7, 0, 0}}, {'+', {0, 2, 7, 2, 0}}};
+
+// Draws `text` in white at (x, y) of an RGB image `width` wide, each font pixel as 2x2 pixels.
+void DrawText(std::vector<uint8_t>& rgb, int width, int height, int x, int y, const std::string& text) {
+  constexpr int kScale = 2;
+  for (char c : text) {
+    for (const auto& glyph : kGlyphs) {
+      if (glyph.c != c) continue;
+      for (int row = 0; row < 5; ++row)
+        for (int col = 0; col < 3; ++col)
+          if (glyph.rows[row] & (4 >> col))
+            for (int dy = 0; dy < kScale; ++dy)
+              for (int dx = 0; dx < kScale; ++dx) {
+                const int px = x + col * kScale + dx, py = y + row * kScale + dy;
+                if (px >= 0 && px < width && py >= 0 && py < height)
+                  for (int k = 0; k < 3; ++k) rgb[(size_t(py) * width + px) * 3 + k] = 255;
+              }
+    }
+    x += 4 * kScale;
+  }
+}
+
+std::string FormatScale(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
+}
+
+}  // namespace
+
+Heatmap ErrorHeatmap(const FloatImage& a, const FloatImage& b, double scale) {
   const size_t n = size_t(a.width) * size_t(a.height), channels = a.Channels();
   std::vector<double> error(n, 0.0);
-  double maxError = 0.0;
   for (size_t i = 0; i < n; ++i) {
     double sum = 0.0;
     for (size_t c = 0; c < channels; ++c) {
@@ -209,12 +250,36 @@ std::vector<uint8_t> ErrorHeatmap(const FloatImage& a, const FloatImage& b, doub
       sum += e * e;
     }
     error[i] = std::sqrt(sum);
-    maxError = std::max(maxError, error[i]);
   }
-  if (scale <= 0.0) scale = maxError > 0.0 ? maxError : 1.0;
-  std::vector<uint8_t> rgb(n * 3);
-  for (size_t i = 0; i < n; ++i) HeatmapColour(error[i] / scale, &rgb[i * 3]);
-  return rgb;
+  Heatmap map;
+  map.width = a.width;
+  map.height = a.height + kHeatmapLegendRows;
+  if (scale <= 0.0 && n > 0) {
+    std::vector<double> sorted = error;
+    const size_t percentile = std::min(n - 1, size_t(double(n) * 0.99));
+    std::nth_element(sorted.begin(), sorted.begin() + ptrdiff_t(percentile), sorted.end());
+    scale = sorted[percentile];
+    if (scale <= 0.0) scale = *std::max_element(error.begin(), error.end());
+  }
+  if (scale <= 0.0) scale = 1.0;
+  map.scale = scale;
+  map.rgb.assign(size_t(map.width) * size_t(map.height) * 3, 0);
+  size_t above = 0;
+  for (size_t i = 0; i < n; ++i) {
+    HeatmapColour(error[i] / scale, &map.rgb[i * 3]);
+    above += error[i] > scale ? 1 : 0;
+  }
+  map.shareAboveScale = n > 0 ? double(above) / double(n) : 0.0;
+  // The legend: a gap, the colour bar from 0 at the left to the scale at the right, its two labels.
+  const int barTop = a.height + 2, barRows = 8, labelTop = barTop + barRows + 2;
+  for (int y = barTop; y < barTop + barRows && y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x)
+      HeatmapColour(map.width > 1 ? double(x) / double(map.width - 1) : 1.0,
+                    &map.rgb[(size_t(y) * map.width + x) * 3]);
+  DrawText(map.rgb, map.width, map.height, 1, labelTop, "0");
+  const std::string top = FormatScale(scale);
+  DrawText(map.rgb, map.width, map.height, map.width - 8 * int(top.size()) - 1, labelTop, top);
+  return map;
 }
 
 void HeatmapColour(double t, uint8_t* rgb) {

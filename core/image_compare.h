@@ -15,6 +15,9 @@ struct FloatImage {
   int width = 0, height = 0;
   std::vector<std::string> channelNames;
   std::vector<float> pixels;  // width * height * channelNames.size()
+  // The file stores integer codes (PNG, JPEG, 8- or 16-bit TIFF): display-encoded values such as 8-bit
+  // sRGB, read here as code / max, not linear radiance.
+  bool integerCodes = false;
   size_t Channels() const { return channelNames.size(); }
 };
 
@@ -56,7 +59,16 @@ ImageDifference CompareImages(const FloatImage& a, const FloatImage& b);
 void HeatmapColour(double t, uint8_t* rgb);
 
 // Per-pixel error |a - b| (Euclidean over channels) as an 8-bit RGB heat map, black (0) through red
-// and yellow to white (>= scale); scale <= 0 uses the maximum error.
-std::vector<uint8_t> ErrorHeatmap(const FloatImage& a, const FloatImage& b, double scale);
+// and yellow to white (>= scale), with a legend below it: the colour scale from 0 to `scale`, labelled.
+// scale <= 0 picks the 99th percentile of the per-pixel errors (or their maximum where that is 0), so
+// a few outliers do not turn the rest of the map black.
+struct Heatmap {
+  int width = 0, height = 0;  // the map's and the legend's rows: height = the image's + kHeatmapLegendRows
+  std::vector<uint8_t> rgb;
+  double scale = 0.0;          // the error shown white
+  double shareAboveScale = 0.0;  // of the pixels, whose error is above the scale
+};
+inline constexpr int kHeatmapLegendRows = 24;
+Heatmap ErrorHeatmap(const FloatImage& a, const FloatImage& b, double scale);
 
 }  // namespace ssgi

@@ -26,8 +26,7 @@ std::string LowerExtension(const fs::path& path) {
 // each i) into a temporary sibling of `path`, then renames it into place.
 template <class WriteFn>
 void WriteAtomically(const fs::path& path, const std::vector<OIIO::ImageSpec>& specs, WriteFn&& write) {
-  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  const fs::path temporary = folder / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  const fs::path temporary = TemporarySibling(path);
   auto fail = [&](const std::string& why) {
     std::error_code ignored;
     fs::remove(temporary, ignored);
@@ -87,6 +86,11 @@ OIIO::ImageSpec PartSpec(const ExrPart& part) {
 }
 
 }  // namespace
+
+fs::path TemporarySibling(const fs::path& path) {
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  return folder / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+}
 
 ImageFileKind CheckOutputPath(const fs::path& path) {
   const std::string ext = LowerExtension(path);
@@ -148,6 +152,19 @@ const ExrLayer* ExrFile::Find(const std::string& part, const std::string& name) 
   for (const ExrLayer& layer : layers)
     if (layer.part == part && layer.name == name) return &layer;
   return nullptr;
+}
+
+size_t ExrSampleBytes(const fs::path& path) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
+  if (std::string(in->format_name()) != "openexr") throw InputError(path, "not an EXR file");
+  size_t bytes = 0;
+  for (int subimage = 0; in->seek_subimage(subimage, 0); ++subimage) {
+    const OIIO::ImageSpec& spec = in->spec();
+    bytes += size_t(std::max(spec.width, 0)) * size_t(std::max(spec.height, 0)) * size_t(std::max(spec.nchannels, 0)) *
+             sizeof(uint32_t);
+  }
+  return bytes;
 }
 
 ExrFile ReadExrFile(const fs::path& path) {

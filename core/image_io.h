@@ -13,6 +13,9 @@ namespace ssgi {
 
 enum class ImageFileKind { kPng, kExr };
 
+// The temporary sibling an atomic write of `path` goes through before it is renamed into place.
+std::filesystem::path TemporarySibling(const std::filesystem::path& path);
+
 // The kind of image a path asks for by its extension (.png or .exr, any case). Throws InputError
 // naming the path for any other extension, and when its folder is missing or not writable, so a
 // render fails before it starts rather than after.
@@ -60,6 +63,10 @@ struct ExrFile {
   // The channel `name` of part `part`, or nullptr.
   const ExrLayer* Find(const std::string& part, const std::string& name) const;
 };
+
+// The bytes ReadExrFile would hold for the file's samples, from its headers alone: what a command
+// checks against its memory budget before reading. Throws InputError as ReadExrFile does.
+size_t ExrSampleBytes(const std::filesystem::path& path);
 
 // Reads every channel of every part. Throws InputError naming the file when it cannot be read, is
 // not an EXR, or holds a channel type other than uint32, half and float.

@@ -2,6 +2,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -144,6 +146,17 @@ class RayTracer {
   explicit RayTracer(const Scene& scene) : scene_(scene) {
     device_ = rtcNewDevice(nullptr);
     if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
+    // Embree reports every allocation and free of its device: the memory the scene's BVH takes.
+    rtcSetDeviceMemoryMonitorFunction(
+        device_,
+        [](void* user, ssize_t bytes, bool) {
+          auto* counter = static_cast<MemoryCounter*>(user);
+          const ssize_t now = counter->now.fetch_add(bytes) + bytes;
+          for (ssize_t peak = counter->peak.load(); now > peak && !counter->peak.compare_exchange_weak(peak, now);) {
+          }
+          return true;
+        },
+        &memory_);
     embreeScene_ = rtcNewScene(device_);
     // Robust mode: watertight traversal, no ray slipping through a shared edge.
     rtcSetSceneFlags(embreeScene_, RTC_SCENE_FLAG_ROBUST);
@@ -179,6 +192,9 @@ class RayTracer {
   }
   RayTracer(const RayTracer&) = delete;
   RayTracer& operator=(const RayTracer&) = delete;
+
+  // The most memory the device has held: the BVH and the mesh's copy.
+  size_t PeakBytes() const { return size_t(std::max<ssize_t>(memory_.peak.load(), 0)); }
 
   // The closest accepted hit with t in [tnear, tfar]; false when there is none.
   bool Intersect(RayKind kind, const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar,
@@ -224,6 +240,10 @@ class RayTracer {
   }
 
   const Scene& scene_;
+  struct MemoryCounter {
+    std::atomic<ssize_t> now{0}, peak{0};
+  };
+  MemoryCounter memory_;  // before device_: Embree reports into it until the device is released
   RTCDevice device_ = nullptr;
   RTCScene embreeScene_ = nullptr;
 };
@@ -476,6 +496,14 @@ class Shader {
 
 }  // namespace
 
+size_t EstimateReferenceMemory(const Scene& scene, const ReferenceParams& params) {
+  // Output planes: direct, indirect and result (RGB), the light's visibility and the depth.
+  constexpr size_t kPlanes = 11;
+  const size_t planes = kPlanes * hwy::ImageBase::BytesPerRow(size_t(params.width), sizeof(float)) * size_t(params.height);
+  return planes + kReferenceBvhBytesPerTriangle * scene.mesh.TriangleCount() +
+         scene.mesh.positions.size() * 4 * sizeof(float);
+}
+
 ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& params,
                                  const ReferenceProgress& progress) {
   SSGI_CHECK_GE(params.lightSamples, 1);
@@ -492,6 +520,7 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
   Stopwatch stopwatch;
   const RayTracer tracer(scene);
   out.stats.buildMs = stopwatch.Lap();
+  out.stats.bvhBytes = tracer.PeakBytes();
 
   const Shader shader(scene, tracer, params);
   out.direct = MakePlane3<float>(width, height, 0.0f);

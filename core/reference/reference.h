@@ -44,6 +44,7 @@ inline ReferenceParams ReferenceParamsForSpp(int spp) {
 
 struct ReferenceStats {
   double buildMs = 0.0;   // Embree device and BVH
+  size_t bvhBytes = 0;    // the most memory Embree's device held: the BVH and its copy of the mesh
   double traceMs = 0.0;   // every ray and the shading
   size_t coveredPixels = 0;
   size_t rays = 0;        // primary + shadow + bounce rays traced
@@ -62,6 +63,12 @@ struct ReferenceOutputs {
   Plane<float> depth;           // view depth d (metres) of the primary hit, kBackgroundDepth (+inf) for none
   ReferenceStats stats;
 };
+
+// What RenderReference allocates for this scene and these params: its output planes and Embree's
+// device (the BVH, about kReferenceBvhBytesPerTriangle a triangle, measured with Embree's memory
+// monitor on the bundled and third-party scenes, with a margin).
+inline constexpr size_t kReferenceBvhBytesPerTriangle = 200;
+size_t EstimateReferenceMemory(const Scene& scene, const ReferenceParams& params);
 
 // Called after each finished band of rows with the number of rows done so far and the total. Calls
 // come from worker threads but never overlap, and rowsDone strictly increases. Progress never

@@ -30,17 +30,17 @@ namespace ssgi {
 
 // What each pass of a frame did, as the passes report it; a pass that did not run is absent.
 struct FrameStats {
-  GBufferStats gbuffer;
+  std::optional<GBufferStats> gbuffer;
   std::optional<ShadowMapStats> shadowMap;
   std::optional<ShadowFilterStats> shadowFilter;
-  DirectLightStats directLight;
+  std::optional<DirectLightStats> directLight;
   std::optional<HiZStats> hiz;
   std::optional<ColorPyramidStats> colorPyramid;
   std::optional<SsrTraceStats> ssrTrace;
   std::optional<SsrConeStats> ssrCone;
   std::optional<CompositeStats> composite;
-  TonemapStats tonemap;
-  double planMs = 0.0;  // PlanFrame
+  std::optional<TonemapStats> tonemap;
+  double planMs = 0.0;  // PlanFrame: it runs in every frame, after the G-buffer pass or its dump
   double totalMs = 0.0;
   size_t triangles = 0;  // submitted to the G-buffer raster
   size_t pixels = 0;     // of the image

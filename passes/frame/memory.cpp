@@ -1,32 +1,12 @@
-// The frame's memory: estimate, and what the system has.
+// The frame's memory, estimated from the pass registry.
 #include "passes/frame/memory.h"
 
-#include <sys/resource.h>
-#include <unistd.h>
-
-#include <cctype>
-#include <cstdio>
-#include <fstream>
-
-#include "core/error.h"
 #include "core/plane.h"
 #include "passes/frame/dump.h"
 #include "passes/frame/registry.h"
 #include "passes/shadow_map.h"
 
 namespace ssgi {
-namespace {
-
-// Field `field` (0 the size, 1 the resident set, 2 its file-backed part: RssFile + RssShmem) of
-// /proc/self/statm, in bytes; 0 where unknown.
-size_t StatmBytes(int field) {
-  std::ifstream statm("/proc/self/statm");
-  size_t pages[3] = {};
-  if (!(statm >> pages[0] >> pages[1] >> pages[2])) return 0;
-  return pages[field] * size_t(::sysconf(_SC_PAGESIZE));
-}
-
-}  // namespace
 
 FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
                                         bool dumped) {
@@ -75,52 +55,6 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
     }
   }
   return estimate;
-}
-
-size_t AvailableMemoryBytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  size_t kib = 0;
-  std::string unit;
-  while (meminfo >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024;
-  return 0;
-}
-
-size_t ResidentBytes() { return StatmBytes(1); }
-
-size_t ResidentFileBytes() { return StatmBytes(2); }
-
-size_t PeakResidentBytes() {
-  rusage usage{};
-  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
-  return size_t(usage.ru_maxrss) * 1024;  // Linux reports KiB
-}
-
-std::string FormatBytes(size_t bytes) {
-  char text[32];
-  const double value = double(bytes);
-  if (value >= 1024.0 * 1024.0 * 1024.0)
-    std::snprintf(text, sizeof(text), "%.1f GiB", value / (1024.0 * 1024.0 * 1024.0));
-  else
-    std::snprintf(text, sizeof(text), "%.0f MiB", value / (1024.0 * 1024.0));
-  return text;
-}
-
-size_t ParseByteCount(const std::string& text) {
-  size_t digits = 0;
-  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits]))) ++digits;
-  const std::string unit = text.substr(digits);
-  double scale = 0.0;
-  const char* const prefixes[] = {"", "K", "M", "G", "T"};
-  for (size_t k = 0; k < 5; ++k) {
-    const std::string p = prefixes[k];
-    for (const std::string& spelling : {p, p + "B", p.empty() ? std::string("B") : p + "iB"})
-      if (unit == spelling) scale = double(size_t(1) << (10 * k));
-  }
-  const double value = digits > 0 && digits <= 15 ? std::stod(text.substr(0, digits)) : 0.0;
-  if (scale == 0.0 || !(value > 0.0)) throw InputError("--max-memory: must be a size like 512M or 8G, got '" + text + "'");
-  return size_t(value * scale);
 }
 
 }  // namespace ssgi

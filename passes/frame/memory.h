@@ -39,21 +39,4 @@ struct FrameMemoryEstimate {
 FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
                                         bool dumped = false);
 
-// The memory the system could give this process now (MemAvailable of /proc/meminfo), or 0 where
-// that is unknown.
-size_t AvailableMemoryBytes();
-// The process's resident set now and at its peak so far (Linux), in bytes; 0 where unknown.
-size_t ResidentBytes();
-size_t PeakResidentBytes();
-// The file-backed part of the resident set now (RssFile + RssShmem): mostly the shared libraries'
-// code and read-only data, clean pages the kernel can drop and read again under memory pressure,
-// unlike the anonymous rest (heap, stacks, relocated data). 0 where unknown.
-size_t ResidentFileBytes();
-
-// "1.5 GiB", "730 MiB": for messages.
-std::string FormatBytes(size_t bytes);
-// A byte count as given on a command line: digits with an optional K, M, G or T (powers of 1024,
-// "B" or "iB" after it allowed), as --max-memory takes it. Throws InputError naming the option.
-size_t ParseByteCount(const std::string& text);
-
 }  // namespace ssgi

@@ -162,9 +162,15 @@ PassDeclaration GBufferPass() {
   pass.scratchBytes = [](const FrameShape& s) { return kRasterBytesPerTriangle * s.triangles; };
   pass.stats = {
       {"g-buffer raster",
-       [](const FrameStats& s) { return Row(s.gbuffer.rasterMs, double(s.triangles), "triangles"); }},
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.gbuffer) return std::nullopt;
+         return Row(s.gbuffer->rasterMs, double(s.triangles), "triangles");
+       }},
       {"g-buffer resolve",
-       [](const FrameStats& s) { return Row(s.gbuffer.resolveMs, double(s.gbuffer.coveredPixels), "pixels"); }},
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.gbuffer) return std::nullopt;
+         return Row(s.gbuffer->resolveMs, double(s.gbuffer->coveredPixels), "pixels");
+       }},
       // The frame plan runs right after the G-buffer pass, on its buffer.
       {"frame plan", [](const FrameStats& s) { return Row(s.planMs, double(s.pixels), "pixels"); }},
   };
@@ -299,7 +305,10 @@ PassDeclaration DirectLightPass() {
   };
   pass.reads = {B::kGBufferWords, B::kShadowVisibility};
   pass.stats = {
-      {"direct light", [](const FrameStats& s) { return Row(s.directLight.ms, double(s.pixels), "pixels"); }}};
+      {"direct light", [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.directLight) return std::nullopt;
+         return Row(s.directLight->ms, double(s.pixels), "pixels");
+       }}};
   pass.step = DirectLightStep;
   return pass;
 }
@@ -622,7 +631,10 @@ PassDeclaration TonemapPass() {
        .dump = [](const Frame& f, DumpSink& sink) { sink.AddDisplay(f.display); }},
   };
   pass.reads = {B::kResult};
-  pass.stats = {{"tonemap", [](const FrameStats& s) { return Row(s.tonemap.ms, double(s.tonemap.pixels), "pixels"); }}};
+  pass.stats = {{"tonemap", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.tonemap) return std::nullopt;
+                   return Row(s.tonemap->ms, double(s.tonemap->pixels), "pixels");
+                 }}};
   pass.step = TonemapStep;
   return pass;
 }

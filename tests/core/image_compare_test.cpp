@@ -81,15 +81,33 @@ TEST_CASE("compare: layers pick named channels and missing ones are an error", "
   CHECK(FindLayer(dump, "shadow.visibility")->pixels == visibility.pixels);
 }
 
-TEST_CASE("compare: the heat map is black where equal and white at the scale", "[compare]") {
-  const FloatImage reference = Constant(2, 1, 0.0f);
+TEST_CASE("compare: the heat map is black where equal and white at the scale, with its legend below", "[compare]") {
+  const FloatImage reference = Constant(40, 1, 0.0f);
   FloatImage test = reference;
   test.pixels[3] = 1.0f;  // pixel 1, red channel
-  const std::vector<uint8_t> heat = ErrorHeatmap(test, reference, 1.0);
-  CHECK(heat[0] == 0);
-  CHECK(heat[3] == 255);
-  CHECK(heat[4] == 255);
-  CHECK(heat[5] == 255);
+  const Heatmap heat = ErrorHeatmap(test, reference, 1.0);
+  REQUIRE(heat.width == 40);
+  REQUIRE(heat.height == 1 + kHeatmapLegendRows);
+  CHECK(heat.rgb[0] == 0);
+  CHECK(heat.rgb[3] == 255);
+  CHECK(heat.rgb[4] == 255);
+  CHECK(heat.rgb[5] == 255);
+  CHECK(heat.scale == 1.0);
+  // The legend's colour bar runs from black at the left to white at the right.
+  const size_t barRow = size_t(1 + 4) * 40 * 3;
+  CHECK(heat.rgb[barRow] == 0);
+  CHECK(heat.rgb[barRow + 39 * 3 + 2] == 255);
+}
+
+TEST_CASE("compare: the heat map's default scale is the error's 99th percentile, not its outlier", "[compare]") {
+  const FloatImage reference = Constant(100, 10, 0.0f);
+  FloatImage test = reference;
+  for (size_t i = 0; i < 1000; ++i) test.pixels[i * 3] = 0.1f;  // every pixel 0.1 off in red
+  test.pixels[0] = 100.0f;                                      // and one outlier
+  const Heatmap heat = ErrorHeatmap(test, reference, 0.0);
+  CHECK(heat.scale == Approx(0.1));
+  CHECK(heat.shareAboveScale == Approx(0.001));
+  CHECK(heat.rgb[3] == 255);  // a pixel at the scale is white, not the outlier's 1/1000 of it
 }
 
 // A linear ramp upsampled 2x with pixel centres aligned stays the same ramp, sampled at the new

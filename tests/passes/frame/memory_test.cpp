@@ -1,10 +1,9 @@
 // The frame's memory (passes/frame/memory.h): the estimate, derived from the pass registry, against
-// what RunFramePasses holds at each step; byte counts as the command line takes them.
+// what RunFramePasses holds at each step.
 #include "passes/frame/memory.h"
 
 #include <catch2/catch.hpp>
 
-#include "core/error.h"
 #include "passes/frame/registry.h"
 #include "tests/passes/test_scenes.h"
 
@@ -86,17 +85,6 @@ TEST_CASE("every buffer the frame frees early is freed after its last reader and
     // After the frame only the outputs hold memory.
     CHECK((buffer.heldBytes(frame) > 0) == buffer.frameOutput);
   }
-}
-
-TEST_CASE("byte counts as --max-memory takes them", "[frame][memory]") {
-  CHECK(ParseByteCount("512M") == size_t(512) << 20);
-  CHECK(ParseByteCount("8G") == size_t(8) << 30);
-  CHECK(ParseByteCount("1GiB") == size_t(1) << 30);
-  CHECK(ParseByteCount("4096") == 4096);
-  CHECK_THROWS_AS(ParseByteCount("lots"), InputError);
-  CHECK_THROWS_AS(ParseByteCount("0M"), InputError);
-  CHECK(FormatBytes(size_t(730) << 20) == "730 MiB");
-  CHECK(FormatBytes(size_t(3) << 29) == "1.5 GiB");
 }
 
 }  // namespace

@@ -1,0 +1,90 @@
+// `ssgi passes`: passes of the pipeline run on buffers from outside (a dump of the oracle's, or a GPU
+// port's in the dump's layer names).
+#include <cstdio>
+#include <memory>
+
+#include "cli/commands.h"
+#include "cli/output_files.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/parallel.h"
+#include "passes/frame/dump.h"
+#include "passes/frame/memory.h"
+
+namespace ssgi::cli {
+namespace {
+
+struct PassesOptions {
+  std::string input;
+  std::string scene;
+  std::string from = "gbuffer";
+  std::string to = "tonemap";
+  std::string output;
+  int threads = 0;
+  bool stats = false;
+  std::string maxMemory;
+};
+
+// Runs passes --from .. --to of the frame on the buffers of a dump and writes the frame's buffers as
+// a dump.
+int Passes(const PassesOptions& options) {
+  const ThreadLimit threadLimit(options.threads);
+  const FramePass from = ParseFramePass(options.from);
+  const FramePass to = ParseFramePass(options.to);
+  if (to < from)
+    throw UsageError("--to " + options.to + " comes before --from " + options.from + " in the pipeline (" +
+                     FramePassNames() + ")");
+  CheckInputFile(options.input, "dump");
+  if (!options.scene.empty()) CheckInputFile(options.scene, "scene");
+  OutputFiles outputs;
+  outputs.Add(options.output);
+  if (outputs.Kind(options.output) != ImageFileKind::kExr)
+    throw InputError(options.output, "the passes' buffers are written as a multi-part EXR: use a .exr name");
+  const MemoryBudget budget = BudgetFor(options.maxMemory);
+  const size_t dumpBytes = ExrSampleBytes(options.input);
+  CheckMemory("reading " + options.input, dumpBytes, budget, "");
+  const ExrFile dump = ReadExrFile(options.input);
+  const auto [scene, config] = LoadDumpScene(dump, options.input, options.scene);
+  // The dump read, and a frame holding every buffer, written as a dump in turn.
+  CheckMemory("passes on a " + std::to_string(config.width) + "x" + std::to_string(config.height) + " dump",
+              dumpBytes + EstimateFrameMemory(scene, config, BufferLifetime::kKeepAll, true).bytes, budget, "");
+  Frame frame;
+  LoadFrameDump(dump, options.input, scene, config, from, to, frame);
+  RunFramePasses(scene, config, from, to, frame);
+  const std::string sceneName =
+      options.scene.empty() ? dump.metadata.at("ssgi:scene") : fs::absolute(options.scene).string();
+  outputs.Write(options.output, [&](const fs::path& path) {
+    WriteFrameDump(path, frame, DumpMetadata(sceneName, config));
+  });
+  outputs.Commit();
+  if (options.stats) PrintStats(StageRows(frame.stats), config.width, config.height, ThreadCount(options.threads));
+  std::printf("ran %s .. %s on %s\nwrote %s\n", options.from.c_str(), options.to.c_str(), options.input.c_str(),
+              options.output.c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command AddPassesCommand(CLI::App& app) {
+  auto options = std::make_shared<PassesOptions>();
+  CLI::App* command = app.add_subcommand(
+      "passes", "Run passes of the pipeline on buffers from outside (a --dump of the oracle, or a GPU port's buffers "
+                "in the dump's layer names) and write the frame's buffers as a dump.");
+  command->add_option("input", options->input, "Dump (.exr) holding the buffers the passes read.")->required();
+  command->add_option("-o,--output", options->output, "Dump (.exr) to write.")->required();
+  command->add_option("--scene", options->scene,
+                      "Scene file (camera, lights, materials, settings). Default: the scene the dump names.");
+  command->add_option("--from", options->from, "First pass to run (default gbuffer): " + FramePassNames() + ".");
+  command->add_option("--to", options->to, "Last pass to run (default tonemap).");
+  AddThreadsOption(*command, options->threads, "Worker threads (0 = all).");
+  command->add_flag("--stats", options->stats, "Print each pass's time.");
+  AddMaxMemoryOption(*command, options->maxMemory);
+  std::string passList = "\nThe passes, in pipeline order:\n";
+  for (const PassDeclaration& pass : FramePasses())
+    passList += "  " + std::string(pass.name) + std::string(16 - std::min<size_t>(pass.name.size(), 15), ' ') +
+                std::string(pass.summary) + "\n";
+  command->footer(passList);
+  return {command, [options] { return Passes(*options); }};
+}
+
+}  // namespace ssgi::cli
