@@ -43,7 +43,7 @@ const BenchScene& BenchSceneOf(int64_t scene);
 // The arguments of the G-buffer comparison with llvmpipe, the same for ssgi (BM_GBufferSsgi) and the
 // peer (BM_GBufferLlvmpipe): scene (a KnotScene's triangle count), threads (1 or 2), size (of the
 // square image). The knots of docs/design.md §13 at 1 and 2 threads at 1024x1024, and at 2 threads every
-// knot at 1024 and the 100k knot from 512 to 4096, the two sweeps the README plots.
+// knot at 1024 and the 100k knot from 512 to 4096, the two sweeps docs/user-guide.md plots.
 void GBufferPeerArgs(benchmark::internal::Benchmark* benchmark);
 
 // Random triangles for the fill-rate benchmarks, in the style of Intel's Masked Occlusion Culling

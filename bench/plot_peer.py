@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """ssgi against Mesa llvmpipe (the G-buffer target, docs/design.md §13): the G-buffer pass and the
-fill rate, from one run of ssgi_bench, as the plots of the README and their tables.
+fill rate, from one run of ssgi_bench, as the plots of docs/user-guide.md and their tables.
 
     python3 bench/plot_peer.py --run build/bench/ssgi_bench docs/   # runs the benchmarks (a few minutes), then plots
     python3 bench/plot_peer.py docs/                                # plots docs/llvmpipe_peer.json again

@@ -9,8 +9,9 @@
 Reads one or more `--benchmark_out_format=json` files and prints Markdown: a line naming the
 machine (the JSON's context: host_name, num_cpus, mhz_per_cpu, caches), the date (context.date)
 and the command, then one row per benchmark run: its median real time (the `_median` aggregate, or
-the median of the repetitions when the file holds them alone), items per second and its counters,
-named as the benchmark reports them. Then the ratios the targets are quoted as, for the pairs the
+the median of the repetitions when the file holds them alone), the repetitions' coefficient of
+variation (a cv of more than a few percent says the machine was busy), items per second and its
+counters, named as the benchmark reports them. Then the ratios the targets are quoted as, for the pairs the
 files hold: ssgi against the llvmpipe peer, and streaming passes against their memory floors, each
 pair from the same run. Python 3 standard library only.
 """
@@ -25,7 +26,7 @@ STANDARD_KEYS = {
     "name", "family_index", "per_family_instance_index", "run_name", "run_type", "repetitions",
     "repetition_index", "threads", "aggregate_name", "aggregate_unit", "iterations", "real_time",
     "cpu_time", "time_unit", "items_per_second", "bytes_per_second", "label", "error_occurred",
-    "error_message",
+    "error_message", "cv",
 }
 TO_MS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 
@@ -79,7 +80,7 @@ def load(paths):
         with open(path) as f:
             data = json.load(f)
         contexts.append(data.get("context", {}))
-        medians, repetitions, order = {}, {}, []
+        medians, cvs, repetitions, order = {}, {}, {}, []
         for entry in data.get("benchmarks", []):
             run = entry.get("run_name", entry["name"])
             if run not in order:
@@ -87,6 +88,8 @@ def load(paths):
             if entry.get("run_type") == "aggregate":
                 if entry.get("aggregate_name") == "median":
                     medians[run] = entry
+                elif entry.get("aggregate_name") == "cv":
+                    cvs[run] = entry.get("real_time")
             else:
                 repetitions.setdefault(run, []).append(entry)
         # Registration order (the files' order is shuffled by --benchmark_enable_random_interleaving).
@@ -97,7 +100,7 @@ def load(paths):
         order.sort(key=lambda run: first[run])
         for run in order:
             if run in medians:
-                runs[run] = medians[run]
+                runs[run] = dict(medians[run], cv=cvs.get(run))
             elif run in repetitions:
                 runs[run] = median_of(repetitions[run])
     return contexts, runs
@@ -109,6 +112,8 @@ def median_of(entries):
     if failed:
         return failed[0]
     out = dict(entries[0])
+    times = [e["real_time"] for e in entries]
+    out["cv"] = statistics.pstdev(times) / statistics.mean(times) if len(times) > 1 and statistics.mean(times) else None
     for key, value in entries[0].items():
         if key not in ("family_index", "per_family_instance_index", "repetitions", "repetition_index",
                        "threads") and isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -132,6 +137,8 @@ def machine_line(context):
                                            context.get("mhz_per_cpu", "?"))
     if caches:
         text += " (caches: %s)" % ", ".join(caches)
+    if context.get("load_avg"):
+        text += ", load average %s at the start" % " / ".join("%.1f" % x for x in context["load_avg"])
     return text
 
 
@@ -162,12 +169,12 @@ def main():
     print()
 
     wanted = re.compile(args.counters) if args.counters else None
-    print("| benchmark | median real time | items/s | counters |")
-    print("|---|---|---|---|")
+    print("| benchmark | median real time | cv | items/s | counters |")
+    print("|---|---|---|---|---|")
     for name, entry in runs.items():
         shown = name[:-len("/real_time")] if name.endswith("/real_time") else name
         if entry.get("error_occurred"):
-            print("| `%s` | skipped: %s | | |" % (shown, entry.get("error_message", "").replace("|", "/")))
+            print("| `%s` | skipped: %s | | | |" % (shown, entry.get("error_message", "").replace("|", "/")))
             continue
         items = entry.get("items_per_second")
         counters = []
@@ -179,8 +186,9 @@ def main():
             if wanted and not wanted.search(key):
                 continue
             counters.append("%s %s" % (key, counter_text(value)))
-        print("| `%s` | %s ms | %s | %s |" % (shown, significant(real_ms(entry)),
-                                              with_prefix(items) if items else "", ", ".join(counters)))
+        cv = "%.0f%%" % (100 * entry["cv"]) if entry.get("cv") is not None else ""
+        print("| `%s` | %s ms | %s | %s | %s |" % (shown, significant(real_ms(entry)), cv,
+                                                   with_prefix(items) if items else "", ", ".join(counters)))
 
     ratios = []
     for numerator, denominator, meaning in RATIOS:

@@ -75,7 +75,7 @@ std::string Lower(std::string_view s) {
 
 // `name` relative to `folder` (or absolute) as an existing file. A component that does not exist
 // matches an entry of its folder differing only in letter case (the first in sorted order), for
-// assets made on case-insensitive file systems (README "Scene files").
+// assets made on case-insensitive file systems (docs/user-guide.md "Scene files").
 std::optional<fs::path> FindFile(const fs::path& folder, const fs::path& name) {
   std::error_code error;
   if (fs::is_regular_file(folder / name, error)) return folder / name;

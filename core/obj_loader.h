@@ -13,7 +13,7 @@
 // repaired first: across each edge two triangles share, the one wound against the larger part of
 // its connected surface is turned (OrientConsistently in obj_loader.cpp).
 //
-// Materials (README "Scene files"): Kd -> baseColor (linear, as written), Pm -> metallic,
+// Materials (docs/user-guide.md "Scene files"): Kd -> baseColor (linear, as written), Pm -> metallic,
 // Pr -> roughness. A value the MTL leaves out is 1 when its texture is given, so the texture is used
 // as is; otherwise baseColor 0.8, metallic 0, and roughness from the Phong exponent Ns
 // (alpha = sqrt(2 / (Ns + 2)), r = sqrt(alpha)) or 0.5 without Ns. Faces without a material get

@@ -412,7 +412,7 @@ glm::mat4 ReadTransform(const ErrorReporter& errors, const Json& node, const std
     scale = *r.OptionalVec3("scale");
   }
   if (scale.x == 0.0f || scale.y == 0.0f || scale.z == 0.0f) r.Fail("scale", "must not be zero");
-  // world = T * Rz * Ry * Rx * S * object (README "Scene files")
+  // world = T * Rz * Ry * Rx * S * object (docs/user-guide.md "Scene files")
   glm::mat4 m = glm::translate(glm::mat4(1.0f), translate);
   m = glm::rotate(m, glm::radians(rotate.z), glm::vec3(0.0f, 0.0f, 1.0f));
   m = glm::rotate(m, glm::radians(rotate.y), glm::vec3(0.0f, 1.0f, 0.0f));

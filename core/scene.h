@@ -1,4 +1,4 @@
-// Scenes: the JSON scene format (README "Scene files") and bare OBJ files, loaded into one
+// Scenes: the JSON scene format (docs/user-guide.md "Scene files") and bare OBJ files, loaded into one
 // world-space mesh with its materials, textures, camera, lights and render settings.
 #pragma once
 
@@ -62,7 +62,7 @@ struct SceneFile {
   std::vector<RenderBlockEntry> render;  // empty for a bare OBJ or a file without a render block
 };
 
-// Loads a scene: a .json scene file (README "Scene files") or a bare .obj file, which gets a camera
+// Loads a scene: a .json scene file (docs/user-guide.md "Scene files") or a bare .obj file, which gets a camera
 // framing its bounds and the default light. A scene file without a camera is framed for the image
 // size its render block names (1024x1024 by default). Throws InputError (file, line where known,
 // problem) for malformed JSON/OBJ/MTL, unknown or ill-typed keys outside the render block, missing

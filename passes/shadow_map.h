@@ -31,7 +31,7 @@ struct ShadowMapParams {
   int resolution = 2048;  // shadow map width and height in texels, [1, kMaxImageSize]
   // Blocker-search taps per pixel, [1, kMaxBlockerSearchTaps], including the centre tap (tap 0). 8,
   // not the paper's 16: the sweep measured 8 at least as accurate on every metric of both scenes
-  // (README "Accuracy and time"), at half the search's gathers.
+  // (docs/user-guide.md "Accuracy and time"), at half the search's gathers.
   int blockerSearchTaps = 8;
   // Metres, > 0. The search region is the penumbra of a blocker at most this far from the receiver
   // along the light; it bounds the region (and the directional map's padding) in large scenes.

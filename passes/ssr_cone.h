@@ -38,7 +38,7 @@ float ConeHalfAngleTan(uint8_t roughnessCode);  // looks up a table built once
 struct SsrConeParams {
   // Pyramid fetches (circles) per pixel, >= 1; wider cones stop at the cap and are normalised over
   // the circles taken. 1 (the circle at the hit, as wide as the cone there) is the default because
-  // it is the most accurate against the traced GGX bounce on both swept scenes (README "Accuracy and
+  // it is the most accurate against the traced GGX bounce on both swept scenes (docs/user-guide.md "Accuracy and
   // time"): Uludag's inner circles, 7 of them in the paper, sample the screen between the reflector
   // and the hit, which the reflected lobe never sees.
   int maxSamples = 1;

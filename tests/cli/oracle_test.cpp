@@ -1,5 +1,5 @@
 // End-to-end tests of the oracle's commands for GPU ports: `ssgi render --dump`, `ssgi passes` and
-// `ssgi diff` (README "Checking a GPU port"): a port's buffers checked pass by pass, exit codes, the
+// `ssgi diff` (docs/user-guide.md "Checking a GPU port"): a port's buffers checked pass by pass, exit codes, the
 // JSON report and heat maps, and one-line errors for unusable input.
 #include <cstring>
 #include <fstream>

@@ -87,7 +87,7 @@ TEST_CASE("SSR and the Embree reference agree on a mirror floor reflecting a box
   std::printf("[ssr][reference] mirror floor %dx%d: %zu pixels reflecting the box, indirect luminance "
               "SSR/reference %.4f, relative error median %.4f, 95th percentile %.4f\n",
               kWidth, kHeight, relativeErrors.size(), meanRatio, double(median), double(p95));
-  // Stated tolerance (README "Accuracy and time"; measured 0.9956, 0.5 %, 0.7 %): the mean within
+  // Stated tolerance (docs/user-guide.md "Accuracy and time"; measured 0.9956, 0.5 %, 0.7 %): the mean within
   // 2 %, the median pixel within 2 % and 95 % of pixels within 5 %.
   CHECK(meanRatio == Approx(1.0).margin(0.02));
   CHECK(median <= 0.02f);
