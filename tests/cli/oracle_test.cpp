@@ -67,13 +67,14 @@ TEST_CASE("passes and diff: unusable input is one line and a non-zero exit", "[c
   WriteText(dir / "bad.json", "{\"layers\": [{\"match\": \"x\", \"ulps\": 1}]}");
   CheckCliErrors({
       {"passes " + Quote(oracle) + " --from hzi -o " + Quote(dir / "o.exr"), "'hzi' is not a pass", 1},
-      {"passes " + Quote(oracle) + " --from composite --to hiz -o " + Quote(dir / "o.exr"), "comes before", 1},
+      {"passes " + Quote(oracle) + " --from composite --to hiz -o " + Quote(dir / "o.exr"), "comes before", 2},
       {"passes " + Quote(dir / "text.exr") + " -o " + Quote(dir / "o.exr"), "text.exr", 1},
       {"passes " + Quote(oracle) + " -o " + Quote(dir / "o.png"), "EXR", 1},
       {"passes " + Quote(dir / "oracle.png") + " --from hiz -o " + Quote(dir / "o.exr"), "not an EXR", 1},
       {"diff " + Quote(oracle) + " " + Quote(dir / "missing.exr"), "missing.exr", 2},
       {"diff " + Quote(oracle) + " " + Quote(dir / "text.exr"), "text.exr", 2},
-      {"diff " + Quote(oracle) + " " + Quote(oracle) + " --thresholds " + Quote(dir / "bad.json"), "unknown key 'ulps'", 2},
+      {"diff " + Quote(oracle) + " " + Quote(oracle) + " --thresholds " + Quote(dir / "bad.json"), "unknown key 'ulps'",
+       2},
       {"diff " + Quote(oracle), "port", 2},
   });
   CHECK_FALSE(fs::exists(dir / "o.exr"));

@@ -1,5 +1,6 @@
 // End-to-end tests of `ssgi render`: exit codes and messages for bad input, no output left behind
 // on failure, byte-identical output at any thread count, and the golden image of the default scene.
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -7,8 +8,7 @@
 #include <sstream>
 #include <utility>
 
-#include <catch2/catch.hpp>
-
+#include "core/image_compare.h"
 #include "core/image_io.h"
 #include "tests/test_support.h"
 
@@ -190,8 +190,9 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
                                           Quote(dir / "heat.png"));
   CAPTURE(visibility.output);
   CHECK(visibility.exitCode == 0);
-  CHECK(visibility.output.find("1 channels") != std::string::npos);
+  CHECK(visibility.output.find("1 channel)") != std::string::npos);
   CHECK(ReadStoredImage(dir / "heat.png").width == 64);
+  CHECK(ReadStoredImage(dir / "heat.png").height == 48 + kHeatmapLegendRows);
   const CommandResult missing = RunCli("compare " + Quote(dir / "hard.exr") + " " + Quote(dir / "nowhere.exr"));
   CHECK(missing.exitCode == 1);
   CHECK(missing.output.find("nowhere.exr") != std::string::npos);
@@ -260,11 +261,14 @@ TEST_CASE("render: a frame larger than the memory allowed is refused before rend
   CAPTURE(refused.output);
   CHECK(refused.exitCode == 1);
   CHECK(refused.output.find("ssgi: error: a 2048x2048 frame needs about ") == 0);
-  CHECK(refused.output.find("(estimate), more than --max-memory 200 MiB") != std::string::npos);
+  // The frame's estimate and what the process holds already, each named, against the limit.
+  CHECK(refused.output.find("(estimate: ") != std::string::npos);
+  CHECK(refused.output.find(" the process holds already), more than --max-memory 200 MiB") != std::string::npos);
   CHECK(std::count(refused.output.begin(), refused.output.end(), '\n') == 1);
   const CommandResult badLimit = RunCli("render " + DefaultScene() + " --max-memory lots -o " + out);
-  CHECK(badLimit.exitCode == 1);
-  CHECK(badLimit.output.find("--max-memory: must be a size like 512M or 8G, got 'lots'") != std::string::npos);
+  CHECK(badLimit.exitCode == 2);  // a value that does not parse is a command-line error
+  CHECK(badLimit.output.find("--max-memory: must be a size like 512M, 1.5G, 2GiB or 800MB, got 'lots'") !=
+        std::string::npos);
   RequireOnlyFiles(dir, {});
   // The estimate against the measured peak resident set of the same render: a frame whose peak is
   // the SSR trace, and a small one whose peak is a large shadow map.
