@@ -103,10 +103,19 @@ FrameSetting ChoiceSetting(std::string_view name, std::string_view option, std::
 std::vector<FrameSetting> BuildFrameSettings() {
   std::vector<FrameSetting> table;
   {
-    FrameSetting quality{"quality", "--quality", true,
-                         "Quality preset: low, medium, high (the default) or ultra (README 'Accuracy and time' gives "
-                         "each one's time and error). The quality knobs override it.",
-                         SettingKind::kChoice, 0.0, 0.0, {}, {}, {}, {}};
+    FrameSetting quality{
+        "quality",
+        "--quality",
+        true,
+        "Quality preset: low, medium, high (the default) or ultra (docs/user-guide.md 'Accuracy and time' gives "
+        "each one's time and error). The quality knobs override it.",
+        SettingKind::kChoice,
+        0.0,
+        0.0,
+        {},
+        {},
+        {},
+        {}};
     for (const QualityPreset& preset : QualityPresets()) quality.choices.push_back(preset.name);
     quality.set = [](FrameConfig& c, const SettingValue& v) {
       std::set<std::string_view> knobs;
