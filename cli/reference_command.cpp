@@ -38,7 +38,7 @@ int Reference(const ReferenceOptions& options) {
   ReferenceParams params = ReferenceParamsForSpp(options.spp);
   params.width = config.width;
   params.height = config.height;
-  params.background = config.directLight.background;
+  params.environment = {EnvironmentKind::kConstant, config.directLight.background};
   CheckMemory("a " + std::to_string(config.width) + "x" + std::to_string(config.height) + " reference",
               EstimateReferenceMemory(scene, params), BudgetFor(options.maxMemory), "give a smaller --size");
 

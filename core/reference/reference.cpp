@@ -451,7 +451,7 @@ class Shader {
       Hit hit;
       ++counters.rays;
       if (!tracer_.Intersect(RayKind::kCamera, OffsetOrigin(s, direction), direction, 0.0f, kInfinity, hit)) {
-        sum += weight * params_.background;
+        sum += weight * params_.environment.Radiance(direction);
         continue;
       }
       const Surface next = ResolveSurface(scene_, hit, direction);
@@ -514,7 +514,6 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
   const glm::mat4 viewToWorld = glm::inverse(view.view);
   const glm::vec3 cameraPosition(viewToWorld[3]);
   const glm::mat3 viewToWorldRotation(viewToWorld);
-  const glm::vec3 background = params.background;
 
   ReferenceOutputs out;
   Stopwatch stopwatch;
@@ -553,7 +552,7 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
             viewToWorldRotation * view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
         Hit hit;
         ++counters[band].rays;
-        glm::vec3 directLight = background, indirectLight(0.0f);
+        glm::vec3 directLight = params.environment.Radiance(glm::normalize(rayDirection)), indirectLight(0.0f);
         if (tracer.Intersect(RayKind::kCamera, cameraPosition, rayDirection, view.nearPlane, kInfinity, hit)) {
           ++covered[band];
           const glm::vec3 unitDirection = glm::normalize(rayDirection);

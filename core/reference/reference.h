@@ -26,7 +26,9 @@ namespace ssgi {
 struct ReferenceParams {
   int width = kDefaultImageSide;  // image size in pixels, as the frame it is compared with
   int height = kDefaultImageSide;
-  glm::vec3 background{0.0f};     // linear RGB radiance where a ray leaves the scene, as the frame's
+  // What a ray that leaves the scene sees (the frame's environment): here only the camera rays that
+  // miss and the bounce rays see it.
+  Environment environment;
   int lightSamples = 16;       // per light per pixel for the direct light, >= 1
   int bounceSamples = 16;      // GGX directions per pixel for the specular bounce, >= 0 (0: no bounce)
   int bounceLightSamples = 1;  // per light at each bounce hit, >= 1

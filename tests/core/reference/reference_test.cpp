@@ -39,7 +39,7 @@ ReferenceOutputs RenderReferenceOf(const TestScene& scene, ReferenceParams param
                                    const ReferenceProgress& progress = nullptr) {
   params.width = scene.width;
   params.height = scene.height;
-  params.background = scene.background;
+  params.environment = {EnvironmentKind::kConstant, scene.background};
   return RenderReference(scene, params, progress);
 }
 
