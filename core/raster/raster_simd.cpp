@@ -64,11 +64,9 @@ constexpr size_t kStepSamples = kWholeBlockRows ? hn::MaxLanes(DS()) : kRasterBl
 // bits (exact: the vertices span at most kBoxVertexSpan); and each vector's samples, which lie in one
 // or two blocks of the tile, are read from and written to both at once: the lanes in the first block
 // at one address, those in the next block 56 values on (a block row on, less the part's row). For a
-// triangle of a few blocks the block machinery cost more than its samples (100k knot's G-buffer pass
-// at 2 threads: 3.71 -> 3.42 ms with boxes of 8x8). Boxes of 32x32 rather than 16x16 take the 10k
-// knot's larger triangles too (its raster at 2 threads 0.91-0.95 -> 0.85-0.90 ms, fill-rate triangles
-// of 100 pixels 7.6 -> 6.5 ms); larger boxes lose on triangles many layers deep, whose hidden blocks
-// the block path passes over (500-pixel fill-rate triangles: 3.8 -> 4.0 ms with 48 or 64).
+// triangle of a few blocks the block machinery costs more than its samples. Boxes of 32x32 rather
+// than 16x16 take the larger triangles of a 10k-triangle knot (and triangles of 100 pixels) too;
+// larger boxes lose on triangles many layers deep, whose hidden blocks the block path passes over.
 constexpr int kBoxSpan = 32;
 constexpr int kBoxPart = kRasterBlockSize;
 constexpr int64_t kBoxVertexSpan = (kBoxSpan + 1) * kSubPixelScale;
@@ -226,12 +224,11 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
   // Hidden blocks, in depth-only rasters: a block whose farthest key is at or above every key the
   // triangle can give its samples is passed over, and the triangle where that holds for the whole
   // tile. A shadow map draws both faces of every caster, and most of its blocks are hidden when a
-  // triangle reaches them (Sponza's 2048 map: 69%; raster 18 -> 11 ms at 1 thread); the camera's
-  // front faces hide few, and there the bookkeeping cost more than it saved (1M knot +13%), as it
-  // would where coverage is counted, before the depth test. Those keys are below the key plane's
-  // highest over the triangle (at a vertex: the samples are inside it) and over the block (at a
-  // corner), plus a margin for the float evaluation's roundings (a few, each within 2^-24 of the
-  // largest term; the margin is 16 times that).
+  // triangle reaches them (Sponza's 2048 map: 69%); the camera's front faces hide few, and there the
+  // bookkeeping costs more than it saves, as it would where coverage is counted, before the depth
+  // test. Those keys are below the key plane's highest over the triangle (at a vertex: the samples
+  // are inside it) and over the block (at a corner), plus a margin for the float evaluation's
+  // roundings (a few, each within 2^-24 of the largest term; the margin is 16 times that).
   constexpr bool kSkipHidden = !kWriteTriangle && !kCountCoverage;
   double keyCeiling = 0.0, blockCeilingBase = 0.0, blockCeilingDx = 0.0, blockCeilingDy = 0.0;
   int cornerX = 0, cornerY = 0;
@@ -414,7 +411,7 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
 void RasterizeTile(const TileTriangles& batch, TileTarget& tile) {
   ForEachTileTriangle(batch, [&](const ScreenTriangle& t, auto writeTriangle, auto countCoverage) {
     // Depth-only rasters pass over hidden blocks in the block path, which saves them more where the
-    // triangles are not tiny (Sponza's 2048 shadow map at 2 threads: 10.2 ms, 10.6 with the box path).
+    // triangles are not tiny.
     if ((writeTriangle || countCoverage || batch.smallTriangles) &&
         RasterizeBoxInTile<writeTriangle, countCoverage>(t, *batch.alphaTest, tile)) {
       return;
