@@ -638,68 +638,106 @@ void ProjectVertices(const glm::vec3* positions, size_t count, const glm::mat4& 
   }
 }
 
-// SetUpTrianglesScalar's twin: lanes are triangles, in doubles. The snapped coordinates (|x| <
-// 2^24), their differences' products and the doubled area are whole numbers below 2^53, so the
-// integer definition's values come out exactly; the rest is the definition's double arithmetic in
-// its order, and its floor divisions by 256 are exact scalings and Floor.
-size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
-                      uint8_t uniformFlags, uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
-                      TriangleSetUp* status) {
-  const DD dd;
+// A vector of triangles for SetUpTriangles (lanes are triangles): their corners' indices into the
+// ProjectedVertex array, and whether their flags cull back faces (1 or 0).
+struct TriangleCorners {
+  hn::Vec<hn::Rebind<uint32_t, DD>> corner[3];
+  hn::Vec<DL> cullsBackFace;
+};
+
+// Triangles first .. first + n - 1 (n at most a vector's lanes), read as vectors; a last, partial
+// vector's lanes past the end repeat its last triangle.
+HWY_INLINE TriangleCorners LoadTriangleCorners(const uint32_t* indices, const uint8_t* flags, uint8_t uniformFlags,
+                                               size_t first, size_t n) {
   const DL dl;
-  using VD = hn::Vec<DD>;
-  using VL = hn::Vec<DL>;
-  using MD = hn::Mask<DD>;
-  constexpr size_t kMaxLanes = hn::MaxLanes(DD());
-  const size_t lanes = hn::Lanes(dd);
-  // ProjectedVertex is two 64-bit words: x and y (low and high halves), and the key.
-  const int64_t* positions = reinterpret_cast<const int64_t*>(projected);
-  const double* keys = reinterpret_cast<const double*>(projected) + 1;
-  const VD zero = hn::Zero(dd), half = hn::Set(dd, 0.5);
-  const VD toPixels = hn::Set(dd, 1.0 / double(kSubPixelScale));
-  const VD toPixelArea = hn::Set(dd, 1.0 / double(kSubPixelScale * kSubPixelScale));
-  const VL outsideMarker = hn::Set(dl, int64_t(ProjectedVertex::kOutsideClipPlanes));
-  size_t setUp = 0;
   const hn::Rebind<uint32_t, DD> du32;
   const hn::Rebind<uint8_t, DD> du8;
   const hn::RebindToUnsigned<DL> du64;
-  for (size_t i = 0; i < count; i += lanes) {
-    const size_t n = std::min(lanes, count - i);
-    // The lanes' corner indices and flags, read as vectors; a last, partial vector's lanes past the
-    // end repeat its last triangle.
-    const uint32_t* corners = indices + 3 * (size_t(first) + i);
-    const uint8_t* triangleFlags = flags ? flags + size_t(first) + i : nullptr;
-    HWY_ALIGN uint32_t stagedCorners[3 * kMaxLanes];
-    HWY_ALIGN uint8_t stagedFlags[kMaxLanes];
-    if (n < lanes) {
-      for (size_t j = 0; j < lanes; ++j) {
-        const size_t from = std::min(j, n - 1);
-        for (int k = 0; k < 3; ++k) stagedCorners[3 * j + size_t(k)] = corners[3 * from + size_t(k)];
-        if (flags) stagedFlags[j] = triangleFlags[from];
-      }
-      corners = stagedCorners;
-      if (flags) triangleFlags = stagedFlags;
+  constexpr size_t kMaxLanes = hn::MaxLanes(DD());
+  const size_t lanes = hn::Lanes(DD());
+  const uint32_t* corners = indices + 3 * first;
+  const uint8_t* triangleFlags = flags ? flags + first : nullptr;
+  HWY_ALIGN uint32_t stagedCorners[3 * kMaxLanes];
+  HWY_ALIGN uint8_t stagedFlags[kMaxLanes];
+  if (n < lanes) {
+    for (size_t j = 0; j < lanes; ++j) {
+      const size_t from = std::min(j, n - 1);
+      for (int k = 0; k < 3; ++k) stagedCorners[3 * j + size_t(k)] = corners[3 * from + size_t(k)];
+      if (flags) stagedFlags[j] = triangleFlags[from];
     }
-    hn::Vec<decltype(du32)> corner[3];
-    hn::LoadInterleaved3(du32, corners, corner[0], corner[1], corner[2]);
-    const VL cullsBackFace =
-        triangleFlags
-            ? hn::BitCast(dl, hn::PromoteTo(du64, hn::PromoteTo(du32, hn::And(hn::LoadU(du8, triangleFlags),
-                                                                              hn::Set(du8, kTriangleCullBackFace)))))
-            : hn::Set(dl, (uniformFlags & kTriangleCullBackFace) ? 1 : 0);
-    VD x[3], y[3], key[3];
-    VL outsideAny = hn::Zero(dl), outsideAll = hn::Set(dl, -1);
-    for (int k = 0; k < 3; ++k) {
-      const VL word = hn::ShiftLeft<1>(hn::BitCast(dl, hn::PromoteTo(du64, corner[k])));
-      const VL position = hn::GatherIndex(dl, positions, word);
-      const VL low = hn::ShiftRight<32>(hn::ShiftLeft<32>(position)), high = hn::ShiftRight<32>(position);
-      x[k] = hn::ConvertTo(dd, low);
-      y[k] = hn::ConvertTo(dd, high);
-      key[k] = hn::GatherIndex(dd, keys, word);
-      const VL outside = hn::IfThenElseZero(hn::Eq(high, outsideMarker), low);  // ProjectedVertex::Outside
-      outsideAny = hn::Or(outsideAny, outside);
-      outsideAll = hn::And(outsideAll, outside);
-    }
+    corners = stagedCorners;
+    if (flags) triangleFlags = stagedFlags;
+  }
+  TriangleCorners loaded;
+  hn::LoadInterleaved3(du32, corners, loaded.corner[0], loaded.corner[1], loaded.corner[2]);
+  loaded.cullsBackFace =
+      triangleFlags
+          ? hn::BitCast(dl, hn::PromoteTo(du64, hn::PromoteTo(du32, hn::And(hn::LoadU(du8, triangleFlags),
+                                                                            hn::Set(du8, kTriangleCullBackFace)))))
+          : hn::Set(dl, (uniformFlags & kTriangleCullBackFace) ? 1 : 0);
+  return loaded;
+}
+
+// The vertices of a vector of triangles (lanes are triangles), gathered from their ProjectedVertex.
+struct TriangleVertices {
+  hn::Vec<DD> x[3], y[3], key[3];
+  // ProjectedVertex::Outside of the three vertices, ORed and ANDed.
+  hn::Vec<DL> outsideAny, outsideAll;
+};
+
+HWY_INLINE TriangleVertices GatherVertices(const ProjectedVertex* projected, const TriangleCorners& corners) {
+  const DD dd;
+  const DL dl;
+  const hn::RebindToUnsigned<DL> du64;
+  // ProjectedVertex is two 64-bit words: x and y (low and high halves), and the key.
+  const int64_t* positions = reinterpret_cast<const int64_t*>(projected);
+  const double* keys = reinterpret_cast<const double*>(projected) + 1;
+  const auto outsideMarker = hn::Set(dl, int64_t(ProjectedVertex::kOutsideClipPlanes));
+  TriangleVertices v;
+  v.outsideAny = hn::Zero(dl);
+  v.outsideAll = hn::Set(dl, -1);
+  for (int k = 0; k < 3; ++k) {
+    const auto word = hn::ShiftLeft<1>(hn::BitCast(dl, hn::PromoteTo(du64, corners.corner[k])));
+    const auto position = hn::GatherIndex(dl, positions, word);
+    const auto low = hn::ShiftRight<32>(hn::ShiftLeft<32>(position)), high = hn::ShiftRight<32>(position);
+    v.x[k] = hn::ConvertTo(dd, low);
+    v.y[k] = hn::ConvertTo(dd, high);
+    v.key[k] = hn::GatherIndex(dd, keys, word);
+    const auto outside = hn::IfThenElseZero(hn::Eq(high, outsideMarker), low);  // ProjectedVertex::Outside
+    v.outsideAny = hn::Or(v.outsideAny, outside);
+    v.outsideAll = hn::And(v.outsideAll, outside);
+  }
+  return v;
+}
+
+// SetUpScreenTriangle for a vector of triangles whose vertices are all inside the clip planes, its
+// results stored a row per field (lanes are triangles) for SetUpTriangles to read back per triangle.
+struct SetUpRows {
+  static constexpr size_t kMaxLanes = hn::MaxLanes(DD());
+  enum Field {
+    kX0,
+    kY0 = kX0 + 3,
+    kMinX = kY0 + 3,
+    kMaxX,
+    kMinY,
+    kMaxY,
+    kKeyDx,
+    kKeyDy,
+    kKeyAtOrigin,
+    kCulled,
+    kEdgesFit,
+    kFields
+  };
+
+  HWY_INLINE SetUpRows(TriangleVertices v, hn::Vec<DL> cullsBackFace, int width, int height) {
+    const DD dd;
+    const DL dl;
+    using VD = hn::Vec<DD>;
+    using MD = hn::Mask<DD>;
+    const VD zero = hn::Zero(dd), half = hn::Set(dd, 0.5);
+    const VD toPixels = hn::Set(dd, 1.0 / double(kSubPixelScale));
+    const VD toPixelArea = hn::Set(dd, 1.0 / double(kSubPixelScale * kSubPixelScale));
+    auto &x = v.x, &y = v.y, &key = v.key;
     VD area2 = hn::Sub(hn::Mul(hn::Sub(x[1], x[0]), hn::Sub(y[2], y[0])), hn::Mul(hn::Sub(y[1], y[0]), hn::Sub(x[2], x[0])));
     // Counter-clockwise front faces turn clockwise in y-down screen space: vertices 1 and 2 swap.
     const MD backFacing = hn::Gt(area2, zero);
@@ -736,41 +774,64 @@ size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices,
     const VD keyDy = hn::Div(hn::Sub(hn::Mul(k20, x10), hn::Mul(k10, x20)), det);
     const VD keyAtOrigin = hn::Add(hn::Add(key[0], hn::Mul(keyDx, hn::Sub(half, hn::Mul(x[0], toPixels)))),
                                    hn::Mul(keyDy, hn::Sub(half, hn::Mul(y[0], toPixels))));
-
-    // The lanes' results, a row per field, read back per triangle below.
-    enum Field {
-      kX0, kY0 = kX0 + 3, kMinX = kY0 + 3, kMaxX, kMinY, kMaxY, kKeyDx, kKeyDy, kKeyAtOrigin, kCulled, kEdgesFit, kFields
-    };
-    HWY_ALIGN double lane[kFields][kMaxLanes];
     const VD fields[kFields] = {x[0], x[1], x[2], y[0], y[1], y[2], minX, maxX, minY, maxY, keyDx, keyDy, keyAtOrigin,
                                 hn::VecFromMask(dd, culled), hn::VecFromMask(dd, edgesFit)};
     for (int f = 0; f < kFields; ++f) hn::Store(fields[f], dd, lane[f]);
+  }
+
+  // Lane j's triangle, which SetUpScreenTriangle culls (an all-ones mask is a NaN, not 0).
+  bool Culled(size_t j) const { return lane[kCulled][j] != 0.0; }
+
+  // Lane j's ScreenTriangle but its triangle and flags.
+  void Write(size_t j, ScreenTriangle& t) const {
+    for (int k = 0; k < 3; ++k) {
+      t.x[k] = int32_t(lane[kX0 + k][j]);
+      t.y[k] = int32_t(lane[kY0 + k][j]);
+    }
+    t.minX = int16_t(lane[kMinX][j]);
+    t.maxX = int16_t(lane[kMaxX][j]);
+    t.minY = int16_t(lane[kMinY][j]);
+    t.maxY = int16_t(lane[kMaxY][j]);
+    t.keyDx = lane[kKeyDx][j];
+    t.keyDy = lane[kKeyDy][j];
+    t.keyAtOrigin = lane[kKeyAtOrigin][j];
+    t.edgesFit32Bits = lane[kEdgesFit][j] != 0.0;
+  }
+
+  HWY_ALIGN double lane[kFields][kMaxLanes];
+};
+
+// SetUpTrianglesScalar's twin: lanes are triangles, in doubles. The snapped coordinates (|x| <
+// 2^24), their differences' products and the doubled area are whole numbers below 2^53, so the
+// integer definition's values come out exactly; the rest is the definition's double arithmetic in
+// its order, and its floor divisions by 256 are exact scalings and Floor.
+size_t SetUpTriangles(const ProjectedVertex* projected, const uint32_t* indices, const uint8_t* flags,
+                      uint8_t uniformFlags, uint32_t first, size_t count, int width, int height, ScreenTriangle* out,
+                      TriangleSetUp* status) {
+  const DL dl;
+  constexpr size_t kMaxLanes = hn::MaxLanes(DD());
+  const size_t lanes = hn::Lanes(DD());
+  size_t setUp = 0;
+  for (size_t i = 0; i < count; i += lanes) {
+    const size_t n = std::min(lanes, count - i);
+    const TriangleCorners corners = LoadTriangleCorners(indices, flags, uniformFlags, size_t(first) + i, n);
+    const TriangleVertices vertices = GatherVertices(projected, corners);
+    const SetUpRows rows(vertices, corners.cullsBackFace, width, height);
     HWY_ALIGN int64_t any[kMaxLanes], all[kMaxLanes];
-    hn::Store(outsideAny, dl, any);
-    hn::Store(outsideAll, dl, all);
+    hn::Store(vertices.outsideAny, dl, any);
+    hn::Store(vertices.outsideAll, dl, all);
     for (size_t j = 0; j < n; ++j) {
       TriangleSetUp& result = status[i + j];
       if (all[j] != 0) {  // all three outside one plane
         result = TriangleSetUp::kCulled;
       } else if (any[j] != 0) {
         result = TriangleSetUp::kClip;
-      } else if (lane[kCulled][j] != 0.0) {  // an all-ones mask is a NaN, not 0
+      } else if (rows.Culled(j)) {
         result = TriangleSetUp::kCulled;
       } else {
         result = TriangleSetUp::kSetUp;
         ScreenTriangle& t = out[setUp++];
-        for (int k = 0; k < 3; ++k) {
-          t.x[k] = int32_t(lane[kX0 + k][j]);
-          t.y[k] = int32_t(lane[kY0 + k][j]);
-        }
-        t.minX = int16_t(lane[kMinX][j]);
-        t.maxX = int16_t(lane[kMaxX][j]);
-        t.minY = int16_t(lane[kMinY][j]);
-        t.maxY = int16_t(lane[kMaxY][j]);
-        t.keyDx = lane[kKeyDx][j];
-        t.keyDy = lane[kKeyDy][j];
-        t.keyAtOrigin = lane[kKeyAtOrigin][j];
-        t.edgesFit32Bits = lane[kEdgesFit][j] != 0.0;
+        rows.Write(j, t);
         t.triangle = first + uint32_t(i + j);
         t.flags = TriangleFlagsOf(flags, uniformFlags, t.triangle);
       }
