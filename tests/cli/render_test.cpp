@@ -178,6 +178,9 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
   CAPTURE(visibility.output);
   CHECK(visibility.exitCode == 0);
   CHECK(visibility.output.find("1 channel)") != std::string::npos);
+  // A dump against another: the error by region too.
+  CHECK(visibility.output.find("by region (shadow.visibility, roughness, depth)") != std::string::npos);
+  CHECK(visibility.output.find("in shadow") != std::string::npos);
   CHECK(ReadStoredImage(dir / "heat.png").width == 64);
   CHECK(ReadStoredImage(dir / "heat.png").height == 48 + kHeatmapLegendRows);
   const CommandResult missing = RunCli("compare " + Quote(dir / "hard.exr") + " " + Quote(dir / "nowhere.exr"));
