@@ -589,6 +589,53 @@ TEST_CASE("bounce: the same bytes at 1, 2 and 3 threads, and into kept outputs",
   CHECK(SameOutputs(kept, outputs[0]));
 }
 
+// Not a check but the accuracy of settings (hidden; run it by its tag): for slices x steps, the
+// mean and worst error of the full pass's bounce beside the lit wall (floor points 0.05 to 0.4 m from
+// it) against the reference integral, and its visibility at the box corner against 1/4.
+TEST_CASE("bounce: accuracy of the settings", "[.bounce_accuracy]") {
+  const LitWall wall;
+  const Corner corner;
+  struct Probe {
+    FloorPixel pixel;
+    Reference reference;
+  };
+  std::vector<Probe> probes;
+  const BounceParams defaults;
+  for (const float distance : {0.05f, 0.1f, 0.15f, 0.2f, 0.3f, 0.4f}) {
+    const FloorPixel p = NearestFloorPixel(wall.in, {distance, 0.0f, 0.0f});
+    probes.push_back({p, IntegrateHemisphere(wall.in.view, glm::dvec3(p.world), wall.wall,
+                                             ReachPixels(wall.in.view, defaults, DepthAt(wall.in, p.x, p.y)))});
+  }
+  const FloorPixel atCorner = NearestFloorPixel(corner.in, {0.0f, 0.0f, 0.0f});
+  {
+    const BounceOutputs out = Run(wall.in, defaults);
+    std::printf("defaults, lit wall (distance: bounce / reference / form factor):");
+    for (const Probe& probe : probes)
+      std::printf(" %.2f: %.3f / %.3f / %.3f", probe.pixel.world.x,
+                  out.bounce.c[0].ConstRow(size_t(probe.pixel.y))[probe.pixel.x], probe.reference.bounce,
+                  LitWall::FormFactor(probe.pixel.world.x));
+    std::printf("\n");
+  }
+  for (const int slices : {1, 2, 3, 4}) {
+    for (const int steps : {2, 4, 6, 8, 12}) {
+      BounceParams params;
+      params.slices = slices;
+      params.steps = steps;
+      const BounceOutputs out = Run(wall.in, params);
+      double sum = 0.0, worst = 0.0;
+      for (const Probe& probe : probes) {
+        const double error = out.bounce.c[0].ConstRow(size_t(probe.pixel.y))[probe.pixel.x] - probe.reference.bounce;
+        sum += std::fabs(error);
+        worst = std::max(worst, std::fabs(error));
+      }
+      const BounceOutputs cornerOut = Run(corner.in, params);
+      std::printf("slices %d steps %2d: wall bounce error mean %.3f worst %.3f; corner visibility %.3f (1/4)\n", slices,
+                  steps, sum / double(probes.size()), worst,
+                  cornerOut.visibility.ConstRow(size_t(atCorner.y))[atCorner.x]);
+    }
+  }
+}
+
 // Writes planes (values times `scale`, clamped) as an 8-bit sRGB PNG, grey (one plane three times)
 // or RGB: the region crop = {x, y, width, height} (all when empty), each pixel zoom x zoom times.
 void WritePicture(const std::filesystem::path& path, const Plane<float>* const channels[3], float scale,
@@ -607,7 +654,8 @@ void WritePicture(const std::filesystem::path& path, const Plane<float>* const c
 // Not a check but the pictures to look at (hidden; run it by its tag): the default scene at
 // 1024x1024 with its direct light as the lit image, the settings from BOUNCE_SLICES, BOUNCE_STEPS
 // and BOUNCE_THICKNESS when set. Writes to /tmp: bounce_ao.png (visibility), bounce_bounce.png
-// (bounce x 4), their 280x280 crops around the spheres 3x enlarged, bounce_ao_march.png (the
+// (bounce x 4), their 280x280 crops around the spheres 3x enlarged, the bounce and direct light
+// around the black pawn 3x enlarged (bounce_pawn_crop.png, bounce_pawn_direct_crop.png), bounce_ao_march.png (the
 // unfiltered half-resolution visibility), bounce_direct.png and bounce_shaded.png (direct light plus
 // albedo (1 - metallic) (bounce + visibility x the scene's sky radiance)).
 TEST_CASE("bounce: pictures of the default scene", "[.bounce_pictures]") {
@@ -630,6 +678,8 @@ TEST_CASE("bounce: pictures of the default scene", "[.bounce_pictures]") {
   WritePicture("/tmp/bounce_ao_crop.png", ao, 1.0f, {380, 380, 280, 280}, 3);
   WritePicture("/tmp/bounce_bounce_crop.png", bounce, 4.0f, {380, 380, 280, 280}, 3);
   WritePicture("/tmp/bounce_ao_march.png", march, 1.0f);
+  WritePicture("/tmp/bounce_pawn_crop.png", bounce, 4.0f, {780, 540, 200, 230}, 3);
+  WritePicture("/tmp/bounce_pawn_direct_crop.png", direct, 1.0f, {780, 540, 200, 230}, 3);
   WritePicture("/tmp/bounce_direct.png", direct, 1.0f);
   Plane3<float> shaded = test::CopyOf(in.lit);
   const glm::vec3 sky = scene.scene.environment.radiance;
