@@ -626,7 +626,7 @@ class PathTracer {
         const float u1 = rng.Uniform();
         const float u2 = rng.Uniform();
         const LightSample sample = SampleLight(light, s.position, u1, u2);
-        const glm::vec3 reflected = BrdfCosine(s.material, s.alpha, s.normal, toViewer, sample.toLight);
+        const glm::vec3 reflected = Reflected(s, toViewer, sample.toLight);
         if (IsZero(reflected) || IsZero(sample.irradiance)) continue;
         const float lightPdf = LightPdf(light, s.position, sample);
         const float weight = lightPdf > 0.0f ? PowerHeuristic(lightPdf, BsdfPdf(s, toViewer, sample.toLight)) : 1.0f;
@@ -641,7 +641,7 @@ class PathTracer {
         const float u1 = rng.Uniform();
         const float u2 = rng.Uniform();
         const EnvironmentSample sample = environment.Sample(u1, u2);
-        const glm::vec3 reflected = BrdfCosine(s.material, s.alpha, s.normal, toViewer, sample.direction);
+        const glm::vec3 reflected = Reflected(s, toViewer, sample.direction);
         if (!IsZero(reflected) && !IsZero(sample.radiance)) {
           ++counters.rays;
           if (!tracer_.Occluded(OffsetOrigin(s, sample.direction), sample.direction, 0.0f, kInfinity)) {
@@ -697,6 +697,12 @@ class PathTracer {
 
   static bool IsZero(const glm::vec3& c) { return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f); }
 
+  // The BRDF times n.l at `s` for unit v (to the viewer) and l (to the light): core/brdf.h's, the
+  // one every path of the renderer shades with.
+  static glm::vec3 Reflected(const Surface& s, const glm::vec3& v, const glm::vec3& l) {
+    return BrdfCosine(s.material, s.alpha, s.normal, v, l);
+  }
+
   // The probability of sampling the specular lobe: its share of the surface's estimated
   // directional albedo, the diffuse lobe's albedo (1 - metallic) against the specular lobe's
   // F0 A + B from the split-sum table (core/brdf.h).
@@ -747,7 +753,7 @@ class PathTracer {
     const float nDotL = glm::dot(s.normal, out.direction);
     if (!(nDotV > 0.0f) || !(nDotL > 0.0f)) return false;
     out.pdf = MixturePdf(s, nDotV, nDotL, glm::dot(s.normal, glm::normalize(v + out.direction)), specularProbability);
-    const glm::vec3 reflected = BrdfCosine(s.material, s.alpha, s.normal, v, out.direction);
+    const glm::vec3 reflected = Reflected(s, v, out.direction);
     if (!(out.pdf > 0.0f) || IsZero(reflected)) return false;
     out.weight = reflected / out.pdf;
     return std::isfinite(out.weight.x) && std::isfinite(out.weight.y) && std::isfinite(out.weight.z);
