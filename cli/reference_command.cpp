@@ -25,6 +25,7 @@ struct ReferenceOptions {
   int bounces = kDefaultReferenceBounces;
   CLI::Option* bouncesOption = nullptr;
   bool pixelCentre = false;
+  uint32_t seed = 0;
   int threads = 0;
   std::string maxMemory;
 };
@@ -50,6 +51,7 @@ int Reference(const ReferenceOptions& options) {
       ReferenceParamsForSpp(options.spp, paper ? ReferenceTransport::kPaper : ReferenceTransport::kFull);
   params.bounces = options.bounces;
   params.pixelCentre = options.pixelCentre;
+  params.seed = options.seed;
   params.width = config.width;
   params.height = config.height;
   params.environment = {EnvironmentKind::kConstant, config.directLight.background};
@@ -137,6 +139,9 @@ Command AddReferenceCommand(CLI::App& app) {
   command->add_flag("--pixel-centre", options->pixelCentre,
                     "Full transport: every path through the pixel centre (no antialiasing), for per-pixel metrics "
                     "against a --dump.");
+  command->add_option("--seed", options->seed,
+                      "Selects the sample streams (default 0): two seeds give independent noise, so the difference "
+                      "of two references measures it.");
   AddThreadsOption(*command, options->threads, "Worker threads (0 = all). Output is identical for any count.");
   AddMaxMemoryOption(*command, options->maxMemory);
   return {command, [options] { return Reference(*options); }};

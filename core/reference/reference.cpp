@@ -377,9 +377,13 @@ LightSample SampleLight(const SampledLight& s, const glm::vec3& position, float 
 // delta light: density 0 here, found by SampleLight alone.
 
 // SampleLight's density of `sample` (drawn from `position`) in solid angle; 0 for a delta light.
+// A density that overflows (a sun or disc too small for float) is a delta light's too.
 float LightPdf(const SampledLight& s, const glm::vec3& position, const LightSample& sample) {
   const PreparedLight& light = s.light;
-  if (!light.isSpot) return s.oneMinusCosMax > 0.0f ? 1.0f / (2.0f * kPi * s.oneMinusCosMax) : 0.0f;
+  if (!light.isSpot) {
+    const float pdf = 1.0f / (2.0f * kPi * s.oneMinusCosMax);
+    return s.oneMinusCosMax > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
+  }
   if (!(light.radius > 0.0f)) return 0.0f;
   // Uniform in the disc's area A = pi r^2: density d^2 / (A cos) in solid angle (PBR 3rd ed., §14.2.2).
   glm::vec3 toPoint = position - light.position;
@@ -387,7 +391,8 @@ float LightPdf(const SampledLight& s, const glm::vec3& position, const LightSamp
   toPoint = centreDistance > 0.0f ? toPoint / centreDistance : light.direction;
   const float cosAtDisc = glm::dot(-sample.toLight, toPoint);
   if (!(cosAtDisc > 0.0f)) return 0.0f;
-  return sample.distance * sample.distance / (kPi * light.radius * light.radius * cosAtDisc);
+  const float pdf = sample.distance * sample.distance / (kPi * light.radius * light.radius * cosAtDisc);
+  return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
 // Whether the ray from `position` along unit `direction` meets the light's emitter (the sun's cone
@@ -405,7 +410,7 @@ bool HitEmitter(const SampledLight& s, const glm::vec3& position, const glm::vec
     if (0.5f * glm::dot(offAxis, offAxis) > s.oneMinusCosMax) return false;
     sample = {direction, kInfinity, light.power * s.coneNormalisation};
     pdf = 1.0f / (2.0f * kPi * s.oneMinusCosMax);
-    return true;
+    return std::isfinite(pdf);
   }
   if (!(light.radius > 0.0f)) return false;
   glm::vec3 toPoint = position - light.position;
@@ -422,7 +427,7 @@ bool HitEmitter(const SampledLight& s, const glm::vec3& position, const glm::vec
   const float falloff = cosAtDisc / std::max(distance * distance, std::max(light.radius * light.radius, 1e-8f));
   sample = {direction, distance, light.power * (cone * cone * falloff)};
   pdf = distance * distance / (kPi * light.radius * light.radius * cosAtDisc);
-  return true;
+  return std::isfinite(pdf);
 }
 
 // The power heuristic with exponent 2 (Veach 1997, ch. 9): the weight of a sample drawn with

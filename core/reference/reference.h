@@ -36,7 +36,7 @@ enum class ReferenceTransport {
 
 // Bounces after which more change nothing visible on the bundled scenes (docs/pipeline.md
 // §Embree reference, "Path length"); Russian roulette ends most paths long before.
-inline constexpr int kDefaultReferenceBounces = 12;
+inline constexpr int kDefaultReferenceBounces = 16;
 
 struct ReferenceParams {
   int width = kDefaultImageSide;  // image size in pixels, as the frame it is compared with
