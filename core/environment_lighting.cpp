@@ -266,10 +266,11 @@ glm::vec3 PrefilteredEnvironment(const EnvironmentLighting& lighting, const glm:
 
 glm::vec3 EnvironmentIrradiance(const EnvironmentLighting& lighting, const glm::vec3& n) {
   if (lighting.constant) return lighting.constantRadiance;
+  // In this order, each product left to right (the twins follow it).
   const std::array<float, 9> y = ShBasis(n);
-  glm::vec3 sum(0.0f);
-  for (int k = 0; k < 9; ++k) sum += lighting.irradianceSh[size_t(k)] * y[size_t(k)];
-  return glm::max(sum, glm::vec3(0.0f));
+  glm::vec3 sum = lighting.irradianceSh[0] * y[0];
+  for (int k = 1; k < 9; ++k) sum = sum + lighting.irradianceSh[size_t(k)] * y[size_t(k)];
+  return {std::max(sum.x, 0.0f), std::max(sum.y, 0.0f), std::max(sum.z, 0.0f)};
 }
 
 }  // namespace ssgi

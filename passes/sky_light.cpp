@@ -152,15 +152,20 @@ void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, s
     if (depth == kBackgroundDepth) {
       for (int c = 0; c < 3; ++c) {
         row.diffuse[c][x] = 0.0f;
-        row.lit[c][x] = row.direct[c][x];
+        row.lit[c][x] = row.direct[c][x] + 0.0f;
       }
       row.visibility[x] = 1.0f;
       continue;
     }
+    // World space: each row of the matrix products left to right, (m0 a + m1 b) + m2 c (+ m3).
+    const glm::mat4& m = context.viewToWorld;
     const glm::vec3 viewNormal = UnpackNormal(row.word1[x], context.normalEncoding);
-    const glm::vec3 normal = glm::mat3(context.viewToWorld) * viewNormal;
-    const glm::vec3 viewPosition = glm::vec3(context.rays.x[size_t(x)], context.rays.y[y], -1.0f) * depth;
-    const glm::vec3 position = glm::vec3(context.viewToWorld * glm::vec4(viewPosition, 1.0f));
+    const glm::vec3 normal =
+        (glm::vec3(m[0]) * viewNormal.x + glm::vec3(m[1]) * viewNormal.y) + glm::vec3(m[2]) * viewNormal.z;
+    const glm::vec3 viewPosition(context.rays.x[size_t(x)] * depth, context.rays.y[y] * depth, -depth);
+    const glm::vec3 position =
+        ((glm::vec3(m[0]) * viewPosition.x + glm::vec3(m[1]) * viewPosition.y) + glm::vec3(m[2]) * viewPosition.z) +
+        glm::vec3(m[3]);
     const float visibility = context.visibility ? SkyVisibility(*context.visibility, position, normal) : 1.0f;
     const glm::vec3 irradiance = EnvironmentIrradiance(context.environment, normal);
     const float metallic = UnpackMetallic(row.word0[x]);

@@ -45,9 +45,7 @@ struct ReferenceParams {
   // by paths like the scene's lights. kPaper: seen only by the camera rays that miss and the bounce
   // rays.
   Environment environment;
-  // kPaper by default for the per-pass comparisons that set the kPaper knobs below field by field;
-  // ReferenceParamsForSpp (the CLI) gives kFull unless asked otherwise.
-  ReferenceTransport transport = ReferenceTransport::kPaper;
+  ReferenceTransport transport = ReferenceTransport::kFull;
   uint32_t seed = 0;  // selects the sample streams; the same seed gives the same bytes
 
   // kPaper.

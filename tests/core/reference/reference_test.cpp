@@ -173,6 +173,7 @@ TEST_CASE("reference primary visibility matches the rasterizer", "[reference]") 
   GBufferOutputs g;
   RunGBuffer({scene, view}, GBufferParams{}, g);
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 1;
   params.bounceSamples = 0;
   const ReferenceOutputs ref = RenderReferenceOf(scene, params);
@@ -214,6 +215,7 @@ TEST_CASE("reference direct light on an open plane is the analytic BRDF value", 
   scene.materials[0].roughness = 1.0f;
   AddGround(scene.mesh, 50.0f);
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 16;
   params.bounceSamples = 4;
   const SurfaceMaterial material{scene.materials[0].baseColor, 0.0f, 1.0f};
@@ -279,6 +281,7 @@ TEST_CASE("reference soft shadow of a floating slab", "[reference]") {
   AddBox(scene.mesh, {-0.5f, 0.5f, -0.5f}, {0.5f, 0.52f, 0.5f});
   scene.directionalLights.push_back(Sun({0.0f, -1.0f, 0.0f}, 10.0f));
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 32;
   params.bounceSamples = 0;
   const ReferenceOutputs out = RenderReferenceOf(scene, params);
@@ -467,6 +470,7 @@ TEST_CASE("an inconsistently wound OBJ renders like the consistent one in both t
     Rendered r;
     RunGBuffer({scene, MakePerspective(scene.camera, 160, 120)}, GBufferParams{}, r.g);
     ReferenceParams params;
+    params.transport = ReferenceTransport::kPaper;
     params.lightSamples = 4;
     params.bounceSamples = 0;
     r.reference = RenderReferenceOf(scene, params);
@@ -524,6 +528,7 @@ TEST_CASE("a scene renders the same at any scale, in the frame and in the refere
     REQUIRE(frame.reflections);
     r.display = frame.display.rgb;
     ReferenceParams params;
+    params.transport = ReferenceTransport::kPaper;
     params.lightSamples = 4;
     params.bounceSamples = 1;
     r.reference = RenderReferenceOf(scene, params);
