@@ -3,12 +3,15 @@
 // Lanes are pixels of the row; the sky-visibility volume is read by gathers.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/sky_light_simd.cpp"
+// clang-format off: foreach_target.h must come first, then highway.h, then the per-target headers.
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+// clang-format on
+
 #include "core/color.h"
 #include "core/environment_lighting-inl.h"
 #include "core/gbuffer-inl.h"
 #include "core/row-inl.h"
-#include "hwy/foreach_target.h"  // IWYU pragma: keep
-#include "hwy/highway.h"
 #include "passes/sky_light.h"
 
 HWY_BEFORE_NAMESPACE();
