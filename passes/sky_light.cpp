@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "core/check.h"
@@ -58,12 +59,55 @@ std::vector<uint8_t> CellsSeeingSky(const Scene& scene, const SkyVisibilityVolum
 
 }  // namespace
 
+SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityParams& params) {
+  SSGI_CHECK(params.directions > 0 && params.mapSize > 0 && params.cellsOnLongestAxis > 0);
+  SkyVisibilityVolume volume;
+  volume.params = params;
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  for (const glm::vec3& p : scene.mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  if (scene.mesh.positions.empty()) lo = hi = glm::vec3(0.0f);
+  volume.extent = hi - lo;
+  const float longest = std::max({volume.extent.x, volume.extent.y, volume.extent.z, 1e-3f});
+  volume.cellSize = longest / float(params.cellsOnLongestAxis);
+  volume.inverseCellSize = 1.0f / volume.cellSize;
+  volume.origin = lo - volume.cellSize;
+  volume.cellsX = int(std::ceil(volume.extent.x * volume.inverseCellSize)) + 2;
+  volume.cellsY = int(std::ceil(volume.extent.y * volume.inverseCellSize)) + 2;
+  volume.cellsZ = int(std::ceil(volume.extent.z * volume.inverseCellSize)) + 2;
+  return volume;
+}
+
+size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
+  return size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ) * 4 * sizeof(float);
+}
+
+size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
+  const size_t cells = size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ);
+  // What the rasterizer keeps per triangle (its set-up and bins) and the scene's raster input.
+  constexpr size_t kRasterBytesPerTriangle = 168;
+  const size_t map = hwy::ImageBase::BytesPerRow(size_t(params.mapSize), sizeof(float)) * size_t(params.mapSize);
+  const size_t perThread = map + kRasterBytesPerTriangle * scene.mesh.TriangleCount();
+  return size_t(std::min(HardwareThreads(), params.directions)) * perThread + size_t(params.directions) * cells;
+}
+
 uint64_t SceneGeometryHash(const Scene& scene) {
-  // FNV-1a over the positions' and indices' bytes.
+  // FNV-1a over 64-bit words of the positions' and indices' bytes (and the tail's bytes): every
+  // frame checks it, so it reads words, not bytes.
   uint64_t hash = 1469598103934665603ull;
   const auto add = [&](const void* data, size_t bytes) {
     const auto* p = static_cast<const uint8_t*>(data);
-    for (size_t i = 0; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
+    size_t i = 0;
+    for (; i + 8 <= bytes; i += 8) {
+      uint64_t word;
+      std::memcpy(&word, p + i, 8);
+      hash = (hash ^ word) * 1099511628211ull;
+    }
+    for (; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
   };
   add(scene.mesh.positions.data(), scene.mesh.positions.size() * sizeof(glm::vec3));
   add(scene.mesh.indices.data(), scene.mesh.indices.size() * sizeof(uint32_t));
@@ -71,27 +115,12 @@ uint64_t SceneGeometryHash(const Scene& scene) {
 }
 
 SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityParams& params) {
-  SSGI_CHECK(params.directions > 0 && params.mapSize > 0 && params.cellsOnLongestAxis > 0);
-  SkyVisibilityVolume volume;
-  volume.params = params;
-  volume.meshHash = SceneGeometryHash(scene);
-  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-  for (const glm::vec3& p : scene.mesh.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  if (scene.mesh.positions.empty()) lo = hi = glm::vec3(0.0f);
-  const glm::vec3 extent = hi - lo;
-  const float longest = std::max({extent.x, extent.y, extent.z, 1e-3f});
-  volume.cellSize = longest / float(params.cellsOnLongestAxis);
-  volume.inverseCellSize = 1.0f / volume.cellSize;
-  // A cell of margin on every side, so the grid's outer cells lie outside the scene.
-  volume.origin = lo - volume.cellSize;
-  volume.cellsX = int(std::ceil(extent.x * volume.inverseCellSize)) + 2;
-  volume.cellsY = int(std::ceil(extent.y * volume.inverseCellSize)) + 2;
-  volume.cellsZ = int(std::ceil(extent.z * volume.inverseCellSize)) + 2;
+  SkyVisibilityVolume volume = SkyVisibilityGrid(scene, params);
   const size_t cells = size_t(volume.cellsX) * size_t(volume.cellsY) * size_t(volume.cellsZ);
   volume.coefficients.assign(cells * 4, 0.0f);
+  volume.meshHash = SceneGeometryHash(scene);
+  const glm::vec3 lo = volume.origin + volume.cellSize, hi = lo + volume.extent;
+  const glm::vec3 extent = volume.extent;
   const glm::vec3 centre = (lo + hi) * 0.5f;
   const float radius = std::max(0.5f * glm::length(extent), 1e-3f) + volume.cellSize;
   const std::vector<glm::vec3> directions = SphereDirections(params.directions);

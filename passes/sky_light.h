@@ -37,6 +37,7 @@ struct SkyVisibilityParams {
 struct SkyVisibilityVolume {
   int cellsX = 0, cellsY = 0, cellsZ = 0;
   glm::vec3 origin{0.0f};     // the grid's low corner, world space
+  glm::vec3 extent{0.0f};     // the scene's bounds: origin + cellSize to that + extent
   float cellSize = 1.0f;      // metres
   float inverseCellSize = 1.0f;
   // Per cell (x fastest, then y, then z), the four coefficients k0, kx, ky, kz, interleaved.
@@ -44,6 +45,15 @@ struct SkyVisibilityVolume {
   uint64_t meshHash = 0;      // the scene it was made for (SceneGeometryHash)
   SkyVisibilityParams params;
 };
+
+// The volume's grid for `scene`, without its coefficients (docs/pipeline.md §Sky light): cubic
+// cells of the scene's longest side over cellsOnLongestAxis, a cell of margin on every side, so the
+// grid's outer cells lie outside the scene.
+SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityParams& params);
+// What the volume for `scene` takes (its coefficients), and what making it holds besides: each
+// thread's map and rasterizer set-up, and every map's cell visibility.
+size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params);
+size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params);
 
 // A hash of the scene's triangles (positions and indices): a frame keeps the volume while it holds.
 uint64_t SceneGeometryHash(const Scene& scene);
