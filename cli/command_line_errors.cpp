@@ -1,6 +1,7 @@
 #include "cli/command_line_errors.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -58,6 +59,28 @@ std::vector<std::string> OptionSpellings(const CLI::App& command) {
 }
 
 }  // namespace
+
+std::vector<std::string> JoinNegativeValues(const CLI::App& app, int argc, const char* const* argv) {
+  std::vector<std::string> args;
+  const CLI::App* command = &app;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (command == &app)
+      for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+        if (sub->get_name() == word) command = sub;
+    const bool negative =
+        word.size() > 1 && word[0] == '-' && (std::isdigit(static_cast<unsigned char>(word[1])) || word[1] == '.');
+    if (negative && !args.empty() && args.back().rfind("--", 0) == 0 && args.back().find('=') == std::string::npos) {
+      const CLI::Option* option = command->get_option_no_throw(args.back());
+      if (option != nullptr && option->get_type_size() != 0) {
+        args.back() += "=" + word;
+        continue;
+      }
+    }
+    args.push_back(word);
+  }
+  return args;
+}
 
 std::string NearestWord(std::string_view word, const std::vector<std::string>& known) {
   // A typo changes a letter or two; beyond a third of the word it is another word.

@@ -15,6 +15,11 @@ namespace ssgi::cli {
 // edit distance), or else CLI11's own description, prefixed with the command it belongs to.
 std::string DescribeParseError(const CLI::App& app, const CLI::ParseError& error, int argc, const char* const* argv);
 
+// argv as CLI11 should parse it: a value that starts with '-' and a digit ("--background -1,0,0",
+// "--exposure -.5") is joined to the option before it ("--background=-1,0,0"), which CLI11 would
+// otherwise take for an unknown option; the option's own check then names what is wrong with it.
+std::vector<std::string> JoinNegativeValues(const CLI::App& app, int argc, const char* const* argv);
+
 // The known word closest to `word` by edit distance (insertions, deletions, substitutions and
 // swaps of neighbours), or "" when none is close enough to be a typo of it.
 std::string NearestWord(std::string_view word, const std::vector<std::string>& known);

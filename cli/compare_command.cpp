@@ -1,12 +1,14 @@
 // `ssgi compare`: error metrics of a test image against a reference.
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/output_files.h"
 #include "core/error.h"
 #include "core/image_compare.h"
 #include "core/image_io.h"
+#include "passes/ssr_trace.h"
 
 namespace ssgi::cli {
 namespace {
@@ -17,6 +19,7 @@ struct CompareOptions {
   std::string layer;
   std::string heatmap;
   double heatmapScale = 0.0;
+  std::string regions;
 };
 
 // Error of a test image against a reference (docs/design.md §10): RMSE and PSNR on linear values, the
@@ -24,6 +27,7 @@ struct CompareOptions {
 int Compare(const CompareOptions& options) {
   CheckInputFile(options.test, "test image");
   CheckInputFile(options.reference, "reference image");
+  if (!options.regions.empty()) CheckInputFile(options.regions, "regions dump");
   OutputFiles outputs;
   if (!options.heatmap.empty()) {
     outputs.Add(options.heatmap);
@@ -55,6 +59,22 @@ int Compare(const CompareOptions& options) {
   std::printf("  max error  %.6g at (%d, %d)\n", d.maxError, d.maxX, d.maxY);
   std::printf("  SSIM       %.5f (mean SSIM of x/(1+x) tonemapped luminance; FLIP has no Debian 12 package)\n", d.ssim);
   if (d.nonFinite > 0) std::printf("  non-finite %s (excluded)\n", CountOf(d.nonFinite, "sample").c_str());
+  // By region, where a frame's dump says which pixel is which: the test's own, or --regions.
+  std::optional<FloatImage> regionsFile;
+  if (!options.regions.empty()) regionsFile = ReadFloatImage(options.regions);
+  const FloatImage& regionSource = regionsFile ? *regionsFile : testFile;
+  if (regionsFile || (FindLayer(testFile, "depth") && FindLayer(testFile, "roughness"))) {
+    if (regionSource.width != test.width || regionSource.height != test.height)
+      throw InputError(options.regions, "is not the images' size");
+    const std::vector<uint8_t> regions =
+        ClassifyRegions(regionSource, SsrTraceParams().roughnessCutoff, regionsFile ? options.regions : options.test);
+    std::printf("  by region (%s):\n  %-12s %8s %12s %14s\n",
+                FindLayer(regionSource, "shadow.visibility") ? "shadow.visibility, roughness, depth"
+                                                             : "no shadows: every covered pixel lit",
+                "region", "pixels", "RMSE", "mean test/ref");
+    for (const RegionDifference& r : CompareRegions(test, reference, regions))
+      std::printf("  %-12s %8zu %12.6g %14.4g\n", ImageRegionName(r.region), r.pixels, r.rmse, r.meanRatio);
+  }
   if (!options.heatmap.empty()) {
     const Heatmap map = ErrorHeatmap(test, reference, options.heatmapScale);
     outputs.Write(options.heatmap, [&](const fs::path& path) { WritePng(path, map.width, map.height, map.rgb); });
@@ -84,6 +104,10 @@ Command AddCompareCommand(CLI::App& app) {
   command->add_option("--heatmap-scale", options->heatmapScale,
                       "Error shown as white in the heat map (default: the 99th percentile of the error).")
       ->check(CLI::PositiveNumber);
+  command->add_option("--regions", options->regions,
+                      "A --dump of the test's frame whose depth, roughness and shadow.visibility say which pixels are "
+                      "lit, in shadow, reflective or background; the error is then also given per region. Default: "
+                      "the test file itself when it is a dump.");
   return {command, [options] { return Compare(*options); }};
 }
 

@@ -3,14 +3,16 @@
 // 0 success, 1 bad input (scene, model, texture, output path, option value), 2 a command line that
 // does not parse or asks for the impossible (unknown command or option, malformed value, passes in the
 // wrong order), 3 an internal failure. Each command is a file of its own (cli/commands.h).
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <new>
-
-#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
 
 #include "cli/command_line_errors.h"
 #include "cli/commands.h"
+#include "cli/version.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
@@ -26,12 +28,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ssgi: %s: %s\n", kind, ssgi::cli::Printable(what).c_str());
     return code;
   };
+  const std::vector<std::string> joined = ssgi::cli::JoinNegativeValues(app, argc, argv);
+  std::vector<const char*> args = {argv[0]};
+  for (const std::string& word : joined) args.push_back(word.c_str());
   try {
-    app.parse(argc, argv);
+    app.parse(int(args.size()), args.data());
   } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return fail("error", ssgi::cli::DescribeParseError(app, e, argc, argv).c_str(), 2);
+    return fail("error", ssgi::cli::DescribeParseError(app, e, int(args.size()), args.data()).c_str(), 2);
   }
   try {
     for (const ssgi::cli::Command& command : commands)

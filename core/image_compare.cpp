@@ -23,21 +23,21 @@ constexpr double kSsimC2 = 0.03 * 0.03;
 
 bool Finite(float v) { return std::isfinite(v); }
 
-// Tonemapped luminance in [0, 1) per pixel; non-finite samples count as 0.
-std::vector<double> Luminance(const FloatImage& image) {
+// Rec. 709 luminance of one pixel's first three channels (or its single channel); non-finite
+// samples count as 0.
+double Luminance(const float* p, size_t channels) {
+  if (channels < 3) return Finite(p[0]) ? p[0] : 0.0;
+  return 0.2126 * (Finite(p[0]) ? p[0] : 0.0) + 0.7152 * (Finite(p[1]) ? p[1] : 0.0) +
+         0.0722 * (Finite(p[2]) ? p[2] : 0.0);
+}
+
+// Tonemapped luminance in [0, 1) per pixel.
+std::vector<double> TonemappedLuminance(const FloatImage& image) {
   const size_t n = size_t(image.width) * size_t(image.height);
   const size_t channels = image.Channels();
   std::vector<double> out(n);
   for (size_t i = 0; i < n; ++i) {
-    const float* p = &image.pixels[i * channels];
-    double y = 0.0;
-    if (channels >= 3) {
-      y = 0.2126 * (Finite(p[0]) ? p[0] : 0.0) + 0.7152 * (Finite(p[1]) ? p[1] : 0.0) +
-          0.0722 * (Finite(p[2]) ? p[2] : 0.0);
-    } else {
-      y = Finite(p[0]) ? p[0] : 0.0;
-    }
-    y = std::max(y, 0.0);
+    const double y = std::max(Luminance(&image.pixels[i * channels], channels), 0.0);
     out[i] = y / (1.0 + y);
   }
   return out;
@@ -68,7 +68,7 @@ double MeanSsim(const FloatImage& a, const FloatImage& b) {
   double total = 0.0;
   for (int k = -kSsimRadius; k <= kSsimRadius; ++k) total += kernel[k + kSsimRadius] = std::exp(-k * k / (2 * kSsimSigma * kSsimSigma));
   for (double& w : kernel) w /= total;
-  const std::vector<double> la = Luminance(a), lb = Luminance(b);
+  const std::vector<double> la = TonemappedLuminance(a), lb = TonemappedLuminance(b);
   std::vector<double> aa(la.size()), bb(la.size()), ab(la.size());
   for (size_t i = 0; i < la.size(); ++i) {
     aa[i] = la[i] * la[i];
@@ -89,6 +89,73 @@ double MeanSsim(const FloatImage& a, const FloatImage& b) {
 }
 
 }  // namespace
+
+const char* ImageRegionName(ImageRegion region) {
+  switch (region) {
+    case kRegionLit:
+      return "lit";
+    case kRegionInShadow:
+      return "in shadow";
+    case kRegionReflective:
+      return "reflective";
+    case kRegionBackground:
+      return "background";
+  }
+  return "";
+}
+
+std::vector<uint8_t> ClassifyRegions(const FloatImage& dump, float roughnessCutoff, const std::filesystem::path& file) {
+  const auto channel = [&](const std::string& name) -> std::optional<FloatImage> { return FindLayer(dump, name); };
+  const std::optional<FloatImage> depth = channel("depth"), roughness = channel("roughness");
+  if (!depth || !roughness || depth->Channels() != 1 || roughness->Channels() != 1)
+    throw InputError(file, "has no 'depth' and 'roughness' layers to tell the regions by: give a --dump of the frame");
+  const std::optional<FloatImage> visibility = channel("shadow.visibility");
+  const size_t n = size_t(dump.width) * size_t(dump.height);
+  std::vector<uint8_t> regions(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    if (!(depth->pixels[i] < std::numeric_limits<float>::infinity())) {
+      regions[i] = kRegionBackground;
+      continue;
+    }
+    const bool lit = !visibility || visibility->pixels[i] >= 0.5f;
+    regions[i] = uint8_t((lit ? kRegionLit : kRegionInShadow) |
+                         (roughness->pixels[i] < roughnessCutoff ? kRegionReflective : 0));
+  }
+  return regions;
+}
+
+std::vector<RegionDifference> CompareRegions(const FloatImage& a, const FloatImage& b,
+                                             const std::vector<uint8_t>& regions) {
+  SSGI_CHECK(a.width == b.width && a.height == b.height && a.Channels() == b.Channels());
+  const size_t n = size_t(a.width) * size_t(a.height), channels = a.Channels();
+  SSGI_CHECK_EQ(regions.size(), n);
+  std::vector<RegionDifference> out;
+  for (ImageRegion region : kImageRegions) {
+    RegionDifference d{region};
+    double squared = 0.0, sumA = 0.0, sumB = 0.0;
+    size_t samples = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (!(regions[i] & region)) continue;
+      const float* pa = &a.pixels[i * channels];
+      const float* pb = &b.pixels[i * channels];
+      bool finite = true;
+      for (size_t c = 0; c < channels; ++c) finite = finite && Finite(pa[c]) && Finite(pb[c]);
+      if (!finite) continue;
+      ++d.pixels;
+      for (size_t c = 0; c < channels; ++c) {
+        const double e = double(pa[c]) - double(pb[c]);
+        squared += e * e;
+        ++samples;
+      }
+      sumA += Luminance(pa, channels);
+      sumB += Luminance(pb, channels);
+    }
+    d.rmse = samples > 0 ? std::sqrt(squared / double(samples)) : 0.0;
+    d.meanRatio = sumB > 0.0 ? sumA / sumB : std::numeric_limits<double>::quiet_NaN();
+    out.push_back(d);
+  }
+  return out;
+}
 
 FloatImage ResizeImage(const FloatImage& image, int width, int height) {
   SSGI_CHECK(width > 0 && height > 0);

@@ -54,6 +54,35 @@ struct ImageDifference {
 // x / (1 + x) tonemapping, so HDR values compare on a bounded, perceptually ordered scale.
 ImageDifference CompareImages(const FloatImage& a, const FloatImage& b);
 
+// Where in the image an error is: the screen-space pipeline's error differs in kind between lit
+// pixels, pixels in the shadowed light's shadow, reflective pixels and the background.
+enum ImageRegion : uint8_t {
+  kRegionLit = 1,         // the shadowed light's filtered visibility >= 0.5 (every covered pixel without shadows)
+  kRegionInShadow = 2,    // its visibility < 0.5
+  kRegionReflective = 4,  // roughness below the trace's cut-off (also lit or in shadow)
+  kRegionBackground = 8,  // no geometry (depth +inf)
+};
+inline constexpr ImageRegion kImageRegions[] = {kRegionLit, kRegionInShadow, kRegionReflective, kRegionBackground};
+// "lit", "in shadow", "reflective", "background".
+const char* ImageRegionName(ImageRegion region);
+
+// Per pixel, the regions (ImageRegion bits) it belongs to, from the layers of a frame's dump:
+// "depth", "roughness" and, where the frame ran shadows, "shadow.visibility". Throws InputError
+// naming `file` when depth or roughness is missing.
+std::vector<uint8_t> ClassifyRegions(const FloatImage& dump, float roughnessCutoff, const std::filesystem::path& file);
+
+struct RegionDifference {
+  ImageRegion region;
+  size_t pixels = 0;
+  double rmse = 0.0;  // over the region's pixels and every channel
+  // Mean of a over mean of b, of the Rec. 709 luminance (or the single channel): above 1 the test
+  // is too bright there, below 1 too dark; NaN where b's mean is 0.
+  double meanRatio = 0.0;
+};
+// `a` (test) against `b` (reference) in each region of `regions` (ClassifyRegions, same size).
+std::vector<RegionDifference> CompareRegions(const FloatImage& a, const FloatImage& b,
+                                             const std::vector<uint8_t>& regions);
+
 // The heat maps' colour of t in [0, 1] (clamped): black (0) through red and yellow to white (1), in
 // three equal thirds; 8-bit RGB into rgb[0..2].
 void HeatmapColour(double t, uint8_t* rgb);

@@ -323,6 +323,18 @@ CameraDesc ReadCamera(const ErrorReporter& errors, const Json& node) {
   return camera;
 }
 
+Environment ReadEnvironment(const ErrorReporter& errors, const Json& node) {
+  const ObjectReader r(errors, node, "environment", {"type", "radiance"});
+  const Json* type = r.Find("type");
+  if (type == nullptr) errors.Fail("environment", "environment.type is required (\"constant\")");
+  if (!type->is_string() || type->get<std::string>() != "constant")
+    r.Fail("type", "must be \"constant\", got " + type->dump());
+  Environment environment;
+  environment.kind = EnvironmentKind::kConstant;
+  environment.radiance = r.Vec3("radiance", glm::vec3(0.0f), kNonNegative);
+  return environment;
+}
+
 void ReadLights(const ErrorReporter& errors, const Json& node, Scene& scene) {
   if (!node.is_array()) errors.Fail("lights", std::string("lights must be an array, got ") + node.type_name());
   for (size_t i = 0; i < node.size(); ++i) {
@@ -532,7 +544,7 @@ SceneFile LoadJsonScene(const fs::path& file) {
   JsonDocument document = ParseJson(file, text);
   if (!document.root.is_object()) throw InputError(file, 1, "the scene must be a JSON object");
   const ErrorReporter errors(file, std::move(document.lines));
-  const ObjectReader root(errors, document.root, "", {"camera", "lights", "objects", "render"});
+  const ObjectReader root(errors, document.root, "", {"camera", "lights", "environment", "objects", "render"});
 
   SceneFile loaded;
   Scene& scene = loaded.scene;
@@ -545,6 +557,7 @@ SceneFile LoadJsonScene(const fs::path& file) {
   } else {
     scene.directionalLights.push_back(DefaultLight());
   }
+  if (const Json* environment = root.Find("environment")) scene.environment = ReadEnvironment(errors, *environment);
   const Json* objects = root.Find("objects");
   if (!objects) errors.Fail("", "objects is required");
   const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");

@@ -3,13 +3,13 @@
 #pragma once
 
 #include <filesystem>
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/camera.h"
+#include "core/environment.h"
 #include "core/material.h"
 #include "core/mesh.h"
 #include "core/render_modes.h"
@@ -42,6 +42,7 @@ struct Scene {
   CameraDesc camera;
   std::vector<DirectionalLight> directionalLights;
   std::vector<SpotLight> spotLights;
+  Environment environment;  // black unless the scene file gives one
   Mesh mesh;
   std::vector<Material> materials;
   std::vector<Texture> textures;

@@ -440,8 +440,11 @@ OBJECTS = [
     ("black pawn", "pawn.obj", [1.3, 0, 1.1], None, 1, {"base_color": BLACK, "metallic": 0, "roughness": 0.1}),
 ]
 
-RENDER = {"width": 1024, "height": 1024, "exposure_ev": 0, "tonemap": "aces", "background": [0.05, 0.06, 0.08],
-          "normal_encoding": "oct24", "effects": {"shadows": "auto", "reflections": "auto"}}
+# The night-blue world the pieces stand in: seen behind them, and lighting them in the reference.
+ENVIRONMENT = {"type": "constant", "radiance": [0.05, 0.06, 0.08]}
+
+RENDER = {"width": 1024, "height": 1024, "exposure_ev": 0, "tonemap": "aces", "normal_encoding": "oct24",
+          "effects": {"shadows": "auto", "reflections": "auto"}}
 
 
 def jval(v):
@@ -470,6 +473,7 @@ def scene_text():
     return ("{\n"
             '  "camera": %s,\n' % jval(CAMERA) +
             '  "lights": [\n    %s\n  ],\n' % jval(LIGHT) +
+            '  "environment": %s,\n' % jval(ENVIRONMENT) +
             '  "objects": [\n' + ",\n".join(objects) + "\n  ],\n" +
             '  "render": %s\n' % jval(RENDER) +
             "}\n")

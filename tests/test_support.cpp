@@ -104,6 +104,18 @@ void CheckCliErrors(const std::vector<CliErrorCase>& cases) {
   }
 }
 
+std::string DefaultSceneArg() { return Quote(SourceDir() / "data" / "default.json"); }
+
+void RequireOnlyFiles(const ScratchDir& dir, std::initializer_list<std::string> names) {
+  size_t count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    ++count;
+    CAPTURE(entry.path().string());
+    CHECK(std::find(names.begin(), names.end(), entry.path().filename().string()) != names.end());
+  }
+  CHECK(count == names.size());
+}
+
 CommandResult RunProgram(const std::filesystem::path& program, const std::string& arguments) {
   const std::string command = "'" + program.string() + "' " + arguments + " 2>&1";
   CommandResult result;

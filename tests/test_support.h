@@ -111,6 +111,11 @@ std::vector<float> SpecialFloats();
 
 // Runs the ssgi CLI with `arguments` (already shell-quoted where needed).
 CommandResult RunCli(const std::string& arguments);
+// data/default.json, quoted for a command line.
+std::string DefaultSceneArg();
+// Checks that `dir` holds exactly the named files: no output and no temporary may survive a failed
+// command.
+void RequireOnlyFiles(const ScratchDir& dir, std::initializer_list<std::string> names);
 
 // A command line the CLI must refuse: its exit code and a piece of its one-line message.
 struct CliErrorCase {

@@ -79,6 +79,41 @@ class Setup {
   Setup(const ViewProjection& view, int tilesX, int tilesY)
       : planes_(view.width, view.height), width_(view.width), height_(view.height), tilesX_(tilesX), tilesY_(tilesY) {}
 
+  // Sets up triangles begin .. end - 1 into `bins`: in batches (SIMD across triangles), then taken in
+  // submission order, the ones that cross a clip plane clipped here.
+  void SetUp(const RasterInput& input, const glm::mat4& viewProjection, const ProjectedVertex* projected,
+             KernelPath kernels, size_t begin, size_t end, ChunkBins& bins) const {
+    const auto setUpTriangles = kernels == KernelPath::kSimd ? SetUpTrianglesSimd : SetUpTrianglesScalar;
+    bins.triangles.reserve(end - begin);
+    constexpr size_t kBatch = 256;
+    ScreenTriangle batch[kBatch];
+    TriangleSetUp status[kBatch];
+    for (size_t i = begin; i < end; i += kBatch) {
+      const size_t count = std::min(kBatch, end - i);
+      for (size_t k = 3 * i; k < 3 * (i + count); ++k) SSGI_CHECK_LT(input.indices[k], input.vertexCount);
+      const size_t setUp = setUpTriangles(projected, input.indices, input.triangleFlags, input.uniformFlags,
+                                          uint32_t(i), count, width_, height_, batch, status);
+      bins.stats.trianglesIn += count;
+      bins.stats.trianglesSetUp += setUp;
+      const size_t clipped = size_t(std::count(status, status + count, TriangleSetUp::kClip));
+      bins.stats.trianglesCulled += count - setUp - clipped;
+      if (clipped == 0) {
+        bins.triangles.insert(bins.triangles.end(), batch, batch + setUp);
+        continue;
+      }
+      size_t next = 0;
+      for (size_t j = 0; j < count; ++j) {
+        if (status[j] == TriangleSetUp::kSetUp) {
+          bins.triangles.push_back(batch[next++]);
+        } else if (status[j] == TriangleSetUp::kClip) {
+          const uint32_t triangle = uint32_t(i + j);
+          Clip(input.positions, viewProjection, input.indices + 3 * size_t(triangle), triangle,
+               TriangleFlagsOf(input.triangleFlags, input.uniformFlags, triangle), bins);
+        }
+      }
+    }
+  }
+
   // A triangle that crosses a clip plane (TriangleSetUp::kClip): clipped in homogeneous space and
   // set up as a fan of the clipped polygon. Its vertices' clip positions are computed again, as
   // ProjectVerticesScalar computes them.
@@ -106,12 +141,6 @@ class Setup {
     if (!emitted) ++bins.stats.trianglesCulled;
   }
 
- private:
-  ClipPlanes planes_;
-  int width_, height_;
-  int tilesX_, tilesY_;
-
- public:
   // Counting sort of the chunk's triangles into the tiles their bounds overlap.
   void Bin(ChunkBins& bins) const {
     const size_t tileCount = size_t(tilesX_) * size_t(tilesY_);
@@ -128,6 +157,11 @@ class Setup {
       forEachTile(bins.triangles[i], [&](size_t tile) { bins.entries[cursor[tile]++] = i; });
     bins.stats.binEntries = bins.entries.size();
   }
+
+ private:
+  ClipPlanes planes_;
+  int width_, height_;
+  int tilesX_, tilesY_;
 };
 
 template <bool kWriteTriangle, bool kCountCoverage>
@@ -192,6 +226,101 @@ void RasterizeInTile(const ScreenTriangle& t, const AlphaTest& alphaTest, TileTa
       }
     }
   }
+}
+
+// Projects every vertex once for all its triangles (ProjectedVertex), in chunks of kChunkVertices.
+void ProjectAllVertices(const RasterInput& input, const ViewProjection& view, KernelPath kernels,
+                        ProjectedVertex* projected) {
+  const auto projectVertices = kernels == KernelPath::kSimd ? ProjectVerticesSimd : ProjectVerticesScalar;
+  ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
+    const size_t begin = chunk * kChunkVertices, end = std::min(input.vertexCount, begin + kChunkVertices);
+    projectVertices(input.positions + begin, end - begin, view.viewProjection, view.width, view.height,
+                    projected + begin);
+  });
+}
+
+// Sets up the triangles and bins them into the tilesX x tilesY tiles, a ChunkBins per chunk.
+std::vector<ChunkBins> SetUpAndBin(const RasterInput& input, const ViewProjection& view,
+                                   const ProjectedVertex* projected, KernelPath kernels, int tilesX, int tilesY) {
+  const Setup setup(view, tilesX, tilesY);
+  const size_t chunkTriangles =
+      std::clamp((input.triangleCount + kMinChunks - 1) / kMinChunks, kMinChunkTriangles, kMaxChunkTriangles);
+  std::vector<ChunkBins> chunks((input.triangleCount + chunkTriangles - 1) / chunkTriangles);
+  ParallelFor("raster.setup_and_bin", chunks.size(), [&](size_t c) {
+    const size_t begin = c * chunkTriangles;
+    const size_t end = std::min(input.triangleCount, begin + chunkTriangles);
+    ChunkBins& bins = chunks[c];
+    setup.SetUp(input, view.viewProjection, projected, kernels, begin, end, bins);
+    setup.Bin(bins);
+  });
+  return chunks;
+}
+
+// The calling thread's tile, set to tile tileIndex of the view's and cleared: the arrays this output
+// needs; the others are never read. Kept from tile to tile and frame to frame: made anew for each,
+// its 49 KB went back to the allocator and came again as fresh pages.
+TileTarget& ClearedThreadTile(size_t tileIndex, int tilesX, const ViewProjection& view, bool writeTriangle,
+                              bool countCoverage) {
+  static thread_local const auto threadTile = std::make_unique_for_overwrite<TileTarget>();
+  TileTarget& tile = *threadTile;
+  tile.x0 = int(tileIndex % tilesX) * kRasterTileSize;
+  tile.y0 = int(tileIndex / tilesX) * kRasterTileSize;
+  tile.width = std::min(kRasterTileSize, view.width - tile.x0);
+  tile.height = std::min(kRasterTileSize, view.height - tile.y0);
+  std::fill(std::begin(tile.depth), std::end(tile.depth), 0.0f);
+  std::fill(std::begin(tile.blockFarthest), std::end(tile.blockFarthest), 0.0f);
+  if (writeTriangle) std::fill(std::begin(tile.triangle), std::end(tile.triangle), kNoTriangle);
+  if (countCoverage) std::fill(std::begin(tile.coverage), std::end(tile.coverage), 0u);
+  return tile;
+}
+
+// Draws into the tile the triangles every chunk binned to it (tile tileIndex), in chunk order, which
+// is submission order.
+void DrawBinnedTriangles(const std::vector<ChunkBins>& chunks, size_t tileIndex, const AlphaTest& alphaTest,
+                         bool writeTriangle, bool countCoverage, KernelPath kernels, TileTarget& tile) {
+  const auto rasterizeTile = kernels == KernelPath::kSimd ? RasterizeTileSimd : RasterizeTileScalar;
+  size_t tileTriangles = 0;
+  for (const ChunkBins& bins : chunks) tileTriangles += bins.tileStart[tileIndex + 1] - bins.tileStart[tileIndex];
+  const bool smallTriangles = tileTriangles * kSmallTrianglePixels >= size_t(tile.width) * size_t(tile.height);
+  for (const ChunkBins& bins : chunks) {
+    const uint32_t begin = bins.tileStart[tileIndex], end = bins.tileStart[tileIndex + 1];
+    if (begin == end) continue;
+    const TileTriangles batch{
+        bins.triangles.data(), bins.entries.data() + begin, end - begin, &alphaTest, writeTriangle, countCoverage,
+        smallTriangles};
+    rasterizeTile(batch, tile);
+  }
+}
+
+// Copies the drawn tile into the target (its triangle indices where writeTriangle) and adds its
+// coverage counts to `coverageCount`, if not null.
+void CopyTileToTarget(const TileTarget& tile, bool writeTriangle, KernelPath kernels, VisibilityBuffer& target,
+                      Plane<uint32_t>* coverageCount) {
+  const auto copyTileOut = kernels == KernelPath::kSimd ? CopyTileOutSimd : CopyTileOutScalar;
+  const auto copyOut = [&](const void* values, auto& image) {
+    copyTileOut(tile, static_cast<const uint32_t*>(values),
+                reinterpret_cast<uint8_t*>(image.MutableRow(size_t(tile.y0)) + tile.x0), image.bytes_per_row());
+  };
+  copyOut(tile.depth, target.depthKey);
+  if (writeTriangle) copyOut(tile.triangle, target.triangle);
+  if (coverageCount) {
+    for (int y = 0; y < tile.height; ++y) {
+      uint32_t* out = coverageCount->MutableRow(size_t(tile.y0 + y)) + tile.x0;
+      for (int x = 0; x < tile.width; ++x) out[x] += tile.coverage[TilePixelIndex(x, y)];
+    }
+  }
+}
+
+RasterStats SumStats(const std::vector<ChunkBins>& chunks) {
+  RasterStats stats;
+  for (const ChunkBins& bins : chunks) {
+    stats.trianglesIn += bins.stats.trianglesIn;
+    stats.trianglesCulled += bins.stats.trianglesCulled;
+    stats.trianglesClipped += bins.stats.trianglesClipped;
+    stats.trianglesSetUp += bins.stats.trianglesSetUp;
+    stats.binEntries += bins.stats.binEntries;
+  }
+  return stats;
 }
 
 }  // namespace
@@ -319,111 +448,20 @@ RasterStats Rasterize(const RasterInput& input, const ViewProjection& view, Rast
   SSGI_CHECK_EQ(int(target.depthKey.ysize()), view.height);
   const bool writeTriangle = output == RasterOutput::kVisibility;
   if (writeTriangle) SSGI_CHECK_EQ(int(target.triangle.xsize()), view.width);
+  const bool countCoverage = coverageCount != nullptr;
 
+  // Written in full: not zeroed first (16 MB a frame for a million-triangle mesh).
+  const auto projected = std::make_unique_for_overwrite<ProjectedVertex[]>(input.vertexCount);
+  ProjectAllVertices(input, view, kernels, projected.get());
   const int tilesX = (view.width + kRasterTileSize - 1) / kRasterTileSize;
   const int tilesY = (view.height + kRasterTileSize - 1) / kRasterTileSize;
-  const Setup setup(view, tilesX, tilesY);
-  // Written in full below: not zeroed first (16 MB a frame for a million-triangle mesh).
-  const auto projected = std::make_unique_for_overwrite<ProjectedVertex[]>(input.vertexCount);
-  const auto projectVertices = kernels == KernelPath::kSimd ? ProjectVerticesSimd : ProjectVerticesScalar;
-  ParallelFor("raster.transform", (input.vertexCount + kChunkVertices - 1) / kChunkVertices, [&](size_t chunk) {
-    const size_t begin = chunk * kChunkVertices, end = std::min(input.vertexCount, begin + kChunkVertices);
-    projectVertices(input.positions + begin, end - begin, view.viewProjection, view.width, view.height,
-                    projected.get() + begin);
-  });
-
-  const auto setUpTriangles = kernels == KernelPath::kSimd ? SetUpTrianglesSimd : SetUpTrianglesScalar;
-  const size_t chunkTriangles =
-      std::clamp((input.triangleCount + kMinChunks - 1) / kMinChunks, kMinChunkTriangles, kMaxChunkTriangles);
-  std::vector<ChunkBins> chunks((input.triangleCount + chunkTriangles - 1) / chunkTriangles);
-  ParallelFor("raster.setup_and_bin", chunks.size(), [&](size_t c) {
-    ChunkBins& bins = chunks[c];
-    const size_t begin = c * chunkTriangles;
-    const size_t end = std::min(input.triangleCount, begin + chunkTriangles);
-    bins.triangles.reserve(end - begin);
-    // Set up in batches (SIMD across triangles), then taken in submission order: the ones that
-    // cross a clip plane are clipped here.
-    constexpr size_t kBatch = 256;
-    ScreenTriangle batch[kBatch];
-    TriangleSetUp status[kBatch];
-    for (size_t i = begin; i < end; i += kBatch) {
-      const size_t count = std::min(kBatch, end - i);
-      for (size_t k = 3 * i; k < 3 * (i + count); ++k) SSGI_CHECK_LT(input.indices[k], input.vertexCount);
-      const size_t setUp = setUpTriangles(projected.get(), input.indices, input.triangleFlags, input.uniformFlags,
-                                          uint32_t(i), count, view.width, view.height, batch, status);
-      bins.stats.trianglesIn += count;
-      bins.stats.trianglesSetUp += setUp;
-      const size_t clipped = size_t(std::count(status, status + count, TriangleSetUp::kClip));
-      bins.stats.trianglesCulled += count - setUp - clipped;
-      if (clipped == 0) {
-        bins.triangles.insert(bins.triangles.end(), batch, batch + setUp);
-        continue;
-      }
-      size_t next = 0;
-      for (size_t j = 0; j < count; ++j) {
-        if (status[j] == TriangleSetUp::kSetUp) {
-          bins.triangles.push_back(batch[next++]);
-        } else if (status[j] == TriangleSetUp::kClip) {
-          const uint32_t triangle = uint32_t(i + j);
-          setup.Clip(input.positions, view.viewProjection, input.indices + 3 * size_t(triangle), triangle,
-                     TriangleFlagsOf(input.triangleFlags, input.uniformFlags, triangle), bins);
-        }
-      }
-    }
-    setup.Bin(bins);
-  });
-
-  const auto rasterizeTile = kernels == KernelPath::kSimd ? RasterizeTileSimd : RasterizeTileScalar;
-  const auto copyTileOut = kernels == KernelPath::kSimd ? CopyTileOutSimd : CopyTileOutScalar;
+  const std::vector<ChunkBins> chunks = SetUpAndBin(input, view, projected.get(), kernels, tilesX, tilesY);
   ParallelFor("raster.tiles", size_t(tilesX) * size_t(tilesY), [&](size_t tileIndex) {
-    // Filled below with what this output needs: the other arrays are never read.
-    // Each thread's tile, kept from tile to tile and frame to frame: made anew for each, its 49 KB
-    // went back to the allocator and came again as fresh pages (100k knot's G-buffer pass at 1
-    // thread 7.69 -> 7.49 ms).
-    static thread_local const auto threadTile = std::make_unique_for_overwrite<TileTarget>();
-    TileTarget* tile = threadTile.get();
-    tile->x0 = int(tileIndex % tilesX) * kRasterTileSize;
-    tile->y0 = int(tileIndex / tilesX) * kRasterTileSize;
-    tile->width = std::min(kRasterTileSize, view.width - tile->x0);
-    tile->height = std::min(kRasterTileSize, view.height - tile->y0);
-    std::fill(std::begin(tile->depth), std::end(tile->depth), 0.0f);
-    std::fill(std::begin(tile->blockFarthest), std::end(tile->blockFarthest), 0.0f);
-    if (writeTriangle) std::fill(std::begin(tile->triangle), std::end(tile->triangle), kNoTriangle);
-    if (coverageCount) std::fill(std::begin(tile->coverage), std::end(tile->coverage), 0u);
-    size_t tileTriangles = 0;
-    for (const ChunkBins& bins : chunks) tileTriangles += bins.tileStart[tileIndex + 1] - bins.tileStart[tileIndex];
-    const bool smallTriangles =
-        tileTriangles * kSmallTrianglePixels >= size_t(tile->width) * size_t(tile->height);
-    for (const ChunkBins& bins : chunks) {
-      const uint32_t begin = bins.tileStart[tileIndex], end = bins.tileStart[tileIndex + 1];
-      if (begin == end) continue;
-      const TileTriangles batch{bins.triangles.data(), bins.entries.data() + begin, end - begin, &input.alphaTest,
-                                writeTriangle, coverageCount != nullptr, smallTriangles};
-      rasterizeTile(batch, *tile);
-    }
-    const auto copyOut = [&](const void* values, auto& image) {
-      copyTileOut(*tile, static_cast<const uint32_t*>(values),
-                  reinterpret_cast<uint8_t*>(image.MutableRow(size_t(tile->y0)) + tile->x0), image.bytes_per_row());
-    };
-    copyOut(tile->depth, target.depthKey);
-    if (writeTriangle) copyOut(tile->triangle, target.triangle);
-    if (coverageCount) {
-      for (int y = 0; y < tile->height; ++y) {
-        uint32_t* out = coverageCount->MutableRow(size_t(tile->y0 + y)) + tile->x0;
-        for (int x = 0; x < tile->width; ++x) out[x] += tile->coverage[TilePixelIndex(x, y)];
-      }
-    }
+    TileTarget& tile = ClearedThreadTile(tileIndex, tilesX, view, writeTriangle, countCoverage);
+    DrawBinnedTriangles(chunks, tileIndex, input.alphaTest, writeTriangle, countCoverage, kernels, tile);
+    CopyTileToTarget(tile, writeTriangle, kernels, target, coverageCount);
   });
-
-  RasterStats stats;
-  for (const ChunkBins& bins : chunks) {
-    stats.trianglesIn += bins.stats.trianglesIn;
-    stats.trianglesCulled += bins.stats.trianglesCulled;
-    stats.trianglesClipped += bins.stats.trianglesClipped;
-    stats.trianglesSetUp += bins.stats.trianglesSetUp;
-    stats.binEntries += bins.stats.binEntries;
-  }
-  return stats;
+  return SumStats(chunks);
 }
 
 }  // namespace ssgi

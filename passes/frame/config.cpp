@@ -103,10 +103,19 @@ FrameSetting ChoiceSetting(std::string_view name, std::string_view option, std::
 std::vector<FrameSetting> BuildFrameSettings() {
   std::vector<FrameSetting> table;
   {
-    FrameSetting quality{"quality", "--quality", true,
-                         "Quality preset: low, medium, high (the default) or ultra (README 'Accuracy and time' gives "
-                         "each one's time and error). The quality knobs override it.",
-                         SettingKind::kChoice, 0.0, 0.0, {}, {}, {}, {}};
+    FrameSetting quality{
+        "quality",
+        "--quality",
+        true,
+        "Quality preset: low, medium, high (the default) or ultra (docs/user-guide.md 'Accuracy and time' gives "
+        "each one's time and error). The quality knobs override it.",
+        SettingKind::kChoice,
+        0.0,
+        0.0,
+        {},
+        {},
+        {},
+        {}};
     for (const QualityPreset& preset : QualityPresets()) quality.choices.push_back(preset.name);
     quality.set = [](FrameConfig& c, const SettingValue& v) {
       std::set<std::string_view> knobs;
@@ -189,9 +198,19 @@ std::vector<FrameSetting> BuildFrameSettings() {
                                          {{"aces", Tonemap::kAces}, {"clamp", Tonemap::kClamp}}, {},
                                          [](auto& c) -> auto& { return c.tonemap.curve; }));
   {
-    FrameSetting background{"background", "--background", true,
-                            "Linear RGB radiance of pixels no geometry covers, as R,G,B.", SettingKind::kColor,
-                            0.0, kUnbounded, {}, {}, {}, {}};
+    FrameSetting background{"background",
+                            "--background",
+                            true,
+                            "The constant environment's linear RGB radiance, as R,G,B: seen where no geometry "
+                            "covers a pixel, and lighting every surface in the reference. Overrides the scene "
+                            "file's environment.",
+                            SettingKind::kColor,
+                            0.0,
+                            kUnbounded,
+                            {},
+                            {},
+                            {},
+                            {}};
     background.set = [](FrameConfig& c, const SettingValue& v) { c.directLight.background = std::get<glm::vec3>(v); };
     background.get = [](const FrameConfig& c) { return SettingValue(c.directLight.background); };
     table.push_back(std::move(background));
@@ -316,6 +335,9 @@ FrameConfig FrameConfigFromSceneFile(const SceneFile& file) {
       throw InputError(path, entry.line, "unknown key render." + entry.key + " (known: " + known + ")");
   }
   FrameConfig config;
+  // The scene's environment is what pixels without geometry show, unless its render block says
+  // otherwise.
+  config.directLight.background = file.scene.environment.radiance;
   for (const FrameSetting& setting : FrameSettings()) {
     for (const RenderBlockEntry& entry : file.render) {
       if (entry.key != setting.name) continue;

@@ -91,7 +91,7 @@ void ApplySetting(FrameConfig& config, std::string_view name, std::string_view t
 // <problem>") for an unknown key or a bad value.
 FrameConfig FrameConfigFromSceneFile(const SceneFile& file);
 
-// Quality presets (README "Accuracy and time"), chosen from the sweep's measured Pareto fronts on
+// Quality presets (docs/user-guide.md "Accuracy and time"), chosen from the sweep's measured Pareto fronts on
 // the default scene and Sponza: each knob is cut where the time it saves costs least error. "high"
 // is the defaults (the paper's settings, but for one cone sample instead of Uludag's 7 and 8
 // blocker-search taps instead of 16, which the sweep measured less accurate); "ultra" adds what

@@ -24,7 +24,7 @@ fs::path DumpOracle(const ScratchDir& dir) {
   return dir / "oracle.exr";
 }
 
-TEST_CASE("passes and diff: the oracle's passes rerun on its own buffers pass; a broken pass is named",
+TEST_CASE("passes and diff: the oracle's passes rerun on its own buffers pass, and a broken pass is named",
           "[cli][oracle]") {
   ScratchDir dir("cli-oracle");
   const fs::path oracle = DumpOracle(dir);

@@ -17,38 +17,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string DefaultScene() { return Quote(SourceDir() / "data" / "default.json"); }
-
-// Only the named files: no output and no temporary file may survive a failed render.
-void RequireOnlyFiles(const ScratchDir& dir, std::initializer_list<std::string> names) {
-  size_t count = 0;
-  for (const auto& entry : fs::directory_iterator(dir.path())) {
-    ++count;
-    CAPTURE(entry.path().string());
-    CHECK(std::find(names.begin(), names.end(), entry.path().filename().string()) != names.end());
-  }
-  CHECK(count == names.size());
-}
-
 TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
   ScratchDir dir("cli-bad-args");
   const std::string out = Quote(dir / "out.png");
   CheckCliErrors({
-      {"render " + DefaultScene() + " --size 0x10 -o " + out, "--size", 2},
-      {"render " + DefaultScene() + " --size 20000x100 -o " + out, "[1, 16384]", 2},
-      {"render " + DefaultScene() + " --size banana -o " + out, "WIDTHxHEIGHT", 2},
-      {"render " + DefaultScene() + " --background 1,2 -o " + out, "R,G,B", 2},
-      {"render " + DefaultScene() + " -o " + Quote(dir / "out.jpg"), "unsupported output format", 1},
-      {"render " + DefaultScene() + " -o " + Quote(dir / "missing" / "out.png"), "does not exist", 1},
-      {"render " + DefaultScene() + " -o " + out + " --dump-gbuffer " + Quote(dir / "g.png"), "EXR", 1},
+      {"render " + DefaultSceneArg() + " --size 0x10 -o " + out, "--size", 2},
+      {"render " + DefaultSceneArg() + " --size 20000x100 -o " + out, "[1, 16384]", 2},
+      {"render " + DefaultSceneArg() + " --size banana -o " + out, "WIDTHxHEIGHT", 2},
+      {"render " + DefaultSceneArg() + " --background 1,2 -o " + out, "R,G,B", 2},
+      {"render " + DefaultSceneArg() + " -o " + Quote(dir / "out.jpg"), "unsupported output format", 1},
+      {"render " + DefaultSceneArg() + " -o " + Quote(dir / "missing" / "out.png"), "does not exist", 1},
+      {"render " + DefaultSceneArg() + " -o " + out + " --dump-gbuffer " + Quote(dir / "g.png"), "EXR", 1},
       {"render " + Quote(dir / "nowhere.json") + " -o " + out, "nowhere.json", 1},
   });
   RequireOnlyFiles(dir, {});
   // Quality knobs out of range are command-line errors (exit 2), caught before any work.
-  const CommandResult knob = RunCli("render " + DefaultScene() + " --ssr-iterations 0 -o " + out);
+  const CommandResult knob = RunCli("render " + DefaultSceneArg() + " --ssr-iterations 0 -o " + out);
   CHECK(knob.exitCode == 2);
   CHECK(knob.output.find("--ssr-iterations") != std::string::npos);
-  CHECK(RunCli("render " + DefaultScene() + " --quality extreme -o " + out).exitCode == 2);
+  CHECK(RunCli("render " + DefaultSceneArg() + " --quality extreme -o " + out).exitCode == 2);
   RequireOnlyFiles(dir, {});
 }
 
@@ -65,7 +52,7 @@ TEST_CASE("render: a malformed scene names the file and line and writes nothing"
 TEST_CASE("render: an unwritable output path fails before rendering", "[cli]") {
   ScratchDir dir("cli-unwritable");
   WriteText(dir / "file", "not a folder");
-  const CommandResult result = RunCli("render " + DefaultScene() + " -o " + Quote(dir / "file" / "out.png"));
+  const CommandResult result = RunCli("render " + DefaultSceneArg() + " -o " + Quote(dir / "file" / "out.png"));
   CAPTURE(result.output);
   CHECK(result.exitCode == 1);
   CHECK(result.output.find("out.png") != std::string::npos);
@@ -78,7 +65,7 @@ TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 thre
   std::vector<ExrFile> buffers;
   for (int threads : {1, 2, 3}) {
     const std::string tag = std::to_string(threads);
-    const CommandResult result = RunCli("render " + DefaultScene() + " --size 150x101 --threads " + tag + " -o " +
+    const CommandResult result = RunCli("render " + DefaultSceneArg() + " --size 150x101 --threads " + tag + " -o " +
                                         Quote(dir / (tag + ".png")) + " --dump " + Quote(dir / (tag + ".exr")));
     CAPTURE(result.output);
     REQUIRE(result.exitCode == 0);
@@ -102,7 +89,7 @@ TEST_CASE("render: the default scene matches its golden image byte for byte", "[
   ScratchDir dir("cli-golden");
   const fs::path golden = SourceDir() / "tests" / "golden" / "default_160x120.png";
   const fs::path rendered = dir / "default.png";
-  const CommandResult result = RunCli("render " + DefaultScene() + " --size 160x120 -o " + Quote(rendered));
+  const CommandResult result = RunCli("render " + DefaultSceneArg() + " --size 160x120 -o " + Quote(rendered));
   CAPTURE(result.output);
   REQUIRE(result.exitCode == 0);
   if (std::getenv("SSGI_UPDATE_GOLDEN")) fs::copy_file(rendered, golden, fs::copy_options::overwrite_existing);
@@ -132,11 +119,11 @@ TEST_CASE("figures: one command writes the paper's image sequence", "[cli]") {
 TEST_CASE("render: shadow passes run only when the scene calls for them", "[cli]") {
   ScratchDir dir("cli-effects");
   const std::string out = " -o " + Quote(dir / "out.png") + " --size 64x48 --stats";
-  const CommandResult withShadows = RunCli("render " + DefaultScene() + out);
+  const CommandResult withShadows = RunCli("render " + DefaultSceneArg() + out);
   REQUIRE(withShadows.exitCode == 0);
   CHECK(withShadows.output.find("shadow map") != std::string::npos);
   CHECK(withShadows.output.find("shadow filter") != std::string::npos);
-  const CommandResult switchedOff = RunCli("render " + DefaultScene() + out + " --shadows off");
+  const CommandResult switchedOff = RunCli("render " + DefaultSceneArg() + out + " --shadows off");
   REQUIRE(switchedOff.exitCode == 0);
   CHECK(switchedOff.output.find("shadow") == std::string::npos);
   // A light that casts no shadows needs no shadow map, whatever --shadows says.
@@ -176,7 +163,7 @@ TEST_CASE("render --stats: every stage row says what it processed, a stage that 
 TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][compare]") {
   ScratchDir dir("cli-compare");
   for (const char* filter : {"hard", "ssabss"}) {
-    const CommandResult r = RunCli("render " + DefaultScene() + " --size 64x48 --shadow-filter " + filter + " -o " +
+    const CommandResult r = RunCli("render " + DefaultSceneArg() + " --size 64x48 --shadow-filter " + filter + " -o " +
                                    Quote(dir / (std::string(filter) + ".exr")) + " --dump-gbuffer " +
                                    Quote(dir / (std::string(filter) + "_dump.exr")));
     REQUIRE(r.exitCode == 0);
@@ -191,6 +178,9 @@ TEST_CASE("compare: metrics of two renders, per layer, and a heat map", "[cli][c
   CAPTURE(visibility.output);
   CHECK(visibility.exitCode == 0);
   CHECK(visibility.output.find("1 channel)") != std::string::npos);
+  // A dump against another: the error by region too.
+  CHECK(visibility.output.find("by region (shadow.visibility, roughness, depth)") != std::string::npos);
+  CHECK(visibility.output.find("in shadow") != std::string::npos);
   CHECK(ReadStoredImage(dir / "heat.png").width == 64);
   CHECK(ReadStoredImage(dir / "heat.png").height == 48 + kHeatmapLegendRows);
   const CommandResult missing = RunCli("compare " + Quote(dir / "hard.exr") + " " + Quote(dir / "nowhere.exr"));
@@ -229,7 +219,7 @@ TEST_CASE("render: the real-scene files render where their models are present", 
 TEST_CASE("reference: writes the final image and the matching buffers, comparable layer by layer", "[cli][reference]") {
   ScratchDir dir("cli-reference");
   const CommandResult ref =
-      RunCli("reference " + DefaultScene() + " --size 48x32 --spp 2 -o " + Quote(dir / "ref.exr"));
+      RunCli("reference " + DefaultSceneArg() + " --size 48x32 --spp 2 -o " + Quote(dir / "ref.exr"));
   CAPTURE(ref.output);
   REQUIRE(ref.exitCode == 0);
   const StoredImage image = ReadStoredImage(dir / "ref.exr");
@@ -237,14 +227,14 @@ TEST_CASE("reference: writes the final image and the matching buffers, comparabl
     CAPTURE(name);
     CHECK(std::find(image.channelNames.begin(), image.channelNames.end(), name) != image.channelNames.end());
   }
-  REQUIRE(RunCli("render " + DefaultScene() + " --size 48x32 -o " + Quote(dir / "ours.png") + " --dump-gbuffer " +
+  REQUIRE(RunCli("render " + DefaultSceneArg() + " --size 48x32 -o " + Quote(dir / "ours.png") + " --dump-gbuffer " +
                  Quote(dir / "ours.exr"))
               .exitCode == 0);
   const CommandResult visibility = RunCli("compare " + Quote(dir / "ours.exr") + " " + Quote(dir / "ref.exr") +
                                           " --layer shadow.visibility");
   CAPTURE(visibility.output);
   CHECK(visibility.exitCode == 0);
-  CHECK(RunCli("reference " + DefaultScene() + " -o " + Quote(dir / "ref.png")).exitCode == 1);
+  CHECK(RunCli("reference " + DefaultSceneArg() + " -o " + Quote(dir / "ref.png")).exitCode == 1);
 }
 
 TEST_CASE("render: with no scene renders the built-in default scene into the current folder", "[cli]") {
@@ -257,7 +247,7 @@ TEST_CASE("render: with no scene renders the built-in default scene into the cur
 TEST_CASE("render: a frame larger than the memory allowed is refused before rendering", "[cli][memory]") {
   ScratchDir dir("cli-memory");
   const std::string out = Quote(dir / "out.png");
-  const CommandResult refused = RunCli("render " + DefaultScene() + " --size 2048x2048 --max-memory 200M -o " + out);
+  const CommandResult refused = RunCli("render " + DefaultSceneArg() + " --size 2048x2048 --max-memory 200M -o " + out);
   CAPTURE(refused.output);
   CHECK(refused.exitCode == 1);
   CHECK(refused.output.find("ssgi: error: a 2048x2048 frame needs about ") == 0);
@@ -265,7 +255,7 @@ TEST_CASE("render: a frame larger than the memory allowed is refused before rend
   CHECK(refused.output.find("(estimate: ") != std::string::npos);
   CHECK(refused.output.find(" the process holds already), more than --max-memory 200 MiB") != std::string::npos);
   CHECK(std::count(refused.output.begin(), refused.output.end(), '\n') == 1);
-  const CommandResult badLimit = RunCli("render " + DefaultScene() + " --max-memory lots -o " + out);
+  const CommandResult badLimit = RunCli("render " + DefaultSceneArg() + " --max-memory lots -o " + out);
   CHECK(badLimit.exitCode == 2);  // a value that does not parse is a command-line error
   CHECK(badLimit.output.find("--max-memory: must be a size like 512M, 1.5G, 2GiB or 800MB, got 'lots'") !=
         std::string::npos);
@@ -273,7 +263,7 @@ TEST_CASE("render: a frame larger than the memory allowed is refused before rend
   // The estimate against the measured peak resident set of the same render: a frame whose peak is
   // the SSR trace, and a small one whose peak is a large shadow map.
   for (const std::string options : {"--size 1536x1536", "--size 256x256 --shadow-map-size 4096"}) {
-    const CommandResult rendered = RunCli("render " + DefaultScene() + " " + options + " --stats -o " + out);
+    const CommandResult rendered = RunCli("render " + DefaultSceneArg() + " " + options + " --stats -o " + out);
     CAPTURE(options, rendered.output);
     REQUIRE(rendered.exitCode == 0);
     const size_t line = rendered.output.find("memory: peak ");

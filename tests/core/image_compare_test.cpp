@@ -1,9 +1,9 @@
 #include "core/image_compare.h"
 
-#include <cmath>
-#include <random>
-
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <random>
 
 #include "core/error.h"
 #include "tests/test_support.h"
@@ -108,6 +108,41 @@ TEST_CASE("compare: the heat map's default scale is the error's 99th percentile,
   CHECK(heat.scale == Approx(0.1));
   CHECK(heat.shareAboveScale == Approx(0.001));
   CHECK(heat.rgb[3] == 255);  // a pixel at the scale is white, not the outlier's 1/1000 of it
+}
+
+TEST_CASE("compare: regions from a dump's depth, roughness and visibility, and the error in each", "[compare]") {
+  // Four pixels: lit and rough, in shadow and smooth, lit and smooth, background.
+  FloatImage dump = Constant(4, 1, 0.0f, {"depth", "roughness", "shadow.visibility"});
+  const float depth[] = {1.0f, 2.0f, 3.0f, std::numeric_limits<float>::infinity()};
+  const float roughness[] = {0.9f, 0.1f, 0.5f, 0.0f};
+  const float visibility[] = {1.0f, 0.2f, 0.5f, 1.0f};
+  for (size_t i = 0; i < 4; ++i) {
+    dump.pixels[i * 3] = depth[i];
+    dump.pixels[i * 3 + 1] = roughness[i];
+    dump.pixels[i * 3 + 2] = visibility[i];
+  }
+  const std::vector<uint8_t> regions = ClassifyRegions(dump, 0.7f, "dump.exr");
+  CHECK(regions == std::vector<uint8_t>{kRegionLit, kRegionInShadow | kRegionReflective, kRegionLit | kRegionReflective,
+                                        kRegionBackground});
+  const FloatImage reference = Constant(4, 1, 1.0f);
+  FloatImage test = reference;
+  for (int c = 0; c < 3; ++c) test.pixels[size_t(3 + c)] = 0.5f;  // the shadowed pixel half as bright
+  const std::vector<RegionDifference> byRegion = CompareRegions(test, reference, regions);
+  REQUIRE(byRegion.size() == 4);
+  CHECK(byRegion[0].region == kRegionLit);
+  CHECK(byRegion[0].pixels == 2);
+  CHECK(byRegion[0].rmse == 0.0);
+  CHECK(byRegion[0].meanRatio == Approx(1.0));
+  CHECK(byRegion[1].region == kRegionInShadow);
+  CHECK(byRegion[1].pixels == 1);
+  CHECK(byRegion[1].rmse == Approx(0.5));
+  CHECK(byRegion[1].meanRatio == Approx(0.5));
+  CHECK(byRegion[2].pixels == 2);  // reflective: the shadowed and the lit smooth pixel
+  CHECK(byRegion[2].meanRatio == Approx(0.75));
+  CHECK(byRegion[3].pixels == 1);
+  // Without visibility every covered pixel is lit; without depth there are no regions.
+  const FloatImage unshadowed = SelectLayer(dump, "depth", "dump.exr");
+  CHECK_THROWS_AS(ClassifyRegions(unshadowed, 0.7f, "dump.exr"), InputError);
 }
 
 // A linear ramp upsampled 2x with pixel centres aligned stays the same ramp, sampled at the new

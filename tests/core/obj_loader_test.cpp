@@ -98,7 +98,7 @@ TEST_CASE("zero-area triangles get finite normals", "[obj]") {
   for (const glm::vec3& n : only.mesh.normals) CHECK(IsUnit(n));
 }
 
-TEST_CASE("supplied normals are normalized; zero ones are generated", "[obj]") {
+TEST_CASE("supplied normals are normalized, and zero ones are generated", "[obj]") {
   test::ScratchDir dir("obj-normals");
   test::WriteText(dir / "n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nvn 0 0 0\nf 1//1 2//1 3//2\n");
   const Mesh mesh = LoadObjModel(dir / "n.obj").mesh;
