@@ -69,7 +69,7 @@ size_t RowsOf(const std::string& output, const std::string& layer) {
   return rows;
 }
 
-TEST_CASE("diff: rows only for layers that fail or are close, --verbose for all; the counts in one line each",
+TEST_CASE("diff: rows only for layers that fail or are close, --verbose for all, and the counts a line each",
           "[cli][oracle]") {
   ScratchDir dir("cli-diff-output");
   const fs::path oracle = DumpOracle(dir);
