@@ -36,6 +36,7 @@ ExrChannelFilter LayersBefore(FramePass from) {
           if (part.empty() || part == DumpPartName(layer.part, 0)) return true;
           break;
         case DumpPart::kShadowMap:
+        case DumpPart::kSkyVolume:
           if (part == DumpPartName(layer.part, 0)) return true;
           break;
         case DumpPart::kHiZLevels:
