@@ -1,9 +1,9 @@
 // Diffuse bounce and ambient occlusion (passes/bounce.h) at 1024x1024 on the default scene and on
 // Sponza: the whole pass (prepare, march, filter, upsample) with either kernel path at 1 and 2
 // threads, the default settings and a few others, beside the memory floor of its full-resolution
-// bytes. Inputs are one frame of each scene (its G-buffer and its direct light as the lit image),
+// bytes. Inputs are one frame of each scene (its G-buffer and its lit image: direct plus sky light),
 // made once; outputs are reused between iterations (the steady state of a renderer).
-// bench/README.md records results.
+// docs/pipeline.md (§Diffuse bounce and ambient occlusion) records results.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -47,7 +47,7 @@ void BM_Bounce(benchmark::State& state) {
   if (state.range(3) > 0) params.slices = int(state.range(3));
   if (state.range(4) > 0) params.steps = int(state.range(4));
   const Frame& frame = SceneFrame(bench);
-  const BounceInputs in{frame.gbuffer.gbuffer, frame.view, frame.direct.radiance};
+  const BounceInputs in{frame.gbuffer.gbuffer, frame.view, frame.Lit()};
   BounceOutputs out;
   BounceStats stats = RunBounce(in, params, out, kernels);  // allocates the outputs
   for (auto _ : state) stats = RunBounce(in, params, out, kernels);

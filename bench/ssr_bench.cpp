@@ -69,8 +69,9 @@ void BM_Composite(benchmark::State& state) {
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
   const KernelBenchArgs args(state);
   const Frame& f = DefaultBenchFrame(args.size);
-  const CompositeInputs in{f.gbuffer.gbuffer,     f.view, f.direct.radiance, f.ssrCone.reflected,
-                           f.ssrTrace.confidence, bench.config.ssrTrace.roughnessCutoff};
+  const CompositeInputs in{f.gbuffer.gbuffer,      f.view,
+                           f.direct.radiance,      &f.ssrCone.reflected,
+                           &f.ssrTrace.confidence, bench.config.ssrTrace.roughnessCutoff};
   CompositeOutputs out;
   // Outputs allocated before timing, as a renderer keeps them.
   RunComposite(in, out, args.kernels);

@@ -4,6 +4,7 @@
 // bench/plot_sweep.py; bench/README.md says how.
 //
 //   ssgi_sweep --reference ref.exr [--scene scene.json] [--size 512x512] [--repeats 5] -o sweep.csv
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,9 +14,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "core/error.h"
+#include "core/gbuffer.h"
 #include "core/image_compare.h"
 #include "core/parallel.h"
 #include "core/plane.h"
@@ -77,13 +77,34 @@ ssgi::ImageDifference ErrorAgainst(ssgi::FloatImage image, const ssgi::FloatImag
   return ssgi::CompareImages(image, reference);
 }
 
+// The frame's own depth, roughness and (with shadows) visibility, as ClassifyRegions reads a dump.
+ssgi::FloatImage RegionLayers(const ssgi::Frame& frame) {
+  const ssgi::GBuffer& g = frame.gbuffer.gbuffer;
+  ssgi::FloatImage image;
+  image.width = g.width();
+  image.height = g.height();
+  image.channelNames = {"depth", "roughness"};
+  const bool shadows = frame.shadows && frame.shadowVisibility.visibility.xsize() == size_t(g.width());
+  if (shadows) image.channelNames.push_back("shadow.visibility");
+  const size_t n = image.channelNames.size();
+  image.pixels.resize(size_t(image.width) * size_t(image.height) * n);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      float* p = &image.pixels[(size_t(y) * image.width + x) * n];
+      p[0] = ssgi::UnpackDepth(g.word[ssgi::GBufferWord::kDepth].ConstRow(y)[x]);
+      p[1] = ssgi::UnpackRoughness(g.word[ssgi::GBufferWord::kNormalRoughness].ConstRow(y)[x]);
+      if (shadows) p[2] = frame.shadowVisibility.visibility.ConstRow(y)[x];
+    }
+  return image;
+}
+
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values[values.size() / 2];
 }
 
-int Run(const std::string& scenePath, const std::string& referencePath, int width, int height, int repeats,
-        int threads, const std::vector<std::string>& knobs, const std::string& output) {
+int Run(const std::string& scenePath, const std::string& referencePath, int width, int height, int repeats, int threads,
+        const std::vector<std::string>& knobs, const std::vector<std::string>& sets, const std::string& output) {
   ssgi::RetainFreedMemory();
   const ssgi::ThreadLimit limit(threads);
   const ssgi::FloatImage referenceFile = ssgi::ReadFloatImage(referencePath);
@@ -101,13 +122,23 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     if (std::none_of(settings.begin(), settings.end(), [&](const Setting& s) { return s.knob == knob; }))
       throw ssgi::InputError("--knobs", "no knob '" + knob + "' (the CSV's knob column names them)");
   const ssgi::SceneFile loaded = ssgi::LoadSceneFile(scenePath);
-  const ssgi::FrameConfig sceneConfig = ssgi::FrameConfigFromSceneFile(loaded);
+  ssgi::FrameConfig sceneConfig = ssgi::FrameConfigFromSceneFile(loaded);
+  // --set: on every row, before its own knob.
+  for (const std::string& set : sets) {
+    const size_t equals = set.find('=');
+    if (equals == std::string::npos) throw ssgi::InputError("--set: '" + set + "' is not NAME=VALUE");
+    ssgi::ApplySetting(sceneConfig, std::string_view(set).substr(0, equals), std::string_view(set).substr(equals + 1));
+  }
   std::ofstream csv(output);
   if (!csv) throw ssgi::InputError(output, "cannot write");
   // rmse_visibility: linear RMSE of the filtered light visibility against the traced one (blank when
   // no shadows ran); rmse_display_indirect: display RMSE of the indirect light against the traced
   // bounce (blank when no reflections ran).
+  // Per region of the frame's pixels (lit, in shadow, reflective, background; blank for the
+  // resolution rows): the display RMSE and the mean test / reference ratio.
   csv << "knob,value,frame_ms,rmse,rmse_display,psnr_db,ssim,max_error,rmse_visibility,rmse_display_indirect";
+  const char* regionColumns[] = {"lit", "shadow", "reflective", "background"};
+  for (const char* region : regionColumns) csv << ",rmse_display_" << region << ",ratio_" << region;
   std::vector<std::string> stages;
   {
     // One discarded frame first, so the first setting's times do not include the process's first
@@ -120,6 +151,7 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     std::map<std::string, std::vector<double>> times;
     ssgi::ImageDifference difference;
     std::string visibilityError, indirectError;
+    std::vector<ssgi::RegionDifference> regions;
     for (int r = 0; r < repeats; ++r) {
       const ssgi::Frame frame = ssgi::RenderFrame(loaded.scene, config);
       const std::vector<ssgi::StageStats> rows = ssgi::StageRows(frame.stats);
@@ -132,6 +164,11 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
         if (frame.reflections && referenceIndirect)
           indirectError =
               std::to_string(ErrorAgainst(ToFloatImage(frame.composite.indirect), *referenceIndirect).rmseDisplay);
+        if (setting.scale == 1.0) {
+          const ssgi::FloatImage layers = RegionLayers(frame);
+          regions = ssgi::CompareRegions(ToFloatImage(frame.Result()), reference,
+                                         ssgi::ClassifyRegions(layers, config.ssrTrace.roughnessCutoff, scenePath));
+        }
       }
       if (stages.empty()) {
         for (const ssgi::StageStats& s : rows) stages.push_back(s.name);
@@ -142,6 +179,12 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     csv << setting.knob << "," << setting.value << "," << Median(times["frame total"]) << "," << difference.rmse << ","
         << difference.rmseDisplay << "," << difference.psnr << "," << difference.ssim << "," << difference.maxError
         << "," << visibilityError << "," << indirectError;
+    for (size_t r = 0; r < std::size(regionColumns); ++r) {
+      if (regions.empty())
+        csv << ",,";
+      else
+        csv << "," << regions[r].rmseDisplay << "," << regions[r].meanRatio;
+    }
     for (const std::string& name : stages) csv << "," << (times.count(name) ? Median(times[name]) : 0.0);
     csv << "\n";
     std::printf("%-16s %-8s %8.1f ms  RMSE %.5f  display RMSE %.5f  SSIM %.4f  visibility RMSE %-8s  indirect "
@@ -168,12 +211,14 @@ int main(int argc, char** argv) {
   app.add_option("--knobs", knobs, "Only these rows, by knob name (baseline, preset, ssr_iterations, ...); "
                                    "default: all.")
       ->delimiter(',');
+  std::vector<std::string> sets;
+  app.add_option("--set", sets, "NAME=VALUE: a frame setting for every row (e.g. effects.sky=off), repeatable.");
   app.add_option("-o,--output", output, "CSV file to write (default sweep.csv).");
   CLI11_PARSE(app, argc, argv);
   try {
     ssgi::FrameConfig sized;
     ssgi::ApplySetting(sized, "size", size);  // the table's check and its "--size: ..." message
-    return Run(scene, reference, sized.width, sized.height, repeats, threads, knobs, output);
+    return Run(scene, reference, sized.width, sized.height, repeats, threads, knobs, sets, output);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi_sweep: error: %s\n", e.what());
     return 1;

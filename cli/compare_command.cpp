@@ -68,12 +68,13 @@ int Compare(const CompareOptions& options) {
       throw InputError(options.regions, "is not the images' size");
     const std::vector<uint8_t> regions =
         ClassifyRegions(regionSource, SsrTraceParams().roughnessCutoff, regionsFile ? options.regions : options.test);
-    std::printf("  by region (%s):\n  %-12s %8s %12s %14s\n",
+    std::printf("  by region (%s):\n  %-12s %8s %12s %14s %14s\n",
                 FindLayer(regionSource, "shadow.visibility") ? "shadow.visibility, roughness, depth"
                                                              : "no shadows: every covered pixel lit",
-                "region", "pixels", "RMSE", "mean test/ref");
+                "region", "pixels", "RMSE", "display RMSE", "mean test/ref");
     for (const RegionDifference& r : CompareRegions(test, reference, regions))
-      std::printf("  %-12s %8zu %12.6g %14.4g\n", ImageRegionName(r.region), r.pixels, r.rmse, r.meanRatio);
+      std::printf("  %-12s %8zu %12.6g %14.6g %14.4g\n", ImageRegionName(r.region), r.pixels, r.rmse, r.rmseDisplay,
+                  r.meanRatio);
   }
   if (!options.heatmap.empty()) {
     const Heatmap map = ErrorHeatmap(test, reference, options.heatmapScale);

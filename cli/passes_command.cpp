@@ -25,6 +25,33 @@ struct PassesOptions {
   std::string maxMemory;
 };
 
+// The layers of a dump that passes before `from` write (the catalogue's), by part and channel name:
+// the only ones LoadFrameDump reads when the frame runs from `from`, so the others are not read.
+ExrChannelFilter LayersBefore(FramePass from) {
+  return [from](const std::string& part, const std::string& name) {
+    for (const DumpLayer& layer : DumpLayers()) {
+      if (layer.pass >= from || layer.name != name) continue;
+      switch (layer.part) {
+        case DumpPart::kImage:
+          if (part.empty() || part == DumpPartName(layer.part, 0)) return true;
+          break;
+        case DumpPart::kShadowMap:
+        case DumpPart::kSkyVolume:
+          if (part == DumpPartName(layer.part, 0)) return true;
+          break;
+        case DumpPart::kHiZLevels:
+        case DumpPart::kPyramidLevels: {
+          // "hiz.0" without its level: "hiz.".
+          const std::string levels = DumpPartName(layer.part, 0);
+          if (part.compare(0, levels.size() - 1, levels, 0, levels.size() - 1) == 0) return true;
+          break;
+        }
+      }
+    }
+    return false;
+  };
+}
+
 // Runs passes --from .. --to of the frame on the buffers of a dump and writes the frame's buffers as
 // a dump.
 int Passes(const PassesOptions& options) {
@@ -41,9 +68,10 @@ int Passes(const PassesOptions& options) {
   if (outputs.Kind(options.output) != ImageFileKind::kExr)
     throw InputError(options.output, "the passes' buffers are written as a multi-part EXR: use a .exr name");
   const MemoryBudget budget = BudgetFor(options.maxMemory);
-  const size_t dumpBytes = ExrSampleBytes(options.input);
+  const ExrChannelFilter read = LayersBefore(from);
+  const size_t dumpBytes = ExrSampleBytes(options.input, read);
   CheckMemory("reading " + options.input, dumpBytes, budget, "");
-  const ExrFile dump = ReadExrFile(options.input);
+  const ExrFile dump = ReadExrFile(options.input, read);
   const auto [scene, config] = LoadDumpScene(dump, options.input, options.scene);
   // The dump read, and a frame holding every buffer, written as a dump in turn.
   CheckMemory("passes on a " + std::to_string(config.width) + "x" + std::to_string(config.height) + " dump",

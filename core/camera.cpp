@@ -31,6 +31,13 @@ ViewProjection MakePerspective(const CameraDesc& camera, int width, int height) 
   return vp;
 }
 
+glm::vec3 UpHint(const glm::vec3& forward) {
+  const glm::vec3 a = glm::abs(forward);
+  if (a.x <= a.y && a.x <= a.z) return {1.0f, 0.0f, 0.0f};
+  if (a.y <= a.z) return {0.0f, 1.0f, 0.0f};
+  return {0.0f, 0.0f, 1.0f};
+}
+
 ViewProjection MakeOrthographic(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& up,
                                 float halfX, float halfY, float nearPlane, float farPlane, int width,
                                 int height) {

@@ -66,6 +66,10 @@ struct PixelRayTables {
 };
 PixelRayTables MakePixelRayTables(const ViewProjection& view, size_t columns, size_t rows);
 
+// A world axis far from `forward` (the one with its smallest component), so lookAt along `forward`
+// is well defined.
+glm::vec3 UpHint(const glm::vec3& forward);
+
 // Orthographic view looking along `forward` from `eye`; halfX/halfY in metres, near/far along forward.
 ViewProjection MakeOrthographic(const glm::vec3& eye, const glm::vec3& forward, const glm::vec3& up,
                                 float halfX, float halfY, float nearPlane, float farPlane, int width,

@@ -132,7 +132,7 @@ std::vector<RegionDifference> CompareRegions(const FloatImage& a, const FloatIma
   std::vector<RegionDifference> out;
   for (ImageRegion region : kImageRegions) {
     RegionDifference d{region};
-    double squared = 0.0, sumA = 0.0, sumB = 0.0;
+    double squared = 0.0, squaredDisplay = 0.0, sumA = 0.0, sumB = 0.0;
     size_t samples = 0;
     for (size_t i = 0; i < n; ++i) {
       if (!(regions[i] & region)) continue;
@@ -144,13 +144,17 @@ std::vector<RegionDifference> CompareRegions(const FloatImage& a, const FloatIma
       ++d.pixels;
       for (size_t c = 0; c < channels; ++c) {
         const double e = double(pa[c]) - double(pb[c]);
+        const double ta = std::max(double(pa[c]), 0.0), tb = std::max(double(pb[c]), 0.0);
+        const double ed = ta / (1.0 + ta) - tb / (1.0 + tb);
         squared += e * e;
+        squaredDisplay += ed * ed;
         ++samples;
       }
       sumA += Luminance(pa, channels);
       sumB += Luminance(pb, channels);
     }
     d.rmse = samples > 0 ? std::sqrt(squared / double(samples)) : 0.0;
+    d.rmseDisplay = samples > 0 ? std::sqrt(squaredDisplay / double(samples)) : 0.0;
     d.meanRatio = sumB > 0.0 ? sumA / sumB : std::numeric_limits<double>::quiet_NaN();
     out.push_back(d);
   }

@@ -74,7 +74,8 @@ std::vector<uint8_t> ClassifyRegions(const FloatImage& dump, float roughnessCuto
 struct RegionDifference {
   ImageRegion region;
   size_t pixels = 0;
-  double rmse = 0.0;  // over the region's pixels and every channel
+  double rmse = 0.0;         // over the region's pixels and every channel
+  double rmseDisplay = 0.0;  // the same of x / (1 + x)
   // Mean of a over mean of b, of the Rec. 709 luminance (or the single channel): above 1 the test
   // is too bright there, below 1 too dark; NaN where b's mean is 0.
   double meanRatio = 0.0;

@@ -1,15 +1,16 @@
 #include "core/image_io.h"
 
+#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cstring>
-
-#include <OpenImageIO/imageio.h>
+#include <mutex>
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace ssgi {
 namespace {
@@ -32,6 +33,9 @@ void WriteAtomically(const fs::path& path, const std::vector<OIIO::ImageSpec>& s
     fs::remove(temporary, ignored);
     throw InputError(path, "cannot write image: " + why);
   };
+  // OpenEXR compresses the blocks of each write on its own pool: as many threads as ParallelFor may
+  // use (ReadExrFile leaves the pool at none).
+  OIIO::attribute("exr_threads", int(ParallelThreads()));
   auto out = OIIO::ImageOutput::create(LowerExtension(path).substr(1));
   if (!out) fail(OIIO::geterror());
   for (size_t i = 0; i < specs.size(); ++i) {
@@ -47,16 +51,17 @@ void WriteAtomically(const fs::path& path, const std::vector<OIIO::ImageSpec>& s
 }
 
 // Rows [yBegin, yEnd) of the part, each pixel `count` 4-byte words in the channels' native
-// formats, interleaved.
+// formats, interleaved: row by row, so that each row's channels are gathered while it is in cache.
 void InterleaveRows(const ExrPart& part, size_t yBegin, size_t yEnd, std::vector<uint32_t>& interleaved) {
   const size_t count = part.channels.size();
   const size_t width = size_t(part.width);
   interleaved.resize(width * (yEnd - yBegin) * count);
-  for (size_t c = 0; c < count; ++c) {
-    const auto* source = static_cast<const uint32_t*>(part.channels[c].data);
-    for (size_t y = yBegin; y < yEnd; ++y)
-      for (size_t x = 0; x < width; ++x)
-        interleaved[((y - yBegin) * width + x) * count + c] = source[y * part.channels[c].rowStride + x];
+  for (size_t y = yBegin; y < yEnd; ++y) {
+    uint32_t* row = interleaved.data() + (y - yBegin) * width * count;
+    for (size_t c = 0; c < count; ++c) {
+      const auto* source = static_cast<const uint32_t*>(part.channels[c].data) + y * part.channels[c].rowStride;
+      for (size_t x = 0; x < width; ++x) row[x * count + c] = source[x];
+    }
   }
 }
 
@@ -83,6 +88,84 @@ OIIO::ImageSpec PartSpec(const ExrPart& part) {
   spec.attribute("compression", "zip");
   if (!part.name.empty()) spec.attribute("oiio:subimagename", part.name);
   return spec;
+}
+
+// The file opened for reading, checked to be an EXR. Each reader sets OpenEXR's own thread pool
+// to none: ReadExrFile decodes its bands on the threads of ParallelFor, one ImageInput each.
+std::unique_ptr<OIIO::ImageInput> OpenExr(const fs::path& path) {
+  OIIO::attribute("exr_threads", -1);
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
+  if (std::string(in->format_name()) != "openexr") throw InputError(path, "not an EXR file");
+  return in;
+}
+
+// An open input and the band buffer its thread decodes into.
+struct ExrReader {
+  std::unique_ptr<OIIO::ImageInput> input;
+  std::vector<unsigned char> buffer;
+};
+
+// Readers of one file for the threads of a ParallelFor: an ImageInput serialises the reads made
+// through it, so each thread takes one of its own, opened on first need and handed back for the
+// next band.
+class ExrInputs {
+ public:
+  explicit ExrInputs(const fs::path& path) : path_(path) {}
+
+  ExrReader Take() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!idle_.empty()) {
+        ExrReader reader = std::move(idle_.back());
+        idle_.pop_back();
+        return reader;
+      }
+    }
+    return {OpenExr(path_), {}};
+  }
+
+  void Give(ExrReader reader) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    idle_.push_back(std::move(reader));
+  }
+
+ private:
+  const fs::path& path_;
+  std::mutex mutex_;
+  std::vector<ExrReader> idle_;
+};
+
+// Where each channel ReadExrFile keeps lies in a pixel of a part as read natively.
+struct ExrPartLayout {
+  int subimage;
+  int y;  // the data window's first row
+  int width, height, channelCount;
+  bool tiled;
+  size_t pixelBytes;  // all channels, each in its own format
+  struct Channel {
+    size_t layer;   // index into ExrFile::layers
+    size_t offset;  // bytes into the pixel
+    bool isHalf;
+  };
+  std::vector<Channel> channels;
+};
+
+// Row y of the part, read natively into `pixels`, into the layers' samples.
+void Deinterleave(const ExrPartLayout& part, const unsigned char* pixels, size_t y, std::vector<ExrLayer>& layers) {
+  const size_t width = size_t(part.width);
+  for (const ExrPartLayout::Channel& channel : part.channels) {
+    uint32_t* out = layers[channel.layer].samples.data() + y * width;
+    const unsigned char* in = pixels + channel.offset;
+    if (channel.isHalf) {
+      // Gathered, then widened exactly by OpenImageIO (whose half type needs a library of its own).
+      std::vector<uint16_t> halves(width);
+      for (size_t x = 0; x < width; ++x) std::memcpy(&halves[x], in + x * part.pixelBytes, sizeof(uint16_t));
+      OIIO::convert_pixel_values(OIIO::TypeDesc::HALF, halves.data(), OIIO::TypeDesc::FLOAT, out, int(width));
+    } else {
+      for (size_t x = 0; x < width; ++x) std::memcpy(&out[x], in + x * part.pixelBytes, sizeof(uint32_t));
+    }
+  }
 }
 
 }  // namespace
@@ -154,45 +237,100 @@ const ExrLayer* ExrFile::Find(const std::string& part, const std::string& name) 
   return nullptr;
 }
 
-size_t ExrSampleBytes(const fs::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
-  if (std::string(in->format_name()) != "openexr") throw InputError(path, "not an EXR file");
+size_t ExrSampleBytes(const fs::path& path, const ExrChannelFilter& read) {
+  auto in = OpenExr(path);
   size_t bytes = 0;
   for (int subimage = 0; in->seek_subimage(subimage, 0); ++subimage) {
     const OIIO::ImageSpec& spec = in->spec();
-    bytes += size_t(std::max(spec.width, 0)) * size_t(std::max(spec.height, 0)) * size_t(std::max(spec.nchannels, 0)) *
-             sizeof(uint32_t);
+    const std::string part = spec.get_string_attribute("oiio:subimagename");
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (!read || read(part, spec.channelnames[size_t(c)]))
+        bytes += size_t(std::max(spec.width, 0)) * size_t(std::max(spec.height, 0)) * sizeof(uint32_t);
   }
   return bytes;
 }
 
-ExrFile ReadExrFile(const fs::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw InputError(path, "cannot read image: " + OIIO::geterror());
-  if (std::string(in->format_name()) != "openexr") throw InputError(path, "not an EXR file");
+ExrFile ReadExrFile(const fs::path& path, const ExrChannelFilter& read) {
+  ExrInputs inputs(path);
+  ExrReader first = inputs.Take();
   ExrFile file;
-  for (int subimage = 0; in->seek_subimage(subimage, 0); ++subimage) {
-    const OIIO::ImageSpec& spec = in->spec();
+  std::vector<ExrPartLayout> parts;
+  for (int subimage = 0; first.input->seek_subimage(subimage, 0); ++subimage) {
+    const OIIO::ImageSpec& spec = first.input->spec();
     if (subimage == 0) {
       for (const OIIO::ParamValue& attribute : spec.extra_attribs)
         if (attribute.type() == OIIO::TypeDesc::STRING && attribute.name().string().rfind("oiio:", 0) != 0)
           file.metadata[attribute.name().string()] = attribute.get_string();
     }
     const std::string part = spec.get_string_attribute("oiio:subimagename");
+    if (spec.deep) throw InputError(path, "part '" + part + "' holds deep data, not one sample per pixel");
+    ExrPartLayout layout{
+        subimage, spec.y, spec.width, spec.height, spec.nchannels, spec.tile_width > 0, spec.pixel_bytes(true), {}};
+    size_t offset = 0;
     for (int c = 0; c < spec.nchannels; ++c) {
       const OIIO::TypeDesc format = spec.channelformat(c);
       ExrLayer layer{part, spec.channelnames[size_t(c)], spec.width, spec.height, format == OIIO::TypeDesc::UINT32, {}};
       if (!layer.isUint && format != OIIO::TypeDesc::FLOAT && format != OIIO::TypeDesc::HALF)
         throw InputError(path, "channel '" + layer.name + "' is " + format.c_str() + ", not uint32, half or float");
-      layer.samples.resize(size_t(spec.width) * size_t(spec.height));
-      const OIIO::TypeDesc readAs = layer.isUint ? OIIO::TypeDesc::UINT32 : OIIO::TypeDesc::FLOAT;
-      if (!in->read_image(subimage, 0, c, c + 1, readAs, layer.samples.data()))
-        throw InputError(path, "cannot read channel '" + layer.name + "': " + in->geterror());
+      if (!read || read(part, layer.name)) {
+        layer.samples.resize(size_t(spec.width) * size_t(spec.height));
+        layout.channels.push_back({file.layers.size(), offset, format == OIIO::TypeDesc::HALF});
+      }
+      offset += format.size();
       file.layers.push_back(std::move(layer));
     }
+    parts.push_back(std::move(layout));
   }
   if (file.layers.empty()) throw InputError(path, "the EXR holds no channels");
+  inputs.Give(std::move(first));
+
+  // Fixed bands of rows, a multiple of every lossless compression's block (zip 16 rows, piz 32,
+  // none, rle and zips 1), so no block is decoded twice; a tiled part is read whole.
+  constexpr int kBandRows = 32;
+  struct Band {
+    size_t part;
+    int yBegin, yEnd;  // rows of the part's data window, from 0
+  };
+  std::vector<Band> bands;
+  for (size_t p = 0; p < parts.size(); ++p) {
+    if (parts[p].channels.empty()) continue;
+    const int step = parts[p].tiled ? std::max(parts[p].height, 1) : kBandRows;
+    for (int y = 0; y < parts[p].height; y += step) bands.push_back({p, y, std::min(y + step, parts[p].height)});
+  }
+  std::vector<std::string> errors(bands.size());
+  ParallelFor("read EXR", bands.size(), [&](size_t i) {
+    const Band& band = bands[i];
+    const ExrPartLayout& part = parts[band.part];
+    try {
+      ExrReader reader = inputs.Take();
+      std::vector<unsigned char>& buffer = reader.buffer;
+      const size_t rowBytes = size_t(part.width) * part.pixelBytes;
+      buffer.resize(rowBytes * size_t(band.yEnd - band.yBegin));
+      // Every channel in its native format: one decode of the part's blocks for all of them.
+      OIIO::ImageInput& in = *reader.input;
+      const bool ok =
+          part.tiled ? in.read_image(part.subimage, 0, 0, part.channelCount, OIIO::TypeDesc::UNKNOWN, buffer.data())
+                     : in.read_scanlines(part.subimage, 0, part.y + band.yBegin, part.y + band.yEnd, 0, 0,
+                                         part.channelCount, OIIO::TypeDesc::UNKNOWN, buffer.data());
+      if (!ok) {
+        errors[i] = in.geterror();
+        if (errors[i].empty()) errors[i] = "unknown error";
+        return;
+      }
+      for (int y = band.yBegin; y < band.yEnd; ++y)
+        Deinterleave(part, buffer.data() + size_t(y - band.yBegin) * rowBytes, size_t(y), file.layers);
+      inputs.Give(std::move(reader));
+    } catch (const std::exception& e) {
+      errors[i] = e.what();
+    }
+  });
+  for (size_t i = 0; i < bands.size(); ++i) {
+    if (errors[i].empty()) continue;
+    const ExrPartLayout& part = parts[bands[i].part];
+    throw InputError(path, "cannot read part '" + file.layers[part.channels.front().layer].part + "' rows " +
+                               std::to_string(bands[i].yBegin) + "-" + std::to_string(bands[i].yEnd - 1) + ": " +
+                               errors[i]);
+  }
   return file;
 }
 

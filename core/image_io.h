@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -53,7 +54,7 @@ struct ExrLayer {
   std::string name;
   int width = 0, height = 0;
   bool isUint = false;
-  std::vector<uint32_t> samples;  // width * height
+  std::vector<uint32_t> samples;  // width * height; empty when ReadExrFile was told to skip the channel
   float Float(size_t i) const;    // sample i of a float channel
 };
 
@@ -64,13 +65,20 @@ struct ExrFile {
   const ExrLayer* Find(const std::string& part, const std::string& name) const;
 };
 
-// The bytes ReadExrFile would hold for the file's samples, from its headers alone: what a command
-// checks against its memory budget before reading. Throws InputError as ReadExrFile does.
-size_t ExrSampleBytes(const std::filesystem::path& path);
+// Which channels' samples to read, by part name and channel name; an empty filter reads them all.
+using ExrChannelFilter = std::function<bool(const std::string& part, const std::string& name)>;
 
-// Reads every channel of every part. Throws InputError naming the file when it cannot be read, is
-// not an EXR, or holds a channel type other than uint32, half and float.
-ExrFile ReadExrFile(const std::filesystem::path& path);
+// The bytes ReadExrFile would hold for the file's samples (those `read` accepts), from its headers
+// alone: what a command checks against its memory budget before reading. Throws InputError as
+// ReadExrFile does.
+size_t ExrSampleBytes(const std::filesystem::path& path, const ExrChannelFilter& read = {});
+
+// Reads every channel of every part: the layers in file order, with the samples of those `read`
+// accepts (all without a filter). Each part is decoded once, in bands of rows on all threads
+// (core/parallel.h), each thread with an ImageInput of its own; the bytes read do not depend on the
+// thread count. Throws InputError naming the file when it cannot be read, is not an EXR, or holds
+// deep data or a channel type other than uint32, half and float.
+ExrFile ReadExrFile(const std::filesystem::path& path, const ExrChannelFilter& read = {});
 // Writes what ReadExrFile read (half channels as float): a part per distinct part name, in order of
 // first appearance, each part's channels in file order.
 void WriteExrFile(const std::filesystem::path& path, const ExrFile& file);

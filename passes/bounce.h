@@ -57,8 +57,9 @@ struct BounceParams {
 struct BounceInputs {
   const GBuffer& gbuffer;      // words 1 (normal) and 2 (view depth)
   const ViewProjection& view;  // the perspective camera of the G-buffer's size
-  // Radiance leaving each pixel toward the camera (the frame: direct light plus sky light), the
-  // G-buffer's size; sanitised as it is read (NaN and negatives 0, above 65504 65504).
+  // Radiance leaving each pixel toward the camera (the frame's Lit(): direct light plus the sky's
+  // diffuse light), the G-buffer's size; sanitised as it is read (NaN and negatives 0, above 65504
+  // 65504).
   const Plane3<float>& lit;
 };
 
@@ -80,7 +81,8 @@ struct BounceHalfRes {
 struct BounceOutputs {
   // Full resolution. Ambient visibility in [0, 1]: the cosine-weighted share of the hemisphere
   // around the normal that no on-screen surface (within the radius) covers; 1 = open, and 1 where
-  // there is no geometry. Multiplies the sky light.
+  // there is no geometry. For the frame to darken its sky light's diffuse term with (that term's
+  // own visibility volume is coarse: it misses contact detail).
   Plane<float> visibility;
   // Full resolution, linear RGB in [0, 65504]: the irradiance from on-screen surfaces divided by pi,
   // E / pi, the cosine-weighted mean over the hemisphere of the radiance arriving from the lit image

@@ -11,22 +11,34 @@
 namespace ssgi {
 
 void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
+  const bool sky = context.environment != nullptr;
   for (int x = xBegin; x < xEnd; ++x) {
-    if (context.inPlace && !(row.confidence[x] > 0.0f)) continue;
+    const float confidence = row.confidence ? row.confidence[x] : 0.0f;
+    if (context.inPlace && !sky && !(confidence > 0.0f)) continue;
     glm::vec3 indirect(0.0f);
-    if (row.confidence[x] > 0.0f && UnpackDepth(row.word2[x]) != kBackgroundDepth) {
+    if ((confidence > 0.0f || sky) && UnpackDepth(row.word2[x]) != kBackgroundDepth) {
       const SurfaceMaterial material{UnpackAlbedo(row.word0[x]), UnpackMetallic(row.word0[x]),
                                      UnpackRoughness(row.word1[x])};
       const glm::vec3 normal = UnpackNormal(row.word1[x], context.normalEncoding);
       const glm::vec3 toViewer = glm::normalize(-context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction);
       const float nDotV = std::clamp(glm::dot(normal, toViewer), 0.0f, 1.0f);
       const float fade = std::clamp((context.roughnessCutoff - material.roughness) / kRoughnessFadeWidth, 0.0f, 1.0f);
-      const glm::vec3 weight =
-          SpecularWeight(SpecularF0(material), nDotV, material.roughness) * (row.confidence[x] * fade);
-      for (int c = 0; c < 3; ++c) indirect[c] = row.reflected[c][x] * weight[c];
+      const glm::vec3 specular = SpecularWeight(SpecularF0(material), nDotV, material.roughness);
+      if (confidence > 0.0f) {
+        const glm::vec3 weight = specular * (confidence * fade);
+        for (int c = 0; c < 3; ++c) indirect[c] = row.reflected[c][x] * weight[c];
+      }
+      if (sky) {
+        // The share the trace did not see, towards the mirror direction r = 2 (n.v) n - v.
+        const float share = (1.0f - confidence * fade) * row.skyVisibility[x];
+        const glm::vec3 reflection = normal * (2.0f * glm::dot(normal, toViewer)) - toViewer;
+        const glm::vec3 environment =
+            PrefilteredEnvironment(*context.environment, context.viewToWorld * reflection, material.roughness);
+        for (int c = 0; c < 3; ++c) indirect[c] = indirect[c] + environment[c] * (specular[c] * share);
+      }
     }
     for (int c = 0; c < 3; ++c) {
-      row.indirect[c][x] = indirect[c];
+      if (row.indirect[c]) row.indirect[c][x] = indirect[c];
       row.result[c][x] = row.direct[c][x] + indirect[c];
     }
   }
@@ -35,10 +47,19 @@ void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row
 CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, KernelPath kernels) {
   Stopwatch stopwatch;
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
-  ReusePlane3(out.indirect, size_t(width), size_t(height));
+  if (in.keepIndirect) ReusePlane3(out.indirect, size_t(width), size_t(height));
   ReusePlane3(out.result, size_t(width), size_t(height));
-  const bool inPlace = &in.direct == &out.result && &in.reflected == &out.indirect;
-  const CompositeContext context{in.view, in.gbuffer.normalEncoding, in.roughnessCutoff, inPlace};
+  const bool inPlace = &in.direct == &out.result && in.reflected == &out.indirect;
+  SSGI_CHECK((in.reflected == nullptr) == (in.confidence == nullptr));
+  SSGI_CHECK(in.environment == nullptr || (in.skyVisibility != nullptr && in.tiles == nullptr));
+  // The twin reads the prefiltered environment's tables only for a constant environment so far.
+  SSGI_CHECK(in.environment == nullptr || in.environment->constant || kernels == KernelPath::kScalar);
+  const CompositeContext context{in.view,
+                                 in.gbuffer.normalEncoding,
+                                 in.roughnessCutoff,
+                                 inPlace,
+                                 in.environment,
+                                 glm::mat3(glm::inverse(in.view.view))};
   const auto composite = kernels == KernelPath::kSimd ? CompositeRowSimd : CompositeRowScalar;
   SSGI_CHECK(in.tiles == nullptr || in.tiles->Fits(width, height));
   ParallelForRowBands("composite", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
@@ -47,10 +68,15 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
           in.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y),
           in.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y),
           in.gbuffer.word[GBufferWord::kDepth].ConstRow(y),
-          in.confidence.ConstRow(y),
+          in.confidence ? in.confidence->ConstRow(y) : nullptr,
+          in.skyVisibility ? in.skyVisibility->ConstRow(y) : nullptr,
           {in.direct.c[0].ConstRow(y), in.direct.c[1].ConstRow(y), in.direct.c[2].ConstRow(y)},
-          {in.reflected.c[0].ConstRow(y), in.reflected.c[1].ConstRow(y), in.reflected.c[2].ConstRow(y)},
-          {out.indirect.c[0].MutableRow(y), out.indirect.c[1].MutableRow(y), out.indirect.c[2].MutableRow(y)},
+          {in.reflected ? in.reflected->c[0].ConstRow(y) : nullptr,
+           in.reflected ? in.reflected->c[1].ConstRow(y) : nullptr,
+           in.reflected ? in.reflected->c[2].ConstRow(y) : nullptr},
+          {in.keepIndirect ? out.indirect.c[0].MutableRow(y) : nullptr,
+           in.keepIndirect ? out.indirect.c[1].MutableRow(y) : nullptr,
+           in.keepIndirect ? out.indirect.c[2].MutableRow(y) : nullptr},
           {out.result.c[0].MutableRow(y), out.result.c[1].MutableRow(y), out.result.c[2].MutableRow(y)},
       };
       // Outside the mask the kernel would store indirect 0 and result direct + 0; in place both are
@@ -60,7 +86,7 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
           [&](int xBegin, int xEnd) {
             if (inPlace) return;
             for (int c = 0; c < 3; ++c) {
-              std::fill(row.indirect[c] + xBegin, row.indirect[c] + xEnd, 0.0f);
+              if (row.indirect[c]) std::fill(row.indirect[c] + xBegin, row.indirect[c] + xEnd, 0.0f);
               std::transform(row.direct[c] + xBegin, row.direct[c] + xEnd, row.result[c] + xBegin,
                              [](float direct) { return direct + 0.0f; });
             }

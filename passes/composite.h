@@ -1,14 +1,18 @@
 // Composite pass (docs/design.md §7-§8, docs/pipeline.md §Composite): the final linear HDR image,
-// result = direct + indirect, where indirect = reflected radiance x specular weight x confidence x
-// roughness fade:
-// the cone-traced screen-space reflection (passes/ssr_cone.h), weighted by the split-sum specular
-// term of the pixel's material and view angle (Karis 2013, core/brdf.h) and faded by the trace's confidence.
+// result = direct + indirect, where indirect is the specular light the direct light pass does not
+// give: the cone-traced screen-space reflection (passes/ssr_cone.h), weighted by the split-sum
+// specular term of the pixel's material and view angle (Karis 2013, core/brdf.h) and by the trace's
+// confidence and the roughness fade; and, where the sky light runs, the environment prefiltered
+// towards the reflected direction for the share the trace did not see (a miss, low confidence, a
+// surface rougher than the cut-off), weighted alike and by the sky's visibility. With the sky light
+// `direct` is its `lit` image (direct + the sky's diffuse light).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
 #include "core/camera.h"
+#include "core/environment_lighting.h"
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
 #include "core/plane.h"
@@ -20,13 +24,20 @@ struct CompositeInputs {
   const GBuffer& gbuffer;          // words 0 (albedo, metallic), 1 (normal, roughness), 2 (depth)
   const ViewProjection& view;
   const Plane3<float>& direct;     // linear RGB radiance
-  const Plane3<float>& reflected;  // cone-traced radiance, 0 where nothing was hit
-  const Plane<float>& confidence;  // [0, 1], 0 where nothing was hit
+  // Null where the frame traced no reflections: no pixel has a hit.
+  const Plane3<float>* reflected;  // cone-traced radiance, 0 where nothing was hit
+  const Plane<float>* confidence;  // [0, 1], 0 where nothing was hit
   float roughnessCutoff;           // the trace's: rougher pixels were not traced
   // FramePlan::reflectionTiles, or null: its 32x32 tiles hold every pixel smoother than the cut-off,
   // and the others, where the indirect light is 0 (reflected and confidence finite and >= 0, as
   // the cone and the trace give them), are stored as such without reading the G-buffer.
   const TileMask* tiles = nullptr;
+  // The sky's specular light, where the sky light runs (null: none): the environment and the sky's
+  // visibility (passes/sky_light.h). Every pixel then has indirect light: `tiles` must be null.
+  const EnvironmentLighting* environment = nullptr;
+  const Plane<float>* skyVisibility = nullptr;
+  // Whether out.indirect is written: not where nothing reads the indirect term apart from the result.
+  bool keepIndirect = true;
 };
 
 // The reflection fades out linearly over the last kRoughnessFadeWidth of perceptual roughness below
@@ -54,8 +65,10 @@ struct CompositeContext {
   float roughnessCutoff;
   // The outputs are the inputs' planes (result = direct, indirect = reflected): a pixel the trace
   // did not hit already holds its outputs there (the direct light is sanitised, so direct + 0 is
-  // direct, and the cone wrote 0), so it is not written again.
+  // direct, and the cone wrote 0), so it is not written again. Not with the sky's light.
   bool inPlace = false;
+  const EnvironmentLighting* environment = nullptr;  // CompositeInputs::environment
+  glm::mat3 viewToWorld{1.0f};                       // rotates the reflected direction into the world
 };
 
 // One row of every buffer the composite reads and writes, each at the row's pixel 0; RGB as three
@@ -64,10 +77,11 @@ struct CompositeRow {
   const uint32_t* word0;
   const uint32_t* word1;
   const uint32_t* word2;
-  const float* confidence;
+  const float* confidence;     // null: no reflections, confidence 0
+  const float* skyVisibility;  // null without the sky's light
   const float* direct[3];
   const float* reflected[3];
-  float* indirect[3];
+  float* indirect[3];  // null: not kept (CompositeInputs::keepIndirect)
   float* result[3];
 };
 

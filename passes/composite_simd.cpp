@@ -28,6 +28,10 @@ struct CompositeConstants {
   const float* srgbDecodeTable;
   const float* dfgTable;
   bool inPlace;  // CompositeContext::inPlace
+  // The sky's specular light (CompositeContext::environment): a constant environment's radiance.
+  bool sky;
+  glm::vec3 skyRadiance;
+  glm::mat3 viewToWorld;
 };
 
 }  // namespace ssgi
@@ -45,17 +49,17 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
   const DU du;
   const auto zero = hn::Zero(d);
   const auto one = hn::Set(d, 1.0f);
-  const auto confidence = LoadRow(d, row.confidence, x, count, 0.0f);
+  const auto confidence = row.confidence ? LoadRow(d, row.confidence, x, count, 0.0f) : zero;
   const auto confident = hn::Gt(confidence, zero);
-  if (c.inPlace && hn::AllFalse(d, confident)) return;
-  // As in the scalar kernel, word 2 is read only where a lane is confident.
-  auto reflecting = confident;
-  if (!hn::AllFalse(d, confident)) {
+  if (c.inPlace && !c.sky && hn::AllFalse(d, confident)) return;
+  // As in the scalar kernel, word 2 is read only where a lane is confident or the sky lights it.
+  auto lit = c.sky ? hn::FirstN(d, count - x) : confident;
+  if (!hn::AllFalse(d, lit)) {
     const auto depth = UnpackDepthV(d, LoadRow(du, row.word2, x, count, PackDepth(kBackgroundDepth)));
-    reflecting = hn::And(confident, hn::Ne(depth, hn::Set(d, kBackgroundDepth)));
+    lit = hn::And(lit, hn::Ne(depth, hn::Set(d, kBackgroundDepth)));
   }
   Vec3V<DF> indirect{zero, zero, zero};
-  if (!hn::AllFalse(d, reflecting)) {
+  if (!hn::AllFalse(d, lit)) {
     const auto word0 = LoadRow(du, row.word0, x, count, 0u);
     const auto word1 = LoadRow(du, row.word1, x, count, 0u);
     const SurfaceMaterialV<DF> material{UnpackAlbedoV(d, word0, c.srgbDecodeTable), UnpackMetallicV(d, word0),
@@ -66,12 +70,21 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
     const auto fade = ClampStd(
         hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)), zero,
         one);
-    const Vec3V<DF> weight = Scale3(SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable),
-                                    hn::Mul(confidence, fade));
-    const Vec3V<DF> reflected = Mul3(LoadRow3(d, row.reflected, x, count), weight);
-    indirect = IfThenElse3(reflecting, reflected, indirect);
+    const Vec3V<DF> specular = SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable);
+    const auto reflecting = hn::And(confident, lit);
+    if (!hn::AllFalse(d, reflecting)) {
+      const Vec3V<DF> weight = Scale3(specular, hn::Mul(confidence, fade));
+      indirect = IfThenElse3(reflecting, Mul3(LoadRow3(d, row.reflected, x, count), weight), indirect);
+    }
+    if (c.sky) {
+      const auto share =
+          hn::Mul(hn::Sub(one, hn::Mul(confidence, fade)), LoadRow(d, row.skyVisibility, x, count, 0.0f));
+      const Vec3V<DF> environment = Set3(d, c.skyRadiance);
+      const Vec3V<DF> sky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
+      indirect = IfThenElse3(lit, sky, indirect);
+    }
   }
-  StreamRow3(indirect, d, row.indirect, x, count);
+  if (row.indirect[0]) StreamRow3(indirect, d, row.indirect, x, count);
   StreamRow3(Add3(LoadRow3(d, row.direct, x, count), indirect), d, row.result, x, count);
 }
 
@@ -86,7 +99,7 @@ void CompositeRowKernel(const CompositeConstants& c, const CompositeRow& row, si
     // hardware's stream prefetch: a vector with a hit kCompositeLookAhead pixels on asks for them
     // now, so that their lines are in when it is reached.
     const size_t ahead = x + kCompositeLookAhead;
-    if (ahead + hn::Lanes(d) <= size_t(xEnd) &&
+    if (row.confidence && ahead + hn::Lanes(d) <= size_t(xEnd) &&
         !hn::AllFalse(d, hn::Gt(hn::LoadU(d, row.confidence + ahead), hn::Zero(d)))) {
       hwy::Prefetch(row.word0 + ahead);
       hwy::Prefetch(row.word1 + ahead);
@@ -109,8 +122,16 @@ namespace ssgi {
 HWY_EXPORT(CompositeRowKernel);
 
 void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
-  const CompositeConstants constants{&context.view, context.normalEncoding, context.roughnessCutoff,
-                                     SrgbDecodeTableForKernels(), DfgTableForKernels(), context.inPlace};
+  const bool sky = context.environment != nullptr;
+  const CompositeConstants constants{&context.view,
+                                     context.normalEncoding,
+                                     context.roughnessCutoff,
+                                     SrgbDecodeTableForKernels(),
+                                     DfgTableForKernels(),
+                                     context.inPlace,
+                                     sky,
+                                     sky ? context.environment->constantRadiance : glm::vec3(0.0f),
+                                     context.viewToWorld};
   HWY_DYNAMIC_DISPATCH(CompositeRowKernel)(constants, row, y, xBegin, xEnd);
 }
 

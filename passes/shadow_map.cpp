@@ -85,14 +85,6 @@ Receivers ScanReceivers(const GBuffer& gbuffer, const ReceiverPositions& positio
   return all;
 }
 
-// A world axis far from `forward` (the one with its smallest component), so lookAt is well defined.
-glm::vec3 UpHint(const glm::vec3& forward) {
-  const glm::vec3 a = glm::abs(forward);
-  if (a.x <= a.y && a.x <= a.z) return {1.0f, 0.0f, 0.0f};
-  if (a.y <= a.z) return {0.0f, 1.0f, 0.0f};
-  return {0.0f, 0.0f, 1.0f};
-}
-
 // The rotation of a directional light's view (before its window is fitted).
 glm::mat4 DirectionalRotation(const PreparedLight& light) {
   return glm::lookAt(glm::vec3(0.0f), light.direction, UpHint(light.direction));

@@ -78,10 +78,12 @@ struct Basis {
   }
 };
 
-// Primary and bounce rays see what a camera sees (single-sided back faces are invisible, as the
-// rasterizer culls them); shadow rays are stopped by both faces (as the shadow map draws both).
-// Both skip alpha cut-out holes.
-enum class RayKind { kCamera, kShadow };
+// kCamera rays see what a camera sees (single-sided back faces are invisible, as the rasterizer
+// culls them): primary rays, and the paper transport's bounce rays. kBothFaces rays are stopped by
+// both faces of every surface: shadow rays (as the shadow map draws both), and every ray after the
+// first in the full transport (a surface is opaque from either side). Both skip alpha cut-out
+// holes.
+enum class RayKind { kCamera, kBothFaces };
 
 // Embree hands the filter the context pointer it was given, so the context carries what the
 // filter needs (Embree 3 manual, "rtcInitIntersectContext": the context may be extended).
@@ -210,11 +212,11 @@ class RayTracer {
     return true;
   }
 
-  // Whether any accepted surface lies on the shadow ray with t in [tnear, tfar].
+  // Whether any surface stopping kBothFaces rays lies on the shadow ray with t in [tnear, tfar].
   bool Occluded(const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) const {
     RTCRay ray{};
     SetRay(ray, origin, direction, tnear, tfar);
-    TraceContext context = MakeContext(RayKind::kShadow);
+    TraceContext context = MakeContext(RayKind::kBothFaces);
     rtcOccluded1(embreeScene_, &context.embree, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar to -inf on an occluded ray
   }
@@ -368,8 +370,80 @@ LightSample SampleLight(const SampledLight& s, const glm::vec3& position, float 
   return {toLight, distance, light.power * (cone * cone * falloff)};
 }
 
+// The full transport's view of the same lights as emitters that a BSDF-sampled ray can meet, so
+// that multiple importance sampling can weigh the two ways of finding them (Veach 1997, §9.2): the
+// solid-angle density with which SampleLight draws a direction, and the light a ray along a
+// direction receives. A light of zero size (a sun of angular diameter 0, a spot of radius 0) is a
+// delta light: density 0 here, found by SampleLight alone.
+
+// SampleLight's density of `sample` (drawn from `position`) in solid angle; 0 for a delta light.
+// A density that overflows (a sun or disc too small for float) is a delta light's too.
+float LightPdf(const SampledLight& s, const glm::vec3& position, const LightSample& sample) {
+  const PreparedLight& light = s.light;
+  if (!light.isSpot) {
+    const float pdf = 1.0f / (2.0f * kPi * s.oneMinusCosMax);
+    return s.oneMinusCosMax > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
+  }
+  if (!(light.radius > 0.0f)) return 0.0f;
+  // Uniform in the disc's area A = pi r^2: density d^2 / (A cos) in solid angle (PBR 3rd ed., §14.2.2).
+  glm::vec3 toPoint = position - light.position;
+  const float centreDistance = glm::length(toPoint);
+  toPoint = centreDistance > 0.0f ? toPoint / centreDistance : light.direction;
+  const float cosAtDisc = glm::dot(-sample.toLight, toPoint);
+  if (!(cosAtDisc > 0.0f)) return 0.0f;
+  const float pdf = sample.distance * sample.distance / (kPi * light.radius * light.radius * cosAtDisc);
+  return std::isfinite(pdf) ? pdf : 0.0f;
+}
+
+// Whether the ray from `position` along unit `direction` meets the light's emitter (the sun's cone
+// of directions; the spot's disc, facing `position` as SampleLight places it), and if so, as
+// SampleLight would have drawn that direction: `sample` (distance along the ray, irradiance) and
+// its density `pdf`. The emitted radiance along the ray is then sample.irradiance * pdf: the
+// radiance that makes SampleLight's estimator BrdfCosine * irradiance unbiased.
+bool HitEmitter(const SampledLight& s, const glm::vec3& position, const glm::vec3& direction, LightSample& sample,
+                float& pdf) {
+  const PreparedLight& light = s.light;
+  if (!light.isSpot) {
+    if (!(s.oneMinusCosMax > 0.0f)) return false;
+    // 1 - cos = |direction - axis|^2 / 2: no cancellation for a small sun.
+    const glm::vec3 offAxis = direction - s.frame.n;
+    if (0.5f * glm::dot(offAxis, offAxis) > s.oneMinusCosMax) return false;
+    sample = {direction, kInfinity, light.power * s.coneNormalisation};
+    pdf = 1.0f / (2.0f * kPi * s.oneMinusCosMax);
+    return std::isfinite(pdf);
+  }
+  if (!(light.radius > 0.0f)) return false;
+  glm::vec3 toPoint = position - light.position;
+  const float centreDistance = glm::length(toPoint);
+  if (!(centreDistance > 0.0f)) return false;
+  toPoint /= centreDistance;  // the disc's normal
+  const float cosAtDisc = -glm::dot(direction, toPoint);
+  if (!(cosAtDisc > 0.0f)) return false;
+  const float distance = centreDistance / cosAtDisc;  // to the disc's plane along the ray
+  const glm::vec3 fromCentre = position + direction * distance - light.position;
+  if (glm::dot(fromCentre, fromCentre) > light.radius * light.radius) return false;
+  // As SampleLight: the cone falloff from the disc's centre, the clamped inverse square.
+  const float cone = std::clamp((glm::dot(toPoint, light.direction) - light.cosOuter) * light.coneScale, 0.0f, 1.0f);
+  const float falloff = cosAtDisc / std::max(distance * distance, std::max(light.radius * light.radius, 1e-8f));
+  sample = {direction, distance, light.power * (cone * cone * falloff)};
+  pdf = distance * distance / (kPi * light.radius * light.radius * cosAtDisc);
+  return std::isfinite(pdf);
+}
+
+// The power heuristic with exponent 2 (Veach 1997, ch. 9): the weight of a sample drawn with
+// density `pdf` by one strategy that another strategy draws with density `otherPdf`. Written as a
+// ratio so that no density squared overflows.
+float PowerHeuristic(float pdf, float otherPdf) {
+  if (!(pdf > 0.0f)) return 0.0f;
+  const float ratio = otherPdf / pdf;
+  return 1.0f / (1.0f + ratio * ratio);
+}
+
+float Luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
 struct Counters {
   size_t rays = 0;
+  size_t paths = 0;
 };
 
 class Shader {
@@ -462,7 +536,6 @@ class Shader {
 
   bool HasShadowLight() const { return firstShadowLight_ < lights_.size(); }
 
- private:
   // Heitz 2018's sampling routine (isotropic alpha): a microfacet normal in the local frame,
   // distributed as D_v(h) = G1(v) max(0, v.h) D(h) / v.z.
   static glm::vec3 SampleVisibleNormal(const glm::vec3& v, float alpha, float u1, float u2) {
@@ -480,8 +553,224 @@ class Shader {
     return glm::normalize(glm::vec3(alpha * nh.x, alpha * nh.y, std::max(0.0f, nh.z)));
   }
 
+ private:
   // The start of a ray leaving `s` along `direction`: off the triangle's plane on the side the
   // ray goes, so it cannot hit its own triangle again (including rays into the surface).
+  glm::vec3 OffsetOrigin(const Surface& s, const glm::vec3& direction) const {
+    return s.position + s.faceNormal * (glm::dot(s.faceNormal, direction) >= 0.0f ? rayOffset_ : -rayOffset_);
+  }
+
+  const Scene& scene_;
+  const RayTracer& tracer_;
+  const ReferenceParams& params_;
+  std::vector<SampledLight> lights_;
+  size_t firstShadowLight_ = std::numeric_limits<size_t>::max();
+  float rayOffset_ = 0.0f;
+};
+
+// The full transport: one path per call, from the camera through the scene (Pharr et al., PBR
+// 4th ed., §13.4, PathIntegrator, with its multiple importance sampling of lights and BSDF).
+struct PathRadiance {
+  glm::vec3 direct{0.0f};    // the lights' light at the first hit; the environment if the camera ray misses
+  glm::vec3 indirect{0.0f};  // everything else
+};
+
+// A direction drawn from the BRDF at a surface: f cos / pdf and the (mixture) density.
+struct BsdfSample {
+  glm::vec3 direction;
+  glm::vec3 weight;
+  float pdf;
+};
+
+class PathTracer {
+ public:
+  PathTracer(const Scene& scene, const RayTracer& tracer, const ReferenceParams& params)
+      : scene_(scene), tracer_(tracer), params_(params), lights_(SampleableLights(scene)) {
+    float extent = 0.0f;
+    for (const glm::vec3& p : scene.mesh.positions)
+      extent = std::max(extent, std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
+    rayOffset_ = kRayOffsetScale * std::max(extent, 1.0f);
+    for (size_t i = 0; i < lights_.size(); ++i) {
+      if (lights_[i].castShadows) {
+        firstShadowLight_ = i;
+        break;
+      }
+    }
+  }
+
+  bool HasShadowLight() const { return firstShadowLight_ < lights_.size(); }
+
+  // How many of `samples` light samples of the first shadow-casting light seen from `s` reach it
+  // (each traced, whatever the BRDF there): the visibility the shadow filter estimates.
+  int VisibleSamples(const Surface& s, int samples, Pcg32& rng, Counters& counters) const {
+    const SampledLight& light = lights_[firstShadowLight_];
+    int visible = 0;
+    for (int k = 0; k < samples; ++k) {
+      const float u1 = rng.Uniform();
+      const float u2 = rng.Uniform();
+      const LightSample sample = SampleLight(light, s.position, u1, u2);
+      ++counters.rays;
+      visible += !Occluded(s, sample);
+    }
+    return visible;
+  }
+
+  // One path whose camera ray hit `hit` along `cameraDirection` (unit). The lights are not seen by
+  // camera rays (the rasterized frame draws no emitter either), only by the paths' later rays.
+  PathRadiance Trace(const Hit& cameraHit, const glm::vec3& cameraDirection, Pcg32& rng, Counters& counters) const {
+    PathRadiance out;
+    const Environment& environment = params_.environment;
+    const bool environmentLights = !environment.IsBlack();
+    Surface s = ResolveSurface(scene_, cameraHit, cameraDirection);
+    glm::vec3 toViewer = -cameraDirection;
+    glm::vec3 throughput(1.0f);
+    for (int depth = 0;; ++depth) {
+      glm::vec3& lightSink = depth == 0 ? out.direct : out.indirect;
+      // Light sampling: one sample of every light, weighted against BSDF sampling.
+      for (const SampledLight& light : lights_) {
+        const float u1 = rng.Uniform();
+        const float u2 = rng.Uniform();
+        const LightSample sample = SampleLight(light, s.position, u1, u2);
+        const glm::vec3 reflected = Reflected(s, toViewer, sample.toLight);
+        if (IsZero(reflected) || IsZero(sample.irradiance)) continue;
+        const float lightPdf = LightPdf(light, s.position, sample);
+        const float weight = lightPdf > 0.0f ? PowerHeuristic(lightPdf, BsdfPdf(s, toViewer, sample.toLight)) : 1.0f;
+        if (light.castShadows) {
+          ++counters.rays;
+          if (Occluded(s, sample)) continue;
+        }
+        lightSink += throughput * reflected * sample.irradiance * weight;
+      }
+      // Environment sampling, weighted against BSDF sampling.
+      if (environmentLights) {
+        const float u1 = rng.Uniform();
+        const float u2 = rng.Uniform();
+        const EnvironmentSample sample = environment.Sample(u1, u2);
+        const glm::vec3 reflected = Reflected(s, toViewer, sample.direction);
+        if (!IsZero(reflected) && !IsZero(sample.radiance)) {
+          ++counters.rays;
+          if (!tracer_.Occluded(OffsetOrigin(s, sample.direction), sample.direction, 0.0f, kInfinity)) {
+            const float weight = PowerHeuristic(sample.pdf, BsdfPdf(s, toViewer, sample.direction));
+            out.indirect += throughput * reflected * sample.radiance * (weight / sample.pdf);
+          }
+        }
+      }
+      // BSDF sampling: the next direction, which also finds the emitters and the environment.
+      const float uLobe = rng.Uniform();
+      const float u1 = rng.Uniform();
+      const float u2 = rng.Uniform();
+      BsdfSample bsdf;
+      if (!SampleBsdf(s, toViewer, uLobe, u1, u2, bsdf)) break;
+      throughput *= bsdf.weight;
+      // Russian roulette (PBR 4th ed., §13.4.3): after a few bounces a path goes on with probability
+      // its throughput's largest component, and survivors are weighted up by its inverse.
+      if (depth >= kRussianRouletteDepth) {
+        const float survival = std::min(1.0f, std::max(throughput.x, std::max(throughput.y, throughput.z)));
+        if (!(rng.Uniform() < survival)) break;
+        throughput /= survival;
+      }
+      const glm::vec3 direction = bsdf.direction;
+      Hit hit{0, 0.0f, 0.0f, kInfinity};
+      ++counters.rays;
+      const bool found =
+          tracer_.Intersect(RayKind::kBothFaces, OffsetOrigin(s, direction), direction, 0.0f, kInfinity, hit);
+      for (const SampledLight& light : lights_) {
+        LightSample sample;
+        float lightPdf = 0.0f;
+        if (!HitEmitter(light, s.position, direction, sample, lightPdf)) continue;
+        // Shadowed as SampleLight's shadow ray would be: by a surface short of the emitter.
+        if (light.castShadows && found && !(hit.t > std::max(0.0f, sample.distance - rayOffset_))) continue;
+        lightSink += throughput * sample.irradiance * (lightPdf * PowerHeuristic(bsdf.pdf, lightPdf));
+      }
+      if (!found) {
+        if (environmentLights) {
+          const float weight = PowerHeuristic(bsdf.pdf, environment.Pdf(direction));
+          out.indirect += throughput * environment.Radiance(direction) * weight;
+        }
+        break;
+      }
+      // The last vertex's ray only gathers what it sees at infinity and on the emitters.
+      if (depth == params_.bounces) break;
+      s = ResolveSurface(scene_, hit, direction);
+      toViewer = -direction;
+    }
+    return out;
+  }
+
+ private:
+  static constexpr int kRussianRouletteDepth = 3;
+
+  static bool IsZero(const glm::vec3& c) { return !(c.x > 0.0f || c.y > 0.0f || c.z > 0.0f); }
+
+  // The BRDF times n.l at `s` for unit v (to the viewer) and l (to the light): core/brdf.h's, the
+  // one every path of the renderer shades with.
+  static glm::vec3 Reflected(const Surface& s, const glm::vec3& v, const glm::vec3& l) {
+    return BrdfCosine(s.material, s.alpha, s.normal, v, l);
+  }
+
+  // The probability of sampling the specular lobe: its share of the surface's estimated
+  // directional albedo, the diffuse lobe's albedo (1 - metallic) against the specular lobe's
+  // F0 A + B from the split-sum table (core/brdf.h).
+  static float SpecularProbability(const Surface& s, float nDotV) {
+    const float diffuse = Luminance(s.material.albedo) * (1.0f - s.material.metallic);
+    const float specular = Luminance(SpecularWeight(SpecularF0(s.material), nDotV, s.material.roughness));
+    return specular + diffuse > 0.0f ? specular / (specular + diffuse) : 1.0f;
+  }
+
+  // The mixture density with which SampleBsdf draws unit `l` seen from unit `v`: the lobe
+  // probabilities times the cosine density n.l / pi and the GGX visible-normal density
+  // D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v) = D(h) / (2 (n.v + Lv)) (Heitz 2018, eq. 17, with
+  // G1(v) = 2 n.v / (n.v + Lv), Lv = sqrt(a^2 + (1 - a^2) n.v^2)).
+  static float BsdfPdf(const Surface& s, const glm::vec3& v, const glm::vec3& l) {
+    const float nDotV = glm::dot(s.normal, v);
+    const float nDotL = glm::dot(s.normal, l);
+    if (!(nDotV > 0.0f) || !(nDotL > 0.0f)) return 0.0f;
+    return MixturePdf(s, nDotV, nDotL, glm::dot(s.normal, glm::normalize(v + l)), SpecularProbability(s, nDotV));
+  }
+  static float MixturePdf(const Surface& s, float nDotV, float nDotL, float nDotH, float specularProbability) {
+    const float a2 = s.alpha * s.alpha;
+    const float lambdaV = std::sqrt(a2 + (1.0f - a2) * nDotV * nDotV);
+    const float specular = GgxDistribution(std::clamp(nDotH, 0.0f, 1.0f), s.alpha) / (2.0f * (nDotV + lambdaV));
+    return specularProbability * specular + (1.0f - specularProbability) * (nDotL / kPi);
+  }
+
+  // Draws a direction at `s` seen from `v`: the specular lobe with SpecularProbability, by GGX
+  // visible normals (Heitz 2018); else the diffuse lobe, cosine-weighted (Malley's method, PBR 4th
+  // ed., §A.5.3). The weight is the whole BRDF's BrdfCosine over the mixture density (PBR 4th ed.,
+  // §13.4: one-sample model of the lobes). False when the direction is below the surface.
+  bool SampleBsdf(const Surface& s, const glm::vec3& v, float uLobe, float u1, float u2, BsdfSample& out) const {
+    const Basis frame(s.normal);
+    const glm::vec3 vLocal = frame.ToLocal(v);
+    if (!(vLocal.z > 0.0f)) return false;  // the BRDF is 0 for a viewer below the surface
+    const float specularProbability = SpecularProbability(s, vLocal.z);
+    glm::vec3 l;
+    if (uLobe < specularProbability) {
+      const glm::vec3 h = Shader::SampleVisibleNormal(vLocal, s.alpha, u1, u2);
+      l = h * (2.0f * glm::dot(vLocal, h)) - vLocal;
+    } else {
+      const float r = std::sqrt(u1);
+      const float phi = 2.0f * kPi * u2;
+      l = glm::vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u1)));
+    }
+    if (!(l.z > 0.0f)) return false;
+    out.direction = glm::normalize(frame.ToWorld(l));
+    const float nDotV = glm::dot(s.normal, v);
+    const float nDotL = glm::dot(s.normal, out.direction);
+    if (!(nDotV > 0.0f) || !(nDotL > 0.0f)) return false;
+    out.pdf = MixturePdf(s, nDotV, nDotL, glm::dot(s.normal, glm::normalize(v + out.direction)), specularProbability);
+    const glm::vec3 reflected = Reflected(s, v, out.direction);
+    if (!(out.pdf > 0.0f) || IsZero(reflected)) return false;
+    out.weight = reflected / out.pdf;
+    return std::isfinite(out.weight.x) && std::isfinite(out.weight.y) && std::isfinite(out.weight.z);
+  }
+
+  bool Occluded(const Surface& s, const LightSample& sample) const {
+    // A spot's shadow ray ends just before the emitter point it aims at.
+    const float tfar = std::isinf(sample.distance) ? kInfinity : std::max(0.0f, sample.distance - rayOffset_);
+    return tracer_.Occluded(OffsetOrigin(s, sample.toLight), sample.toLight, 0.0f, tfar);
+  }
+
+  // As Shader::OffsetOrigin: off the triangle's plane on the side the ray goes.
   glm::vec3 OffsetOrigin(const Surface& s, const glm::vec3& direction) const {
     return s.position + s.faceNormal * (glm::dot(s.faceNormal, direction) >= 0.0f ? rayOffset_ : -rayOffset_);
   }
@@ -497,8 +786,9 @@ class Shader {
 }  // namespace
 
 size_t EstimateReferenceMemory(const Scene& scene, const ReferenceParams& params) {
-  // Output planes: direct, indirect and result (RGB), the light's visibility and the depth.
-  constexpr size_t kPlanes = 11;
+  // Output planes: direct, indirect, result and its variance (RGB), the light's visibility and the
+  // depth. The path tracer's per-thread state is a few hundred bytes.
+  constexpr size_t kPlanes = 14;
   const size_t planes = kPlanes * hwy::ImageBase::BytesPerRow(size_t(params.width), sizeof(float)) * size_t(params.height);
   return planes + kReferenceBvhBytesPerTriangle * scene.mesh.TriangleCount() +
          scene.mesh.positions.size() * 4 * sizeof(float);
@@ -509,6 +799,9 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
   SSGI_CHECK_GE(params.lightSamples, 1);
   SSGI_CHECK_GE(params.bounceSamples, 0);
   SSGI_CHECK_GE(params.bounceLightSamples, 1);
+  SSGI_CHECK_GE(params.samplesPerPixel, 1);
+  SSGI_CHECK_GE(params.bounces, 0);
+  const bool full = params.transport == ReferenceTransport::kFull;
   const int width = params.width, height = params.height;
   const ViewProjection view = MakePerspective(scene.camera, width, height);
   const glm::mat4 viewToWorld = glm::inverse(view.view);
@@ -522,9 +815,11 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
   out.stats.bvhBytes = tracer.PeakBytes();
 
   const Shader shader(scene, tracer, params);
+  const PathTracer pathTracer(scene, tracer, params);
   out.direct = MakePlane3<float>(width, height, 0.0f);
   out.indirect = MakePlane3<float>(width, height, 0.0f);
   out.result = MakePlane3<float>(width, height, 0.0f);
+  out.resultVariance = MakePlane3<float>(width, height, 0.0f);
   out.lightVisibility = MakePlane<float>(width, height, 1.0f);
   out.depth = MakePlane<float>(width, height, kBackgroundDepth);
 
@@ -539,6 +834,8 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
       float* indirect[3] = {out.indirect.c[0].MutableRow(y), out.indirect.c[1].MutableRow(y),
                             out.indirect.c[2].MutableRow(y)};
       float* result[3] = {out.result.c[0].MutableRow(y), out.result.c[1].MutableRow(y), out.result.c[2].MutableRow(y)};
+      float* variance[3] = {out.resultVariance.c[0].MutableRow(y), out.resultVariance.c[1].MutableRow(y),
+                            out.resultVariance.c[2].MutableRow(y)};
       float* visibility = out.lightVisibility.MutableRow(y);
       float* depth = out.depth.MutableRow(y);
       for (int x = 0; x < width; ++x) {
@@ -546,6 +843,67 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
         // the thread count nor the order pixels run in.
         const uint64_t pixel = uint64_t(y) * uint64_t(width) + uint64_t(x);
         Pcg32 rng(Mix64((uint64_t(params.seed) << 32) ^ pixel), pixel);
+        if (full) {
+          // The pixel-centre ray gives the depth and the light's visibility, from a stream of their
+          // own so that the paths' samples do not depend on them.
+          const glm::vec3 centreDirection =
+              viewToWorldRotation * view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
+          Hit centreHit;
+          ++counters[band].rays;
+          const bool centreFound =
+              tracer.Intersect(RayKind::kCamera, cameraPosition, centreDirection, view.nearPlane, kInfinity, centreHit);
+          if (centreFound) {
+            ++covered[band];
+            depth[x] = centreHit.t;
+            if (pathTracer.HasShadowLight()) {
+              Pcg32 visibilityRng(Mix64((uint64_t(params.seed) << 32) ^ pixel), pixel | (uint64_t(1) << 62));
+              const Surface s = ResolveSurface(scene, centreHit, glm::normalize(centreDirection));
+              visibility[x] =
+                  float(pathTracer.VisibleSamples(s, params.samplesPerPixel, visibilityRng, counters[band])) /
+                  float(params.samplesPerPixel);
+            }
+          }
+          // Sums in double, in sample order: the sample variance needs the sum of squares without
+          // cancellation.
+          double sumDirect[3] = {0.0, 0.0, 0.0}, sumIndirect[3] = {0.0, 0.0, 0.0}, sumSquares[3] = {0.0, 0.0, 0.0};
+          for (int k = 0; k < params.samplesPerPixel; ++k) {
+            glm::vec3 direction = centreDirection;
+            Hit hit = centreHit;
+            bool found = centreFound;
+            if (!params.pixelCentre) {
+              // A box filter: the ray through a uniform point of the pixel.
+              const float jx = rng.Uniform();
+              const float jy = rng.Uniform();
+              direction = viewToWorldRotation * view.PixelRay(float(x) + jx, float(y) + jy).direction;
+              ++counters[band].rays;
+              found = tracer.Intersect(RayKind::kCamera, cameraPosition, direction, view.nearPlane, kInfinity, hit);
+            }
+            ++counters[band].paths;
+            const glm::vec3 unitDirection = glm::normalize(direction);
+            PathRadiance path;
+            if (found) {
+              path = pathTracer.Trace(hit, unitDirection, rng, counters[band]);
+            } else {
+              path.direct = params.environment.Radiance(unitDirection);
+            }
+            for (int c = 0; c < 3; ++c) {
+              sumDirect[c] += double(path.direct[c]);
+              sumIndirect[c] += double(path.indirect[c]);
+              const double sample = double(path.direct[c]) + double(path.indirect[c]);
+              sumSquares[c] += sample * sample;
+            }
+          }
+          const double n = double(params.samplesPerPixel);
+          for (int c = 0; c < 3; ++c) {
+            const double sum = sumDirect[c] + sumIndirect[c];
+            direct[c][x] = float(sumDirect[c] / n);
+            indirect[c][x] = float(sumIndirect[c] / n);
+            result[c][x] = direct[c][x] + indirect[c][x];
+            // The sample variance over n, the variance of the mean; unknown (0) from one sample.
+            variance[c][x] = n > 1.0 ? float(std::max(0.0, sumSquares[c] - sum * sum / n) / ((n - 1.0) * n)) : 0.0f;
+          }
+          continue;
+        }
         // The view ray has z = -1 in view space, so its t is the view depth and the camera's near
         // plane is tnear: the same clipping as the rasterizer's.
         const glm::vec3 rayDirection =
@@ -578,6 +936,7 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
   });
   for (size_t b = 0; b < bands; ++b) {
     out.stats.rays += counters[b].rays;
+    out.stats.paths += counters[b].paths;
     out.stats.coveredPixels += covered[b];
   }
   out.stats.traceMs = stopwatch.Lap();

@@ -160,6 +160,11 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "effects.reflections", "--reflections",
       "Screen-space reflections (indirect light): auto (when a surface is smooth enough to reflect), on or off.",
       effectModes, {}, [](auto& c) -> auto& { return c.reflections; }));
+  table.push_back(ChoiceSetting<EffectMode>(
+      "effects.sky", "--sky",
+      "Sky light: the environment's light on every surface, diffuse and (where the reflections do not "
+      "reach) specular, under a world-space sky visibility: auto (when the environment is not black), on or off.",
+      effectModes, {}, [](auto& c) -> auto& { return c.sky; }));
   table.push_back(ChoiceSetting<ShadowFilter>(
       "shadow_filter", "--shadow-filter",
       "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito), sspcss (isotropic screen-space PCSS, "

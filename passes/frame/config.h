@@ -6,19 +6,19 @@
 #pragma once
 
 #include <functional>
+#include <glm/glm.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
 
-#include <glm/glm.hpp>
-
 #include "core/render_modes.h"
 #include "core/scene.h"
 #include "passes/direct_light.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
+#include "passes/sky_light.h"
 #include "passes/ssr_cone.h"
 #include "passes/ssr_trace.h"
 #include "passes/tonemap.h"
@@ -31,9 +31,11 @@ struct FrameConfig {
   NormalEncoding normalEncoding = NormalEncoding::kOct24;  // of G-buffer word 1
   EffectMode shadows = EffectMode::kAuto;
   EffectMode reflections = EffectMode::kAuto;
+  EffectMode sky = EffectMode::kAuto;
   ShadowMapParams shadowMap;
   ShadowFilterParams shadowFilter;
   DirectLightParams directLight;
+  SkyVisibilityParams skyVisibility;
   SsrTraceParams ssrTrace;
   SsrConeParams ssrCone;
   TonemapParams tonemap;

@@ -2,15 +2,18 @@
 #include "passes/frame/diff.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 
-#include <nlohmann/json.hpp>
-
+#include "core/check.h"
 #include "core/error.h"
 #include "core/image_compare.h"
+#include "core/parallel.h"
 #include "core/raster/raster.h"
 #include "passes/frame/dump.h"
 
@@ -49,33 +52,45 @@ double SegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
 }
 
 // Which pixels lie within kCoverageRounding of an edge of a triangle the oracle draws there or next
-// to them, or the port draws there: computed on first asking, per pixel.
+// to them, or the port draws there: computed on first asking, per pixel. Bands of several layers
+// may ask about one pixel at once; each computes the same answer, so the memo is relaxed atomics.
 class EdgePixels {
  public:
   EdgePixels(const CoverageGeometry& geometry, const ExrLayer& oracleTriangles, const ExrLayer* portTriangles)
-      : geometry_(geometry), oracle_(oracleTriangles), port_(portTriangles),
-        known_(oracleTriangles.samples.size(), kUnknown) {}
+      : geometry_(geometry), oracle_(oracleTriangles), port_(portTriangles), known_(oracleTriangles.samples.size()) {
+    SSGI_CHECK_EQ(oracle_.samples.size(), size_t(oracle_.width) * size_t(oracle_.height));
+  }
 
-  bool At(int x, int y) {
-    const size_t i = size_t(y) * size_t(oracle_.width) + size_t(x);
-    if (known_[i] == kUnknown) known_[i] = Classify(x, y) ? kEdge : kInterior;
-    return known_[i] == kEdge;
+  bool At(int x, int y) const {
+    std::atomic<int8_t>& known = known_[size_t(y) * size_t(oracle_.width) + size_t(x)];
+    int8_t state = known.load(std::memory_order_relaxed);
+    if (state == kUnknown) {
+      state = Classify(x, y) ? kEdge : kInterior;
+      known.store(state, std::memory_order_relaxed);
+    }
+    return state == kEdge;
   }
 
  private:
-  static constexpr int8_t kUnknown = -1, kInterior = 0, kEdge = 1;
+  static constexpr int8_t kUnknown = 0, kInterior = 1, kEdge = 2;
 
   bool Classify(int x, int y) const {
-    std::set<uint32_t> triangles;
+    // The triangles of the 3x3 neighbourhood and the port's, each once.
+    uint32_t triangles[10];
+    size_t count = 0;
+    const auto add = [&](uint32_t t) {
+      if (std::find(triangles, triangles + count, t) == triangles + count) triangles[count++] = t;
+    };
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int nx = x + dx, ny = y + dy;
         if (nx < 0 || ny < 0 || nx >= oracle_.width || ny >= oracle_.height) continue;
-        triangles.insert(oracle_.samples[size_t(ny) * size_t(oracle_.width) + size_t(nx)]);
+        add(oracle_.samples[size_t(ny) * size_t(oracle_.width) + size_t(nx)]);
       }
-    if (port_ != nullptr) triangles.insert(port_->samples[size_t(y) * size_t(oracle_.width) + size_t(x)]);
+    if (port_ != nullptr) add(port_->samples[size_t(y) * size_t(oracle_.width) + size_t(x)]);
     const glm::dvec2 centre(x + 0.5, y + 0.5);
-    for (uint32_t t : triangles) {
+    for (size_t i = 0; i < count; ++i) {
+      const uint32_t t = triangles[i];
       if (t == kNoTriangle || size_t(t) >= geometry_.mesh.TriangleCount()) continue;
       glm::dvec2 corners[3];
       for (int k = 0; k < 3; ++k) {
@@ -96,14 +111,16 @@ class EdgePixels {
   const CoverageGeometry& geometry_;
   const ExrLayer& oracle_;
   const ExrLayer* port_;
-  std::vector<int8_t> known_;
+  mutable std::vector<std::atomic<int8_t>> known_;
 };
 
 // Whether sample a (port) is within tolerance of b (oracle), and the differences measured.
 struct SampleDifference {
   double absolute = 0.0;
   uint64_t ulp = 0;
+  bool ulpMeasured = false;  // a float pair, not both within the absolute tolerance of zero
   bool within = true;
+  double used = 0.0;  // within: the share of the most lenient bound the difference uses, 0 to 1
 };
 
 SampleDifference CompareSample(uint32_t a, uint32_t b, bool isUint, const LayerTolerance& tolerance) {
@@ -112,34 +129,97 @@ SampleDifference CompareSample(uint32_t a, uint32_t b, bool isUint, const LayerT
   if (isUint) {
     d.absolute = std::fabs(double(a) - double(b));
     d.within = !tolerance.exact && tolerance.absolute > 0.0 && d.absolute <= tolerance.absolute;
+    if (d.within) d.used = d.absolute / tolerance.absolute;
     return d;
   }
   const float fa = AsFloat(a), fb = AsFloat(b);
   if (std::isnan(fa) || std::isnan(fb)) {
     d.absolute = std::numeric_limits<double>::infinity();
     d.ulp = UINT64_MAX;
+    d.ulpMeasured = true;
     d.within = std::isnan(fa) && std::isnan(fb) && !tolerance.exact;
     return d;
   }
   d.absolute = std::fabs(double(fa) - double(fb));
   if (std::isinf(fa) || std::isinf(fb)) d.absolute = fa == fb ? 0.0 : std::numeric_limits<double>::infinity();
   d.ulp = uint64_t(std::llabs(OrderedFloat(a) - OrderedFloat(b)));
+  d.ulpMeasured = !(tolerance.absolute > 0.0 && std::fabs(double(fa)) <= tolerance.absolute &&
+                    std::fabs(double(fb)) <= tolerance.absolute);
   if (tolerance.exact) {
     d.within = false;
-  } else {
-    d.within = d.ulp == 0 || (tolerance.absolute > 0.0 && d.absolute <= tolerance.absolute) ||
-               (tolerance.relative > 0.0 && d.absolute <= tolerance.relative * std::fabs(double(fb))) ||
-               (tolerance.ulp > 0 && d.ulp <= tolerance.ulp);
+    return d;
   }
+  const double relativeBound = tolerance.relative * std::fabs(double(fb));
+  d.within = d.ulp == 0 || (tolerance.absolute > 0.0 && d.absolute <= tolerance.absolute) ||
+             (tolerance.relative > 0.0 && d.absolute <= relativeBound) || (tolerance.ulp > 0 && d.ulp <= tolerance.ulp);
+  if (!d.within || d.ulp == 0) return d;
+  // The share of the most lenient bound the difference uses.
+  double used = 1.0;
+  if (tolerance.absolute > 0.0) used = std::min(used, d.absolute / tolerance.absolute);
+  if (tolerance.relative > 0.0 && relativeBound > 0.0) used = std::min(used, d.absolute / relativeBound);
+  if (tolerance.ulp > 0) used = std::min(used, double(d.ulp) / double(tolerance.ulp));
+  d.used = used;
   return d;
 }
 
-LayerDiff CompareLayer(const std::string& id, FramePass pass, const ExrLayer& oracle, const ExrLayer* port,
-                       const LayerTolerance& tolerance, EdgePixels* edges) {
+// Rows [yBegin, yEnd) of one layer compared: the sums and extremes DiffDumps combines in band order.
+struct BandDiff {
+  double sumSquares = 0.0, maxAbsolute = 0.0, worst = -1.0, toleranceUsed = 0.0;
+  uint64_t maxUlp = 0;
+  bool ulpMeasured = false, hardFailed = false;
+  size_t samples = 0, overTolerance = 0, edgePixels = 0;
+  int worstX = -1, worstY = -1;
+};
+
+BandDiff CompareBand(const ExrLayer& oracle, const ExrLayer& port, const LayerTolerance& tolerance,
+                     const EdgePixels* edges, int yBegin, int yEnd) {
+  BandDiff band;
+  for (int y = yBegin; y < yEnd; ++y) {
+    for (int x = 0; x < oracle.width; ++x) {
+      const size_t i = size_t(y) * size_t(oracle.width) + size_t(x);
+      if (port.samples[i] == oracle.samples[i]) {
+        ++band.samples;
+        continue;
+      }
+      const SampleDifference d = CompareSample(port.samples[i], oracle.samples[i], oracle.isUint, tolerance);
+      if (d.absolute == 0.0 && d.ulp == 0) {
+        ++band.samples;
+        continue;
+      }
+      if (tolerance.coverage && edges != nullptr && edges->At(x, y)) {
+        ++band.edgePixels;
+        continue;
+      }
+      ++band.samples;
+      band.maxAbsolute = std::max(band.maxAbsolute, d.absolute);
+      if (d.ulpMeasured) {
+        band.maxUlp = std::max(band.maxUlp, d.ulp);
+        band.ulpMeasured = true;
+      }
+      band.sumSquares += std::isfinite(d.absolute) ? d.absolute * d.absolute : 0.0;
+      if (d.within) {
+        band.toleranceUsed = std::max(band.toleranceUsed, d.used);
+        continue;
+      }
+      ++band.overTolerance;
+      if (d.absolute > tolerance.hardFail) band.hardFailed = true;
+      if (d.absolute > band.worst) {
+        band.worst = d.absolute;
+        band.worstX = x;
+        band.worstY = y;
+      }
+    }
+  }
+  return band;
+}
+
+// A layer of both files, before its samples are compared: fails at once when size or type differ.
+LayerDiff CheckLayerPair(const std::string& id, FramePass pass, const ExrLayer& oracle, const ExrLayer* port) {
   LayerDiff diff;
   diff.id = id;
   diff.pass = pass;
   if (port == nullptr) {
+    diff.presence = LayerPresence::kOracleOnly;
     diff.problem = "not in the port's file";
     return diff;
   }
@@ -152,57 +232,121 @@ LayerDiff CompareLayer(const std::string& id, FramePass pass, const ExrLayer& or
   if (port->isUint != oracle.isUint) {
     diff.problem = std::string("type differs: ") + (port->isUint ? "uint32" : "float") + ", the oracle's " +
                    (oracle.isUint ? "uint32" : "float");
+    diff.typeDiffers = true;
     diff.ok = false;
     return diff;
   }
+  const size_t count = size_t(oracle.width) * size_t(oracle.height);
+  SSGI_CHECK_EQ(oracle.samples.size(), count);
+  SSGI_CHECK_EQ(port->samples.size(), count);
   diff.compared = true;
-  double sumSquares = 0.0, worst = -1.0;
-  bool hardFailed = false;
-  for (int y = 0; y < oracle.height; ++y) {
-    for (int x = 0; x < oracle.width; ++x) {
-      const size_t i = size_t(y) * size_t(oracle.width) + size_t(x);
-      const SampleDifference d = CompareSample(port->samples[i], oracle.samples[i], oracle.isUint, tolerance);
-      if (d.absolute == 0.0 && d.ulp == 0) {
-        ++diff.samples;
-        continue;
-      }
-      if (tolerance.coverage && edges != nullptr && edges->At(x, y)) {
-        ++diff.edgePixels;
-        continue;
-      }
-      ++diff.samples;
-      diff.maxAbsolute = std::max(diff.maxAbsolute, d.absolute);
-      diff.maxUlp = std::max(diff.maxUlp, d.ulp);
-      sumSquares += std::isfinite(d.absolute) ? d.absolute * d.absolute : 0.0;
-      if (d.within) continue;
-      ++diff.overTolerance;
-      if (d.absolute > tolerance.hardFail) hardFailed = true;
-      if (d.absolute > worst) {
-        worst = d.absolute;
-        diff.worstX = x;
-        diff.worstY = y;
-      }
-    }
-  }
-  diff.rmse = diff.samples > 0 ? std::sqrt(sumSquares / double(diff.samples)) : 0.0;
-  const double percentOver = diff.samples > 0 ? 100.0 * double(diff.overTolerance) / double(diff.samples) : 0.0;
-  diff.ok = !hardFailed && (diff.overTolerance == 0 || percentOver <= tolerance.percent);
-  if (hardFailed) diff.problem = "a sample is off by more than the hard limit";
   return diff;
 }
 
-LayerTolerance ParseTolerance(const Json& rule, const std::filesystem::path& file, size_t index) {
+// The bands' results in band order, and the layer's verdict.
+void CombineBands(const std::vector<BandDiff>& bands, const LayerTolerance& tolerance, bool isUint, LayerDiff& diff) {
+  double sumSquares = 0.0, worst = -1.0;
+  bool hardFailed = false, ulpMeasured = false;
+  for (const BandDiff& band : bands) {
+    sumSquares += band.sumSquares;
+    diff.samples += band.samples;
+    diff.overTolerance += band.overTolerance;
+    diff.edgePixels += band.edgePixels;
+    diff.maxAbsolute = std::max(diff.maxAbsolute, band.maxAbsolute);
+    diff.maxUlp = std::max(diff.maxUlp, band.maxUlp);
+    diff.toleranceUsed = std::max(diff.toleranceUsed, band.toleranceUsed);
+    ulpMeasured = ulpMeasured || band.ulpMeasured;
+    hardFailed = hardFailed || band.hardFailed;
+    if (band.worst > worst) {
+      worst = band.worst;
+      diff.worstX = band.worstX;
+      diff.worstY = band.worstY;
+    }
+  }
+  // Equal layers measure 0 ULP; differences all near zero measure none.
+  diff.ulpMeasured = !isUint && (ulpMeasured || diff.maxAbsolute == 0.0);
+  diff.rmse = diff.samples > 0 ? std::sqrt(sumSquares / double(diff.samples)) : 0.0;
+  diff.percentOver = diff.samples > 0 ? 100.0 * double(diff.overTolerance) / double(diff.samples) : 0.0;
+  diff.ok = !hardFailed && (diff.overTolerance == 0 || diff.percentOver <= tolerance.percent);
+  diff.close = diff.ok && (diff.toleranceUsed > kCloseShare ||
+                           (diff.overTolerance > 0 && diff.percentOver > kCloseShare * tolerance.percent));
+  if (hardFailed) diff.problem = "a sample is off by more than the hard limit";
+}
+
+// The line (from 1) of a byte offset of `text`.
+int LineAt(const std::string& text, size_t offset) {
+  offset = std::min(offset, text.size());
+  return 1 + int(std::count(text.begin(), text.begin() + std::ptrdiff_t(offset), '\n'));
+}
+
+// The line on which element `index` of the top-level object's array "layers" starts, or 0: nlohmann
+// keeps no positions of parsed values, so the text is scanned for it (strings and nesting only;
+// the text has parsed already).
+int RuleLine(const std::string& text, size_t index) {
+  int depth = 0;
+  bool inString = false, escaped = false, inLayers = false, expectElement = false;
+  std::string string, key;
+  size_t element = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        inString = false;
+      } else {
+        string += c;
+      }
+      continue;
+    }
+    if (std::isspace(static_cast<unsigned char>(c))) continue;
+    if (inLayers && depth == 2 && expectElement && c != ']') {
+      if (element == index) return LineAt(text, i);
+      ++element;
+      expectElement = false;
+    }
+    switch (c) {
+      case '"':
+        inString = true;
+        string.clear();
+        break;
+      case ':':
+        key = string;
+        break;
+      case ',':
+        if (inLayers && depth == 2) expectElement = true;
+        break;
+      case '[':
+      case '{':
+        ++depth;
+        if (c == '[' && depth == 2 && key == "layers") inLayers = expectElement = true;
+        break;
+      case ']':
+      case '}':
+        if (inLayers && depth == 2) inLayers = false;
+        --depth;
+        break;
+      default:
+        break;
+    }
+  }
+  return 0;
+}
+
+LayerTolerance ParseTolerance(const Json& rule, const std::filesystem::path& file, int line, size_t index) {
   LayerTolerance t;
   const std::string where = "layers[" + std::to_string(index) + "]";
   for (const auto& [key, value] : rule.items()) {
     const auto number = [&] {
       if (!value.is_number() || !(value.get<double>() >= 0.0))
-        throw InputError(file, where + "." + key + ": must be a number >= 0");
+        throw InputError(file, line, where + "." + key + ": must be a number >= 0");
       return value.get<double>();
     };
     if (key == "match") continue;
     if (key == "exact" || key == "coverage") {
-      if (!value.is_boolean()) throw InputError(file, where + "." + key + ": must be true or false");
+      if (!value.is_boolean()) throw InputError(file, line, where + "." + key + ": must be true or false");
       (key == "exact" ? t.exact : t.coverage) = value.get<bool>();
     } else if (key == "absolute") {
       t.absolute = number();
@@ -215,8 +359,9 @@ LayerTolerance ParseTolerance(const Json& rule, const std::filesystem::path& fil
     } else if (key == "hardfail") {
       t.hardFail = number();
     } else if (key != "why") {
-      throw InputError(file, where + ": unknown key '" + key +
-                                 "' (keys: match, exact, absolute, relative, ulp, percent, hardfail, coverage, why)");
+      throw InputError(file, line,
+                       where + ": unknown key '" + key +
+                           "' (keys: match, exact, absolute, relative, ulp, percent, hardfail, coverage, why)");
     }
   }
   return t;
@@ -233,22 +378,29 @@ LayerTolerance DiffThresholds::For(const std::string& layerId) const {
 }
 
 DiffThresholds LoadDiffThresholds(const std::filesystem::path& file) {
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the thresholds file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   Json json;
   try {
-    json = Json::parse(in);
+    json = Json::parse(text);
   } catch (const Json::parse_error& e) {
-    throw InputError(file, std::string("not valid JSON: ") + e.what());
+    // e.byte counts the bytes read, the offending one included; its message leads with
+    // "[json.exception.parse_error.N] parse error at line L, column C: ", which file:line replaces.
+    std::string what = e.what();
+    const size_t detail = what.find(": ", what.find("parse error"));
+    if (detail != std::string::npos) what = what.substr(detail + 2);
+    throw InputError(file, LineAt(text, e.byte > 0 ? e.byte - 1 : 0), "not valid JSON: " + what);
   }
   if (!json.is_object() || !json.contains("layers") || !json["layers"].is_array())
     throw InputError(file, "must be an object with an array \"layers\"");
   DiffThresholds thresholds;
   size_t index = 0;
   for (const Json& rule : json["layers"]) {
+    const int line = RuleLine(text, index);
     if (!rule.is_object() || !rule.contains("match") || !rule["match"].is_string())
-      throw InputError(file, "layers[" + std::to_string(index) + "]: must be an object with a string \"match\"");
-    thresholds.rules.emplace_back(rule["match"].get<std::string>(), ParseTolerance(rule, file, index));
+      throw InputError(file, line, "layers[" + std::to_string(index) + "]: must be an object with a string \"match\"");
+    thresholds.rules.emplace_back(rule["match"].get<std::string>(), ParseTolerance(rule, file, line, index));
     ++index;
   }
   return thresholds;
@@ -260,23 +412,37 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   const std::string image = DumpPartName(DumpPart::kImage, 0);
   std::optional<EdgePixels> edges;
   if (geometry) {
-    if (const ExrLayer* triangles = FindDumpLayer(oracle, image, "raster.triangle"))
-      edges.emplace(*geometry, *triangles, FindDumpLayer(port, image, "raster.triangle"));
+    if (const ExrLayer* triangles = FindDumpLayer(oracle, image, "raster.triangle")) {
+      // The port's triangles only where they can be indexed like the oracle's.
+      const ExrLayer* portTriangles = FindDumpLayer(port, image, "raster.triangle");
+      if (portTriangles != nullptr && (portTriangles->width != triangles->width ||
+                                       portTriangles->height != triangles->height || !portTriangles->isUint))
+        portTriangles = nullptr;
+      edges.emplace(*geometry, *triangles, portTriangles);
+    }
   }
+  // The layers in pipeline order, each with its pair of samples where it is compared.
+  struct Pair {
+    const ExrLayer* oracle = nullptr;
+    const ExrLayer* port = nullptr;
+    LayerTolerance tolerance;
+  };
+  std::vector<Pair> pairs;
   std::set<std::pair<std::string, std::string>> seen;
   const auto compare = [&](const std::string& part, const std::string& name, FramePass pass) {
     const ExrLayer* a = FindDumpLayer(oracle, part, name);
     if (a == nullptr) return false;
     seen.insert({a->part, name});
     const std::string id = LayerId(part, name);
-    report.layers.push_back(
-        CompareLayer(id, pass, *a, FindDumpLayer(port, part, name), thresholds.For(id), edges ? &*edges : nullptr));
+    const ExrLayer* b = FindDumpLayer(port, part, name);
+    report.layers.push_back(CheckLayerPair(id, pass, *a, b));
+    pairs.push_back({a, b, thresholds.For(id)});
     return true;
   };
   const std::vector<DumpLayer>& catalogue = DumpLayers();
   for (size_t i = 0; i < catalogue.size(); ++i) {
     const DumpLayer& layer = catalogue[i];
-    if (layer.part == DumpPart::kImage || layer.part == DumpPart::kShadowMap) {
+    if (layer.part == DumpPart::kImage || layer.part == DumpPart::kShadowMap || layer.part == DumpPart::kSkyVolume) {
       compare(DumpPartName(layer.part, 0), std::string(layer.name), layer.pass);
       continue;
     }
@@ -291,12 +457,42 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
     }
     i = end - 1;
   }
+
+  // Every compared layer's fixed bands of rows, all on all threads.
+  constexpr int kBandRows = 64;
+  struct Band {
+    size_t layer;
+    int yBegin, yEnd;
+  };
+  std::vector<Band> bands;
+  std::vector<size_t> firstBand(report.layers.size() + 1, 0);
+  for (size_t l = 0; l < report.layers.size(); ++l) {
+    firstBand[l] = bands.size();
+    if (!report.layers[l].compared) continue;
+    for (int y = 0; y < pairs[l].oracle->height; y += kBandRows)
+      bands.push_back({l, y, std::min(y + kBandRows, pairs[l].oracle->height)});
+  }
+  firstBand[report.layers.size()] = bands.size();
+  std::vector<BandDiff> results(bands.size());
+  ParallelFor("diff layers", bands.size(), [&](size_t i) {
+    const Pair& pair = pairs[bands[i].layer];
+    results[i] = CompareBand(*pair.oracle, *pair.port, pair.tolerance, edges ? &*edges : nullptr, bands[i].yBegin,
+                             bands[i].yEnd);
+  });
+  for (size_t l = 0; l < report.layers.size(); ++l) {
+    if (!report.layers[l].compared) continue;
+    CombineBands(std::vector<BandDiff>(results.begin() + std::ptrdiff_t(firstBand[l]),
+                                       results.begin() + std::ptrdiff_t(firstBand[l + 1])),
+                 pairs[l].tolerance, pairs[l].oracle->isUint, report.layers[l]);
+  }
+
   for (const ExrLayer& layer : port.layers) {
     const std::string part = layer.part.empty() ? image : layer.part;
     if (seen.count({part, layer.name}) || seen.count({layer.part, layer.name})) continue;
     LayerDiff extra;
     extra.id = LayerId(part, layer.name);
     extra.pass = FramePass::kTonemap;  // unused: not compared
+    extra.presence = LayerPresence::kPortOnly;
     extra.problem = "not in the oracle's file";
     report.layers.push_back(extra);
   }
@@ -307,6 +503,14 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
     if (!report.firstFailingPass || layer.pass < *report.firstFailingPass) report.firstFailingPass = layer.pass;
   }
   return report;
+}
+
+ExrChannelFilter OracleLayersToRead(const ExrFile& port) {
+  return [&port](const std::string& part, const std::string& name) {
+    const std::string image = DumpPartName(DumpPart::kImage, 0);
+    const std::string dumpPart = part.empty() ? image : part;
+    return FindDumpLayer(port, dumpPart, name) != nullptr || (dumpPart == image && name == "raster.triangle");
+  };
 }
 
 std::vector<uint8_t> LayerDiffHeatmap(const ExrFile& oracle, const ExrFile& port, const std::string& layerId,
@@ -346,10 +550,16 @@ std::string DiffReportJson(const DiffReport& report) {
                   {"pass", std::string(FramePassName(layer.pass))},
                   {"compared", layer.compared},
                   {"ok", layer.ok}};
+    if (layer.presence != LayerPresence::kBoth)
+      entry["onlyIn"] = layer.presence == LayerPresence::kOracleOnly ? "oracle" : "port";
+    if (layer.typeDiffers) entry["typeDiffers"] = true;
     if (!layer.problem.empty()) entry["problem"] = layer.problem;
     if (layer.compared) {
+      entry["close"] = layer.close;
       entry["maxAbsolute"] = std::isfinite(layer.maxAbsolute) ? Json(layer.maxAbsolute) : Json("inf");
-      entry["maxUlp"] = layer.maxUlp;
+      entry["maxUlp"] = layer.ulpMeasured ? Json(layer.maxUlp) : Json();
+      entry["toleranceUsed"] = layer.toleranceUsed;
+      entry["percentOver"] = layer.percentOver;
       entry["rmse"] = layer.rmse;
       entry["samples"] = layer.samples;
       entry["overTolerance"] = layer.overTolerance;

@@ -56,19 +56,39 @@ struct CoverageGeometry {
   const ViewProjection& view;
 };
 
+// Where a layer is: in both files (compared when of one size and type), or in one only (listed,
+// not compared).
+enum class LayerPresence { kBoth, kOracleOnly, kPortOnly };
+
+// A passing layer is close to its tolerance when a sample within it uses more than this share of
+// it (its difference over what the most lenient of the absolute, relative and ULP bounds allows),
+// or when more than this share of the samples `percent` allows are beyond it: a port's change that
+// moves it a little further may fail it.
+inline constexpr double kCloseShare = 0.5;
+
 struct LayerDiff {
   std::string id;  // the layer's name, "part:name" outside the part "frame"
   FramePass pass;
-  bool compared = false;  // in both files with the same size and type
-  std::string problem;    // why not compared, or why it failed outright ("size differs: ...")
+  LayerPresence presence = LayerPresence::kBoth;
+  bool compared = false;     // in both files with the same size and type
+  bool typeDiffers = false;  // uint32 in one file, float in the other: not compared, fails
+  std::string problem;       // why not compared, or why it failed outright ("size differs: ...")
   double maxAbsolute = 0.0;
+  // The largest ULP difference of the samples that differ, but those whose two values both lie
+  // within the layer's absolute tolerance of zero, where ULPs measure nothing (1e-30 against 0 is
+  // a billion ULP). ulpMeasured is false for integer layers and where every differing sample is
+  // such a pair.
   uint64_t maxUlp = 0;
+  bool ulpMeasured = true;
   double rmse = 0.0;
   size_t samples = 0;
   size_t overTolerance = 0;  // samples beyond the tolerance, edge pixels excluded
   size_t edgePixels = 0;     // samples that differ at an edge pixel (coverage layers), allowed
   int worstX = -1, worstY = -1;  // where the largest difference beyond tolerance is
+  double toleranceUsed = 0.0;    // the largest share of its tolerance a sample within it uses, 0 to 1
+  double percentOver = 0.0;      // overTolerance as a percentage of samples
   bool ok = true;
+  bool close = false;  // ok, but within kCloseShare of failing
 };
 
 struct DiffReport {
@@ -77,11 +97,19 @@ struct DiffReport {
   std::optional<FramePass> firstFailingPass;
 };
 
-// Compares `port` with `oracle`. Layers the port lacks are listed as not compared (a port may
-// implement some passes only) and do not fail; a layer of another size or type fails. Without
-// geometry, coverage layers are compared like the others.
+// Compares `port` with `oracle`, the layers on all threads (core/parallel.h) in fixed bands of rows
+// whose partial results are combined in band order: the report does not depend on the thread
+// count. Layers the port lacks are listed as not compared (a port may implement some passes only)
+// and do not fail; a layer of another size or type fails. Without geometry, coverage layers are
+// compared like the others. Only the samples of compared layers (and the oracle's
+// "raster.triangle" with geometry) are read: the oracle's file may be read with
+// OracleLayersToRead(port).
 DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThresholds& thresholds,
                      const std::optional<CoverageGeometry>& geometry);
+
+// The channels of the oracle's dump DiffDumps reads against `port`: those the port also holds,
+// and the visibility buffer's triangle index, from which coverage differences are judged.
+ExrChannelFilter OracleLayersToRead(const ExrFile& port);
 
 // The per-pixel difference of one layer of both files as an 8-bit RGB heat map (black = equal,
 // white = the largest difference), or an empty vector when the layer is not in both at one size.

@@ -134,6 +134,8 @@ std::string DumpPartName(DumpPart part, int level) {
     case DumpPart::kShadowMap: return "shadowmap";
     case DumpPart::kHiZLevels: return "hiz." + std::to_string(level);
     case DumpPart::kPyramidLevels: return "pyramid." + std::to_string(level);
+    case DumpPart::kSkyVolume:
+      return "skyvolume";
   }
   return "";
 }
@@ -229,6 +231,13 @@ void DumpSink::AddDisplay(const TonemapOutputs& display) {
   for (int c = 0; c < 3; ++c) AddOwned(DumpPart::kImage, 0, std::string("display.") + kRgb[c], std::move(codes.c[c]));
 }
 
+void DumpSink::AddSkyVolume(const SkyVisibilityVolume& volume) {
+  const size_t width = size_t(volume.cellsX) * 4, height = size_t(volume.cellsY) * size_t(volume.cellsZ);
+  Plane<float> rows = MakePlane<float>(width, height, 0.0f);
+  for (size_t y = 0; y < height; ++y) std::copy_n(&volume.coefficients[y * width], width, rows.MutableRow(y));
+  AddOwned(DumpPart::kSkyVolume, 0, "k", std::move(rows));
+}
+
 ExrPart& DumpSink::PartFor(DumpPart part, int level, size_t width, size_t height) {
   const std::string name = DumpPartName(part, level);
   for (ExrPart& existing : parts_)
@@ -288,10 +297,25 @@ void WriteFrameDump(const std::filesystem::path& path, const Frame& frame,
 
 namespace {
 
-bool Belongs(FrameEffect effect, bool shadows, bool reflections) {
-  return effect == FrameEffect::kAlways || (effect == FrameEffect::kShadows && shadows) ||
-         (effect == FrameEffect::kReflections && reflections);
-}
+// Which effects belong to the frame a dump is loaded into: all of them until the plan has decided.
+struct EffectSet {
+  bool shadows = true, reflections = true, sky = true;
+  bool Has(FrameEffect effect) const {
+    switch (effect) {
+      case FrameEffect::kAlways:
+        return true;
+      case FrameEffect::kShadows:
+        return shadows;
+      case FrameEffect::kReflections:
+        return reflections;
+      case FrameEffect::kSky:
+        return sky;
+      case FrameEffect::kIndirect:
+        return reflections || sky;
+    }
+    return false;
+  }
+};
 
 }  // namespace
 
@@ -303,22 +327,24 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
   // A buffer is loaded when every pass writing its layers comes before `from`, its effect belongs to
   // the frame, and a pass that runs reads it (or the frame plan does, or the dump has it and it is
   // carried through).
-  bool shadows = true, reflections = true;  // until the plan has decided
+  EffectSet effects;
+  const auto present = [&](FrameBuffer id) { return effects.Has(FrameBufferDeclaration(id).maker->effect); };
   const auto load = [&](const MadeBuffer& made) {
     const BufferDeclaration& buffer = *made.buffer;
     if (!buffer.load) return;
     for (const DumpLayer& layer : buffer.layers) {
-      if (layer.pass >= from || !Belongs(FramePassDeclaration(layer.pass).effect, shadows, reflections)) return;
+      if (layer.pass >= from || !effects.Has(FramePassDeclaration(layer.pass).effect)) return;
     }
     bool read = buffer.readByPlan ||
                 (buffer.carriedThrough && source.Has(buffer.layers.front().part, 0, buffer.layers.front().name));
     for (FramePass pass = from; pass <= to && !read; pass = FramePass(int(pass) + 1)) {
       const PassDeclaration& reader = FramePassDeclaration(pass);
-      if (!Belongs(reader.effect, shadows, reflections)) continue;
+      if (!effects.Has(reader.effect)) continue;
       for (FrameBuffer id : reader.reads) {
-        const BufferDeclaration& readBuffer = *FrameBufferDeclaration(id).buffer;
-        const bool present = Belongs(FrameBufferDeclaration(id).maker->effect, shadows, reflections);
-        if (id == buffer.id || (!present && readBuffer.absentAs == buffer.id)) read = true;
+        // What the reader reads where the buffer's effect does not belong to the frame.
+        while (!present(id) && FrameBufferDeclaration(id).buffer->absentAs)
+          id = *FrameBufferDeclaration(id).buffer->absentAs;
+        if (id == buffer.id) read = true;
       }
     }
     if (read) buffer.load(source, frame);
@@ -328,8 +354,7 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
     if (made.maker->pass == FramePass::kGBuffer && made.buffer->readByPlan) load(made);
   const FramePlan plan =
       PlanFrame(scene, config, frame.gbuffer.gbuffer, MakePerspective(scene.camera, config.width, config.height));
-  shadows = plan.shadows.run;
-  reflections = plan.reflections.run;
+  effects = {plan.shadows.run, plan.reflections.run, plan.sky.run};
   for (const MadeBuffer& made : FrameBuffers())
     if (!made.buffer->readByPlan) load(made);
 }

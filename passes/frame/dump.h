@@ -62,6 +62,7 @@ class DumpSink {
   void AddGBufferWords(const GBuffer& gbuffer);
   void AddShadowTerm(const Plane<uint32_t>& word3);
   void AddDisplay(const TonemapOutputs& display);
+  void AddSkyVolume(const SkyVisibilityVolume& volume);
   const std::vector<ExrPart>& Parts() const { return parts_; }
 
  private:

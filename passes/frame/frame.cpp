@@ -29,6 +29,10 @@ bool Frame::Has(FrameEffect effect) const {
       return shadows;
     case FrameEffect::kReflections:
       return reflections;
+    case FrameEffect::kSky:
+      return sky;
+    case FrameEffect::kIndirect:
+      return reflections || sky;
   }
   return false;
 }
@@ -66,6 +70,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       stats.planMs = planning.Lap();
       frame.shadows = frame.plan.shadows.run && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
       frame.reflections = frame.plan.reflections.run;
+      frame.sky = frame.plan.sky.run;
     }
     if (observer) observer(steps[index], frame);
     release(index);

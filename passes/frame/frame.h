@@ -22,6 +22,7 @@
 #include "passes/hiz.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
+#include "passes/sky_light.h"
 #include "passes/ssr_cone.h"
 #include "passes/ssr_trace.h"
 #include "passes/tonemap.h"
@@ -34,6 +35,8 @@ struct FrameStats {
   std::optional<ShadowMapStats> shadowMap;
   std::optional<ShadowFilterStats> shadowFilter;
   std::optional<DirectLightStats> directLight;
+  std::optional<SkyLightStats> skyLight;
+  std::optional<double> skyVisibilityMs;  // made this frame (a kept frame keeps it for its scene)
   std::optional<HiZStats> hiz;
   std::optional<ColorPyramidStats> colorPyramid;
   std::optional<SsrTraceStats> ssrTrace;
@@ -73,6 +76,11 @@ struct Frame {
   bool shadows = false;
   ShadowFilterOutputs shadowVisibility;
   DirectLightOutputs direct;
+  // Whether the sky light belongs to this frame (the environment is not black).
+  bool sky = false;
+  EnvironmentLighting environment;               // the frame's environment, as the passes read it
+  std::optional<SkyVisibilityVolume> skyVolume;  // the scene's, kept while its geometry is the same
+  SkyLightOutputs skyLight;
   // Present when the scene has a surface smooth enough to reflect and reflections are not off.
   bool reflections = false;
   HiZ hiz;
@@ -85,8 +93,12 @@ struct Frame {
 
   // Whether the effect's passes belong to this frame.
   bool Has(FrameEffect effect) const;
-  // The final linear HDR image: result = direct + indirect (direct alone without reflections).
-  const Plane3<float>& Result() const { return reflections ? composite.result : direct.radiance; }
+  // The image the colour pyramid and the composite read: lit = direct + the sky's diffuse light, or
+  // the direct light without the sky light.
+  const Plane3<float>& Lit() const { return sky ? skyLight.lit : direct.radiance; }
+  // The final linear HDR image: result = lit + indirect (the direct light alone without reflections
+  // and sky light).
+  const Plane3<float>& Result() const { return reflections || sky ? composite.result : direct.radiance; }
 };
 
 // How long a frame keeps its buffers.

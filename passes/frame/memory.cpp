@@ -11,8 +11,13 @@ namespace ssgi {
 FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& config, BufferLifetime lifetime,
                                         bool dumped) {
   const bool release = lifetime == BufferLifetime::kUntilLastReader;
-  const FrameShape shape{size_t(config.width), size_t(config.height), scene.mesh.TriangleCount(),
-                         size_t(config.shadowMap.resolution), release};
+  FrameShape shape{size_t(config.width), size_t(config.height), scene.mesh.TriangleCount(),
+                   size_t(config.shadowMap.resolution)};
+  shape.handOver = release;
+  if (config.sky != EffectMode::kOff) {
+    shape.skyVolumeBytes = SkyVisibilityBytes(scene, config.skyVisibility);
+    shape.skyVolumeBuildBytes = SkyVisibilityBuildBytes(scene, config.skyVisibility);
+  }
   const auto mayRun = [&](FrameEffect effect) {
     switch (effect) {
       case FrameEffect::kAlways:
@@ -21,6 +26,10 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
         return config.shadows != EffectMode::kOff && !ShadowCastingLights(scene).empty();
       case FrameEffect::kReflections:
         return config.reflections != EffectMode::kOff;
+      case FrameEffect::kSky:
+        return config.sky != EffectMode::kOff;
+      case FrameEffect::kIndirect:
+        return config.reflections != EffectMode::kOff || config.sky != EffectMode::kOff;
     }
     return false;
   };

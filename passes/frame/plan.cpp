@@ -170,6 +170,17 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
                                                             : "no visible surface is smoother than") +
                            " the cut-off (roughness " + cutoffText + ")";
   }
+  if (config.sky == EffectMode::kOff) {
+    plan.sky.why = "switched off";
+  } else if (config.sky == EffectMode::kOn) {
+    plan.sky.run = true;
+    plan.sky.why = "switched on";
+  } else if (config.directLight.background == glm::vec3(0.0f)) {
+    plan.sky.why = "the environment is black";
+  } else {
+    plan.sky.run = plan.geometryPixels > 0;
+    plan.sky.why = plan.sky.run ? "the environment lights the visible surfaces" : "no pixel has geometry";
+  }
   return plan;
 }
 
@@ -205,6 +216,8 @@ std::string ExplainPlan(const FramePlan& plan) {
            : "hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
                  std::to_string(plan.reflections.tiles) + " tiles only",
        plan.reflections);
+  line("sky", "sky light", "sky light runs on every pixel with geometry; the composite adds its specular part",
+       plan.sky);
   return text;
 }
 

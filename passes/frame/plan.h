@@ -1,7 +1,8 @@
 // The frame plan (docs/design.md §9: simulate only the effects a scene calls for): after the G-buffer,
 // which effects the pixels on screen need. Shadows run only if some visible pixel faces the
 // shadow-casting light (elsewhere its term is 0 whatever the visibility); reflections only if some
-// visible pixel is smoother than the trace's cut-off (elsewhere the composite adds nothing). A
+// visible pixel is smoother than the trace's cut-off (elsewhere the composite adds nothing); the
+// sky light only if the environment is not black and some pixel has geometry. A
 // skipped effect therefore leaves the image's bytes as they would be with it. `ssgi render
 // --explain` prints the plan.
 #pragma once
@@ -34,6 +35,7 @@ struct FramePlan {
   std::optional<size_t> shadowLight;  // the light whose term word 3 holds (PrepareLights order)
   EffectPlan shadows;
   EffectPlan reflections;
+  EffectPlan sky;
   // Per light, in PrepareLights order: whether some visible pixel faces it (the direct light's
   // conditions for a non-zero term). The direct light shades only these; the others add exactly 0.
   std::vector<bool> lightReaches;

@@ -11,6 +11,7 @@
 #include "core/check.h"
 #include "core/lighting.h"
 #include "core/pyramid.h"
+#include "core/stopwatch.h"
 #include "passes/frame/dump.h"
 #include "passes/frame/frame.h"
 
@@ -313,6 +314,114 @@ PassDeclaration DirectLightPass() {
   return pass;
 }
 
+// ---- Sky light (passes/sky_light.h): the environment's diffuse light, under the sky's visibility ----
+
+bool SameSkyVisibilityParams(const SkyVisibilityParams& a, const SkyVisibilityParams& b) {
+  return a.directions == b.directions && a.mapSize == b.mapSize && a.cellsOnLongestAxis == b.cellsOnLongestAxis;
+}
+
+void SkyLightStep(FrameStep& s) {
+  Frame& f = s.frame;
+  // The environment's tables and the scene's visibility volume outlive the frame while they hold.
+  const Environment environment{EnvironmentKind::kConstant, s.config.directLight.background};
+  if (!SameEnvironment(f.environment, environment)) f.environment = PrepareEnvironmentLighting(environment);
+  if (!s.Runs(P::kSkyLight)) return;
+  if (!f.skyVolume || f.skyVolume->meshHash != SceneGeometryHash(s.scene) ||
+      !SameSkyVisibilityParams(f.skyVolume->params, s.config.skyVisibility)) {
+    Stopwatch build;
+    f.skyVolume = BuildSkyVisibility(s.scene, s.config.skyVisibility);
+    f.stats.skyVisibilityMs = build.Lap();
+  }
+  // Freeing early, `lit` is written over the direct image: each pixel is read before it is written.
+  if (s.Releases()) f.skyLight.lit = std::exchange(f.direct.radiance, {});
+  const Plane3<float>& direct = s.Releases() ? f.skyLight.lit : f.direct.radiance;
+  f.stats.skyLight = RunSkyLight({f.gbuffer.gbuffer, f.view, f.environment, &*f.skyVolume, direct}, {}, f.skyLight);
+}
+
+const char kSkyDiffuseMeaning[] =
+    "the sky's diffuse light: albedo (1 - metallic) E(n) / pi V, linear RGB, >= 0; 0 on background";
+const char kLitMeaning[] = "direct + the sky's diffuse light, linear RGB, >= 0: what the pyramid and composite read";
+
+PassDeclaration SkyLightPass() {
+  PassDeclaration pass{P::kSkyLight, "sky_light",
+                       "the environment's diffuse light times a world-space sky visibility; lit = direct + it"};
+  pass.effect = FrameEffect::kSky;
+  pass.makes = {
+      {.id = B::kSkyVolume,
+       .name = "sky visibility volume",
+       .frameOutput = true,  // kept for the next frame of the same scene
+       .bytes = [](const FrameShape& s) { return s.skyVolumeBytes; },
+       .layers = {{"k", P::kSkyLight, false, DumpPart::kSkyVolume, false,
+                   "sky visibility volume: per cell k0, kx, ky, kz (V(n) = k0 + k.n), cells x fastest, 4 "
+                   "floats a cell along a row of 4 * cellsX; rows y, then z"}},
+       .heldBytes =
+           [](const Frame& f) { return f.skyVolume ? f.skyVolume->coefficients.capacity() * sizeof(float) : 0; },
+       .release = nullptr,
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.sky && f.skyVolume) sink.AddSkyVolume(*f.skyVolume);
+           }},
+      {.id = B::kSkyDiffuse,
+       .name = "sky light",
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 4); },
+       .layers = {{"sky.diffuse.R", P::kSkyLight, false, DumpPart::kImage, false, kSkyDiffuseMeaning},
+                  {"sky.diffuse.G", P::kSkyLight, false, DumpPart::kImage, false, kSkyDiffuseMeaning},
+                  {"sky.diffuse.B", P::kSkyLight, false, DumpPart::kImage, false, kSkyDiffuseMeaning},
+                  {"sky.visibility", P::kSkyLight, false, DumpPart::kImage, false,
+                   "world-space sky visibility V(p, n), [0, 1]; 1 on background"}},
+       .heldBytes = [](const Frame& f) { return Held(f.skyLight.diffuse) + Held(f.skyLight.visibility); },
+       .release =
+           [](Frame& f) {
+             f.skyLight.diffuse = {};
+             f.skyLight.visibility = {};
+           },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (!f.sky || !ImageSized(f, f.skyLight.visibility)) return;
+             sink.Add3(DumpPart::kImage, 0, "sky.diffuse.", f.skyLight.diffuse);
+             sink.Add(DumpPart::kImage, 0, "sky.visibility", f.skyLight.visibility);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             source.Load3(DumpPart::kImage, 0, "sky.diffuse.", f.skyLight.diffuse);
+             source.Load(DumpPart::kImage, 0, "sky.visibility", f.skyLight.visibility);
+           }},
+      {.id = B::kLit,
+       .name = "lit image",
+       .storageOf = B::kDirect,  // freeing early, written over the direct image
+       .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
+       .layers = {{"lit.R", P::kSkyLight, false, DumpPart::kImage, false, kLitMeaning},
+                  {"lit.G", P::kSkyLight, false, DumpPart::kImage, false, kLitMeaning},
+                  {"lit.B", P::kSkyLight, false, DumpPart::kImage, false, kLitMeaning}},
+       .heldBytes = [](const Frame& f) { return Held(f.skyLight.lit); },
+       .release = nullptr,  // its storage becomes the result's
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.sky && ImageSized(f, f.skyLight.lit.c[0])) sink.Add3(DumpPart::kImage, 0, "lit.", f.skyLight.lit);
+           },
+       .load = [](const DumpSource& source, Frame& f) { source.Load3(DumpPart::kImage, 0, "lit.", f.skyLight.lit); },
+       // Without the sky light its readers read the direct image.
+       .absentAs = B::kDirect},
+  };
+  pass.reads = {B::kGBufferWords, B::kDirect};
+  pass.scratchName = "sky visibility volume build";
+  pass.scratchBytes = [](const FrameShape& s) { return s.skyVolumeBuildBytes; };
+  pass.stats = {
+      {"sky visibility",
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.skyVisibilityMs) return std::nullopt;
+         return Row(*s.skyVisibilityMs, 0.0, "");
+       }},
+      {"sky light",
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.skyLight) return std::nullopt;
+         return Row(s.skyLight->ms, double(s.skyLight->pixels), "pixels");
+       }},
+  };
+  pass.step = SkyLightStep;
+  return pass;
+}
+
 // ---- Hi-Z (passes/hiz.h) ----
 
 void HiZStep(FrameStep& s) {
@@ -359,7 +468,7 @@ PassDeclaration HiZPass() {
 void ColorPyramidStep(FrameStep& s) {
   Frame& f = s.frame;
   if (!s.DirectInPyramid()) {
-    if (s.Runs(P::kColorPyramid)) f.stats.colorPyramid = RunColorPyramid(f.direct.radiance, f.colorPyramid);
+    if (s.Runs(P::kColorPyramid)) f.stats.colorPyramid = RunColorPyramid(f.Lit(), f.colorPyramid);
     return;
   }
   std::optional<ColorPyramidNeeds> needs;
@@ -368,9 +477,9 @@ void ColorPyramidStep(FrameStep& s) {
     needs = SsrConePyramidNeeds(f.gbuffer.gbuffer.word[GBufferWord::kNormalRoughness], f.ssrTrace.hitX, f.ssrTrace.hitY,
                                 f.ssrTrace.confidence, &f.plan.reflectionTiles, f.plan.pixels / 2);
   }
-  // The direct image is already sanitised: it is level 0 until the cone trace has read it.
+  // The lit image is already sanitised: it is level 0 until the cone trace has read it.
   f.colorPyramid.levels.resize(std::max<size_t>(f.colorPyramid.levels.size(), 1));
-  f.colorPyramid.levels[0] = std::exchange(f.direct.radiance, {});
+  f.colorPyramid.levels[0] = std::exchange(f.sky ? f.skyLight.lit : f.direct.radiance, {});
   f.stats.colorPyramid = RunColorPyramidOnLevelZero(f.colorPyramid, KernelPath::kSimd, needs ? &*needs : nullptr);
 }
 
@@ -380,7 +489,7 @@ PassDeclaration ColorPyramidPass() {
   pass.makes = {
       {.id = B::kColorPyramid,
        .name = "colour pyramid",
-       .storageOf = B::kDirect,  // level 0 is the direct image
+       .storageOf = B::kLit,  // level 0 is the lit image
        .bytes =
            [](const FrameShape& s) {
              size_t bytes = 0;
@@ -404,7 +513,7 @@ PassDeclaration ColorPyramidPass() {
        .load = [](const DumpSource& source, Frame& f) { source.LoadLevels(f.colorPyramid.levels); }},
   };
   // The trace's hits name the texels a partial pyramid makes.
-  pass.reads = {B::kDirect, B::kSsrTrace};
+  pass.reads = {B::kLit, B::kSsrTrace};
   pass.stats = {{"colour pyramid", [](const FrameStats& s) -> std::optional<StageStats> {
                    if (!s.colorPyramid) return std::nullopt;
                    return Row(s.colorPyramid->ms, double(s.colorPyramid->texels), "texels");
@@ -498,7 +607,7 @@ void SsrConeStep(FrameStep& s) {
         {f.gbuffer.gbuffer, f.colorPyramid, hitX, hitY, f.ssrTrace.confidence, tracedTiles, s.LeavesSkippedTiles()},
         s.config.ssrCone, f.ssrCone);
   }
-  if (s.DirectInPyramid()) f.direct.radiance = std::exchange(f.colorPyramid.levels[0], {});
+  if (s.DirectInPyramid()) (f.sky ? f.skyLight.lit : f.direct.radiance) = std::exchange(f.colorPyramid.levels[0], {});
 }
 
 PassDeclaration SsrConePass() {
@@ -535,29 +644,43 @@ PassDeclaration SsrConePass() {
 
 void CompositeStep(FrameStep& s) {
   Frame& f = s.frame;
-  // In place where no later reader needs the direct image and the reflection apart: freed, they are
+  Plane3<float>& lit = f.sky ? f.skyLight.lit : f.direct.radiance;
+  // In place where no later reader needs the lit image and the reflection apart: freed, they are
   // handed on; kept for reuse, their planes trade places with the result's and the indirect term's,
   // which the next frame writes again. The composite reads a pixel before it writes over it.
   if (s.Releases()) {
-    f.composite.result = std::exchange(f.direct.radiance, {});
-    f.composite.indirect = std::exchange(f.ssrCone.reflected, {});
+    f.composite.result = std::exchange(lit, {});
+    if (f.reflections) f.composite.indirect = std::exchange(f.ssrCone.reflected, {});
   } else if (s.ComposesInPlace()) {
-    std::swap(f.composite.result, f.direct.radiance);
-    std::swap(f.composite.indirect, f.ssrCone.reflected);
+    std::swap(f.composite.result, lit);
+    if (f.reflections) std::swap(f.composite.indirect, f.ssrCone.reflected);
   }
   if (!s.Runs(P::kComposite)) return;
-  const Plane3<float>& direct = s.ComposesInPlace() ? f.composite.result : f.direct.radiance;
-  const Plane3<float>& reflected = s.ComposesInPlace() ? f.composite.indirect : f.ssrCone.reflected;
-  const TileMask* tracedTiles = s.Runs(P::kSsrTrace) ? &f.plan.reflectionTiles : nullptr;
-  f.stats.composite = RunComposite({f.gbuffer.gbuffer, f.view, direct, reflected, f.ssrTrace.confidence,
-                                    s.config.ssrTrace.roughnessCutoff, tracedTiles},
-                                   f.composite);
+  const Plane3<float>& base = s.ComposesInPlace() ? f.composite.result : lit;
+  const Plane3<float>* reflected = !f.reflections        ? nullptr
+                                   : s.ComposesInPlace() ? &f.composite.indirect
+                                                         : &f.ssrCone.reflected;
+  // Only the traced tiles have indirect light, unless the sky lights every pixel.
+  const TileMask* tracedTiles = f.reflections && !f.sky && s.Runs(P::kSsrTrace) ? &f.plan.reflectionTiles : nullptr;
+  CompositeInputs inputs{f.gbuffer.gbuffer,
+                         f.view,
+                         base,
+                         reflected,
+                         f.reflections ? &f.ssrTrace.confidence : nullptr,
+                         s.config.ssrTrace.roughnessCutoff,
+                         tracedTiles,
+                         f.sky ? &f.environment : nullptr,
+                         f.sky ? &f.skyLight.visibility : nullptr};
+  // Freeing early without reflections, nothing reads the indirect term alone.
+  inputs.keepIndirect = !(s.Releases() && !f.reflections);
+  f.stats.composite = RunComposite(inputs, f.composite);
 }
 
 PassDeclaration CompositePass() {
   PassDeclaration pass{P::kComposite, "composite",
-                       "indirect = reflection x specular weight; result = direct + indirect"};
-  pass.effect = FrameEffect::kReflections;
+                       "indirect = (reflection, or the sky where the trace did not see) x specular weight; "
+                       "result = lit + indirect"};
+  pass.effect = FrameEffect::kIndirect;
   pass.makes = {
       {.id = B::kIndirect,
        .name = "indirect",
@@ -579,7 +702,7 @@ PassDeclaration CompositePass() {
       {.id = B::kResult,
        .name = "result",
        .frameOutput = true,
-       .storageOf = B::kDirect,
+       .storageOf = B::kLit,
        .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
        .layers =
            {{"result.R", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
@@ -594,10 +717,10 @@ PassDeclaration CompositePass() {
            },
        .load = [](const DumpSource& source,
                   Frame& f) { source.Load3(DumpPart::kImage, 0, "result.", f.composite.result); },
-       // Without reflections the final image is the direct image.
-       .absentAs = B::kDirect},
+       // Without the composite the final image is the lit (the direct) image.
+       .absentAs = B::kLit},
   };
-  pass.reads = {B::kGBufferWords, B::kDirect, B::kReflected, B::kSsrTrace};
+  pass.reads = {B::kGBufferWords, B::kLit, B::kReflected, B::kSsrTrace, B::kSkyDiffuse};
   pass.stats = {{"composite", [](const FrameStats& s) -> std::optional<StageStats> {
                    if (!s.composite) return std::nullopt;
                    return Row(s.composite->ms, double(s.composite->pixels), "pixels");
@@ -640,9 +763,9 @@ PassDeclaration TonemapPass() {
 }
 
 std::vector<PassDeclaration> MakeRegistry() {
-  std::vector<PassDeclaration> passes = {GBufferPass(),   ShadowMapPass(),    ShadowFilterPass(), DirectLightPass(),
-                                         HiZPass(),       ColorPyramidPass(), SsrTracePass(),     SsrConePass(),
-                                         CompositePass(), TonemapPass()};
+  std::vector<PassDeclaration> passes = {GBufferPass(),  ShadowMapPass(), ShadowFilterPass(), DirectLightPass(),
+                                         SkyLightPass(), HiZPass(),       ColorPyramidPass(), SsrTracePass(),
+                                         SsrConePass(),  CompositePass(), TonemapPass()};
   for (size_t i = 0; i < passes.size(); ++i) SSGI_CHECK(size_t(passes[i].pass) == i);
   return passes;
 }
@@ -672,9 +795,9 @@ const std::vector<MadeBuffer>& FrameBuffers() {
 const MadeBuffer& FrameBufferDeclaration(FrameBuffer buffer) { return FrameBuffers()[size_t(buffer)]; }
 
 const std::vector<FramePass>& FrameSteps() {
-  static const std::vector<FramePass> steps = {P::kGBuffer,   P::kShadowMap, P::kShadowFilter, P::kDirectLight,
-                                               P::kHiZ,       P::kSsrTrace,  P::kColorPyramid, P::kSsrCone,
-                                               P::kComposite, P::kTonemap};
+  static const std::vector<FramePass> steps = {P::kGBuffer,  P::kShadowMap, P::kShadowFilter, P::kDirectLight,
+                                               P::kSkyLight, P::kHiZ,       P::kSsrTrace,     P::kColorPyramid,
+                                               P::kSsrCone,  P::kComposite, P::kTonemap};
   return steps;
 }
 

@@ -35,6 +35,7 @@ enum class FramePass {
   kShadowMap,  // the shadow map and the blocker search: G-buffer word 3
   kShadowFilter,
   kDirectLight,
+  kSkyLight,
   kHiZ,
   kColorPyramid,
   kSsrTrace,
@@ -47,7 +48,9 @@ enum class FramePass {
 enum class FrameEffect {
   kAlways,
   kShadows,      // the first shadow-casting light's shadow map, blocker search and filter
-  kReflections,  // screen-space reflections: Hi-Z, colour pyramid, trace, cone trace, composite
+  kReflections,  // screen-space reflections: Hi-Z, colour pyramid, trace, cone trace
+  kSky,          // the environment's light: the sky light
+  kIndirect,     // any light beyond the direct light (reflections or sky): the composite
 };
 
 // Every buffer of a frame, by what it holds.
@@ -58,6 +61,9 @@ enum class FrameBuffer {
   kShadowMap,
   kShadowVisibility,  // the filtered visibility of the shadowed light
   kDirect,
+  kSkyVolume,   // the world-space sky visibility, kept while the scene's geometry is the same
+  kSkyDiffuse,  // the sky's diffuse light and its visibility
+  kLit,         // direct + the sky's diffuse light
   kHiZ,
   kColorPyramid,
   kSsrTrace,   // the trace's hits, confidence and steps
@@ -73,6 +79,7 @@ enum class DumpPart {
   kShadowMap,      // part "shadowmap", the shadow map's resolution squared
   kHiZLevels,      // parts "hiz.L", one per level, PyramidLevelSizes of the image
   kPyramidLevels,  // parts "pyramid.L", likewise
+  kSkyVolume,      // part "skyvolume": the sky visibility volume's coefficients as rows
 };
 
 struct DumpLayer {
@@ -91,6 +98,8 @@ struct FrameShape {
   size_t width = 0, height = 0;
   size_t triangles = 0;  // submitted to the rasterizer
   size_t shadowMapResolution = 0;
+  size_t skyVolumeBytes = 0;       // the sky visibility volume of the scene (SkyVisibilityBytes)
+  size_t skyVolumeBuildBytes = 0;  // what making it holds besides the volume
   // The frame frees buffers after their last reader and hands storage on (kUntilLastReader).
   bool handOver = false;
 };

@@ -51,8 +51,7 @@ struct PassInputs {
   Plane3<float> lit;
 };
 
-// A frame's G-buffer, with its direct light as the lit image (the frame will pass direct plus sky
-// light).
+// A frame's G-buffer and its lit image (direct light plus the sky's diffuse light).
 PassInputs FromFrame(const Frame& frame) {
   PassInputs in;
   in.view = frame.view;
@@ -63,7 +62,7 @@ PassInputs FromFrame(const Frame& frame) {
     for (size_t y = 0; y < source.ysize(); ++y)
       std::copy_n(source.ConstRow(y), source.xsize(), in.gbuffer.word[w].MutableRow(y));
   }
-  in.lit = test::CopyOf(frame.direct.radiance);
+  in.lit = test::CopyOf(frame.Lit());
   return in;
 }
 
@@ -652,15 +651,18 @@ void WritePicture(const std::filesystem::path& path, const Plane<float>* const c
 }
 
 // Not a check but the pictures to look at (hidden; run it by its tag): the default scene at
-// 1024x1024 with its direct light as the lit image, the settings from BOUNCE_SLICES, BOUNCE_STEPS
-// and BOUNCE_THICKNESS when set. Writes to /tmp: bounce_ao.png (visibility), bounce_bounce.png
-// (bounce x 4), their 280x280 crops around the spheres 3x enlarged, the bounce and direct light
-// around the black pawn 3x enlarged (bounce_pawn_crop.png, bounce_pawn_direct_crop.png), bounce_ao_march.png (the
-// unfiltered half-resolution visibility), bounce_direct.png and bounce_shaded.png (direct light plus
-// albedo (1 - metallic) (bounce + visibility x the scene's sky radiance)).
+// 1024x1024 with its lit image (direct plus sky light), the settings from BOUNCE_SLICES,
+// BOUNCE_STEPS and BOUNCE_THICKNESS when set. Writes to /tmp: bounce_ao.png (visibility),
+// bounce_bounce.png (bounce x 4), their 280x280 crops around the spheres 3x enlarged, the bounce and
+// the lit image around the black pawn 3x enlarged (bounce_pawn_crop.png, bounce_pawn_lit_crop.png),
+// bounce_ao_march.png (the unfiltered half-resolution visibility), bounce_lit.png (the input, which
+// is also the frame's result without reflections) and bounce_shaded.png (the direct light, plus the
+// sky's diffuse light times the visibility, plus albedo (1 - metallic) bounce: one way a frame may
+// combine them).
 TEST_CASE("bounce: pictures of the default scene", "[.bounce_pictures]") {
   const test::DefaultScene scene = test::LoadDefaultScene();
-  const PassInputs in = FromFrame(scene.Render(1024, 1024));
+  const Frame frame = scene.Render(1024, 1024);
+  const PassInputs in = FromFrame(frame);
   BounceParams params;
   if (const char* value = std::getenv("BOUNCE_SLICES")) params.slices = std::atoi(value);
   if (const char* value = std::getenv("BOUNCE_STEPS")) params.steps = std::atoi(value);
@@ -672,25 +674,26 @@ TEST_CASE("bounce: pictures of the default scene", "[.bounce_pictures]") {
   const Plane<float>* ao[3] = {&out.visibility, &out.visibility, &out.visibility};
   const Plane<float>* bounce[3] = {&out.bounce.c[0], &out.bounce.c[1], &out.bounce.c[2]};
   const Plane<float>* march[3] = {&out.half.visibility, &out.half.visibility, &out.half.visibility};
-  const Plane<float>* direct[3] = {&in.lit.c[0], &in.lit.c[1], &in.lit.c[2]};
+  const Plane<float>* lit[3] = {&in.lit.c[0], &in.lit.c[1], &in.lit.c[2]};
   WritePicture("/tmp/bounce_ao.png", ao, 1.0f);
   WritePicture("/tmp/bounce_bounce.png", bounce, 4.0f);
   WritePicture("/tmp/bounce_ao_crop.png", ao, 1.0f, {380, 380, 280, 280}, 3);
   WritePicture("/tmp/bounce_bounce_crop.png", bounce, 4.0f, {380, 380, 280, 280}, 3);
-  WritePicture("/tmp/bounce_ao_march.png", march, 1.0f);
   WritePicture("/tmp/bounce_pawn_crop.png", bounce, 4.0f, {780, 540, 200, 230}, 3);
-  WritePicture("/tmp/bounce_pawn_direct_crop.png", direct, 1.0f, {780, 540, 200, 230}, 3);
-  WritePicture("/tmp/bounce_direct.png", direct, 1.0f);
-  Plane3<float> shaded = test::CopyOf(in.lit);
-  const glm::vec3 sky = scene.scene.environment.radiance;
+  WritePicture("/tmp/bounce_pawn_lit_crop.png", lit, 1.0f, {780, 540, 200, 230}, 3);
+  WritePicture("/tmp/bounce_ao_march.png", march, 1.0f);
+  WritePicture("/tmp/bounce_lit.png", lit, 1.0f);
+  Plane3<float> shaded = test::CopyOf(frame.direct.radiance);
   for (int y = 0; y < 1024; ++y) {
     for (int x = 0; x < 1024; ++x) {
       if (!(DepthAt(in, x, y) < kBackgroundDepth)) continue;
       const uint32_t word0 = in.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(size_t(y))[x];
       const glm::vec3 diffuse = UnpackAlbedo(word0) * (1.0f - UnpackMetallic(word0));
-      for (int c = 0; c < 3; ++c)
-        shaded.c[c].MutableRow(size_t(y))[x] +=
-            diffuse[c] * (out.bounce.c[c].ConstRow(size_t(y))[x] + out.visibility.ConstRow(size_t(y))[x] * sky[c]);
+      const float visibility = out.visibility.ConstRow(size_t(y))[x];
+      for (int c = 0; c < 3; ++c) {
+        const float sky = frame.sky ? frame.skyLight.diffuse.c[c].ConstRow(size_t(y))[x] : 0.0f;
+        shaded.c[c].MutableRow(size_t(y))[x] += sky * visibility + diffuse[c] * out.bounce.c[c].ConstRow(size_t(y))[x];
+      }
     }
   }
   const Plane<float>* shadedPlanes[3] = {&shaded.c[0], &shaded.c[1], &shaded.c[2]};

@@ -41,7 +41,7 @@ struct CompositeFixture {
   }
   CompositeOutputs Run() const {
     CompositeOutputs out;
-    RunComposite({gbuffer, view, direct, reflected, confidence, 0.7f}, out);
+    RunComposite({gbuffer, view, direct, &reflected, &confidence, 0.7f}, out);
     return out;
   }
 };
@@ -133,6 +133,7 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
                                   words.word[GBufferWord::kNormalRoughness].data(),
                                   words.word[GBufferWord::kDepth].data(),
                                   in[0].data(),
+                                  nullptr,
                                   {in[1].data(), in[2].data(), in[3].data()},
                                   {in[4].data(), in[5].data(), in[6].data()},
                                   {&out[0], &out[kWidth], &out[2 * kWidth]},
@@ -157,8 +158,8 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
 
 CompositeOutputs RunCompositeOn(const Frame& frame, KernelPath kernels) {
   CompositeOutputs out;
-  RunComposite({frame.gbuffer.gbuffer, frame.view, frame.direct.radiance, frame.ssrCone.reflected,
-                frame.ssrTrace.confidence, SsrTraceParams{}.roughnessCutoff},
+  RunComposite({frame.gbuffer.gbuffer, frame.view, frame.direct.radiance, &frame.ssrCone.reflected,
+                &frame.ssrTrace.confidence, SsrTraceParams{}.roughnessCutoff},
                out, kernels);
   return out;
 }
@@ -192,10 +193,11 @@ TEST_CASE("composite: in place over the direct image and the reflection, the sam
       const size_t targets = test::ForEachSimdTarget([&](const char* target) {
         // The frame's memory-saving hand-over: the outputs are the inputs' own planes.
         CompositeOutputs inPlace;
-        inPlace.result = test::CopyOf(frame.direct.radiance);
+        inPlace.result = test::CopyOf(frame.Lit());
         inPlace.indirect = test::CopyOf(frame.ssrCone.reflected);
-        RunComposite({frame.gbuffer.gbuffer, frame.view, inPlace.result, inPlace.indirect, frame.ssrTrace.confidence,
-                      SsrTraceParams{}.roughnessCutoff},
+        RunComposite({frame.gbuffer.gbuffer, frame.view, inPlace.result, &inPlace.indirect, &frame.ssrTrace.confidence,
+                      SsrTraceParams{}.roughnessCutoff, nullptr, frame.sky ? &frame.environment : nullptr,
+                      frame.sky ? &frame.skyLight.visibility : nullptr},
                      inPlace, kernels);
         for (int c = 0; c < 3; ++c) {
           CAPTURE(target, width, height, c);

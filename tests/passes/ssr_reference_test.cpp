@@ -55,6 +55,7 @@ TEST_CASE("SSR and the Embree reference agree on a mirror floor reflecting a box
   const Frame frame = RenderFrame(scene, test::ConfigOf(scene));
   REQUIRE(frame.reflections);
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 16;
   params.bounceSamples = 4;  // a near-mirror: every bounce sample follows almost the same ray
   params.bounceLightSamples = 4;

@@ -1,5 +1,7 @@
 // Composite (docs/pipeline.md §Composite): indirect = the cone-traced radiance times the split-sum
-// specular weight times the trace's confidence and the roughness fade; result = direct + indirect.
+// specular weight times the trace's confidence and the roughness fade, plus, with the sky light, the
+// environment times the weight for the share the trace did not see, times the sky's visibility;
+// result = lit + indirect ("direct" below is the lit image when the sky light ran).
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer Word0 { uint word0[]; };
@@ -12,8 +14,12 @@ layout(std430, binding = 6) writeonly buffer Indirect { float indirect[]; };   /
 layout(std430, binding = 7) writeonly buffer Result { float result[]; };       // three planes
 // The split-sum DFG table (A, B) pairs at [j * 32 + i], n.v = i / 31, roughness j / 31 (core/brdf.h).
 layout(std430, binding = 8) readonly buffer Dfg { vec2 dfg[]; };
+layout(std430, binding = 9) readonly buffer SkyVisibility { float skyVisibility[]; };
 
 uniform float roughnessCutoff;  // the trace's
+uniform int reflections;        // 0: no reflections traced (confidence 0 everywhere)
+uniform int sky;                // 1: the sky light ran: its specular part here
+uniform vec3 skyRadiance;       // a constant environment's radiance
 
 const int kDfgSize = 32;
 
@@ -39,8 +45,8 @@ void main() {
   const int index = pixel.y * imageSize.x + pixel.x;
   const int plane = imageSize.x * imageSize.y;
   precise vec3 indirectRadiance = vec3(0.0);
-  const float trust = confidence[index];
-  if (depth[index] != kBackgroundDepth && trust > 0.0) {
+  const float trust = reflections != 0 ? confidence[index] : 0.0;
+  if (depth[index] != kBackgroundDepth && (trust > 0.0 || sky != 0)) {
     const uint w0 = word0[index];
     const uint w1 = word1[index];
     const float roughness = UnpackRoughness(w1);
@@ -48,10 +54,18 @@ void main() {
     const vec3 toViewer = Normalize3(-PixelRayDirection(vec2(pixel) + 0.5));
     precise float nDotV = clamp(Dot3(UnpackNormal(w1), toViewer), 0.0, 1.0);
     precise float fade = clamp((roughnessCutoff - roughness) / 0.1, 0.0, 1.0);
-    const vec3 traced = vec3(reflected[index], reflected[index + plane], reflected[index + 2 * plane]);
-    // The weight first, then the radiance times it (§Composite).
-    precise vec3 weight = SpecularWeight(f0, nDotV, roughness) * (trust * fade);
-    indirectRadiance = traced * weight;
+    precise vec3 specular = SpecularWeight(f0, nDotV, roughness);
+    if (trust > 0.0) {
+      const vec3 traced = vec3(reflected[index], reflected[index + plane], reflected[index + 2 * plane]);
+      // The weight first, then the radiance times it (§Composite).
+      precise vec3 weight = specular * (trust * fade);
+      indirectRadiance = traced * weight;
+    }
+    if (sky != 0) {
+      precise float share = (1.0 - trust * fade) * skyVisibility[index];
+      precise vec3 environment = skyRadiance * (specular * share);
+      indirectRadiance = indirectRadiance + environment;
+    }
   }
   const vec3 directRadiance = vec3(direct[index], direct[index + plane], direct[index + 2 * plane]);
   precise vec3 sum = directRadiance + indirectRadiance;

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/egl_context.h"
 #include "core/brdf.h"
 #include "core/camera.h"
 #include "core/color.h"
@@ -30,12 +31,12 @@
 #include "core/gbuffer.h"
 #include "core/image_io.h"
 #include "core/lighting.h"
+#include "core/parallel.h"
 #include "core/pyramid.h"
 #include "core/scene.h"
 #include "passes/frame/config.h"
 #include "passes/frame/dump.h"
-#include "bench/egl_context.h"
-#include "core/parallel.h"
+#include "passes/sky_light.h"
 #include "tests/port/port_shaders.h"
 
 namespace ssgi::port {
@@ -123,6 +124,10 @@ class Program {
   void Set(const char* name, int x, int y) const { glProgramUniform2i(id_, Location(name), x, y); }
   void Set(const char* name, float x, float y) const { glProgramUniform2f(id_, Location(name), x, y); }
   void Set(const char* name, float x, float y, float z) const { glProgramUniform3f(id_, Location(name), x, y, z); }
+  void Set(const char* name, int x, int y, int z) const { glProgramUniform3i(id_, Location(name), x, y, z); }
+  void SetArray3(const char* name, const std::vector<float>& xyz) const {
+    glProgramUniform3fv(id_, Location(name), GLsizei(xyz.size() / 3), xyz.data());
+  }
   void SetArray(const char* name, const std::vector<float>& v) const {
     glProgramUniform1fv(id_, Location(name), GLsizei(v.size()), v.data());
   }
@@ -286,6 +291,37 @@ Buffer RunDirectLight(const FrameConstants& frame, const Scene& scene, const glm
   return direct;
 }
 
+struct SkyLightOutput {
+  Buffer diffuse, visibility, lit;
+};
+
+// §Sky light: `volume` the oracle's sky visibility volume (its grid is the scene's).
+SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolume& grid, const Buffer& volume,
+                           const glm::vec3& environment, const std::vector<Buffer>& words, const Buffer& direct) {
+  const Program program("sky_light.comp");
+  SetFrameConstants(program, frame);
+  const glm::mat4 toWorld = glm::inverse(frame.view.view);
+  std::vector<float> columns;
+  for (int c = 0; c < 4; ++c) columns.insert(columns.end(), {toWorld[c].x, toWorld[c].y, toWorld[c].z});
+  program.SetArray3("viewToWorld", columns);
+  program.Set("cells", grid.cellsX, grid.cellsY, grid.cellsZ);
+  program.Set("origin", grid.origin.x, grid.origin.y, grid.origin.z);
+  program.Set("cellSize", grid.cellSize);
+  program.Set("inverseCellSize", grid.inverseCellSize);
+  program.Set("constantEnvironment", 1);
+  program.Set("environmentRadiance", environment.x, environment.y, environment.z);
+  const size_t pixels = size_t(frame.width) * size_t(frame.height);
+  SkyLightOutput out{Buffer(3 * pixels), Buffer(pixels), Buffer(3 * pixels)};
+  for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
+  direct.Bind(3);
+  volume.Bind(4);
+  out.diffuse.Bind(5);
+  out.visibility.Bind(6);
+  out.lit.Bind(7);
+  program.Dispatch(frame.width, frame.height);
+  return out;
+}
+
 // §Hi-Z pyramid: level 0 = 1 / word 2, then each level the max of its footprint.
 std::vector<Buffer> RunHiZ(const FrameConstants& frame, const Buffer& word2) {
   const Program program("hiz.comp");
@@ -408,11 +444,16 @@ struct CompositeOutput {
   Buffer indirect, result;
 };
 
+// `skyVisibility` the sky light's, null without it; `environment` then the constant environment.
 CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff, const std::vector<Buffer>& words,
-                             const Buffer& confidence, const Buffer& reflected, const Buffer& direct) {
+                             const Buffer& confidence, const Buffer& reflected, const Buffer& direct,
+                             const Buffer* skyVisibility, const glm::vec3& environment) {
   const Program program("composite.comp");
   SetFrameConstants(program, frame);
   program.Set("roughnessCutoff", roughnessCutoff);
+  program.Set("reflections", 1);
+  program.Set("sky", skyVisibility != nullptr ? 1 : 0);
+  program.Set("skyRadiance", environment.x, environment.y, environment.z);
   // The table the spec defines and core builds (core/brdf.h).
   static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
   const Buffer dfg(size_t(2 * kDfgSize * kDfgSize), &ShippedDfgTable().ab[0].x);
@@ -425,6 +466,7 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   out.indirect.Bind(6);
   out.result.Bind(7);
   dfg.Bind(8);
+  if (skyVisibility != nullptr) skyVisibility->Bind(9);
   program.Dispatch(frame.width, frame.height);
   return out;
 }
@@ -484,10 +526,13 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   std::optional<Buffer> visibility = UploadPlanes(dump, main, {"shadow.visibility"}, width, height, input);
 
   // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
-  std::optional<Buffer> oracleDirect, oracleHitX, oracleHitY, oracleConfidence, oracleReflected;
+  std::optional<Buffer> oracleDirect, oracleLit, oracleSkyVisibility, oracleHitX, oracleHitY, oracleConfidence,
+      oracleReflected;
   std::optional<Levels> oracleHiZ, oraclePyramid;
   if (oracleInputs) {
     oracleDirect = UploadPlanes(dump, main, {"direct.R", "direct.G", "direct.B"}, width, height, input);
+    oracleLit = UploadPlanes(dump, main, {"lit.R", "lit.G", "lit.B"}, width, height, input);
+    oracleSkyVisibility = UploadPlanes(dump, main, {"sky.visibility"}, width, height, input);
     oracleHitX = UploadPlanes(dump, main, {"ssr.hitX"}, width, height, input);
     oracleHitY = UploadPlanes(dump, main, {"ssr.hitY"}, width, height, input);
     oracleConfidence = UploadPlanes(dump, main, {"ssr.confidence"}, width, height, input);
@@ -498,6 +543,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     std::string taken;
     const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
     note(oracleDirect.has_value(), "direct");
+    note(oracleLit.has_value(), "lit");
     note(oracleHiZ.has_value(), "hiz");
     note(oraclePyramid.has_value(), "pyramid");
     note(oracleHitX && oracleHitY && oracleConfidence, "ssr.hit");
@@ -508,16 +554,27 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
 
   const Buffer direct =
       RunDirectLight(frame, scene.scene, config.directLight.background, words, visibility ? &*visibility : nullptr);
+  // The sky light, where the frame ran it (its volume in the dump): then the passes after it read `lit`.
+  std::optional<SkyLightOutput> sky;
+  if (const ExrLayer* volume = dump.Find("skyvolume", "k")) {
+    const SkyVisibilityVolume grid = SkyVisibilityGrid(scene.scene, config.skyVisibility);
+    if (volume->width != grid.cellsX * 4 || volume->height != grid.cellsY * grid.cellsZ)
+      throw InputError(input, "layer 'k' of part 'skyvolume' is not the scene's sky visibility grid");
+    const Buffer volumeBuffer(volume->samples.size(), volume->samples.data());
+    sky = RunSkyLight(frame, grid, volumeBuffer, config.directLight.background, words, pick(oracleDirect, direct));
+  }
+  const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
   const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
-  const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, pick(oracleDirect, direct));
+  const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, lit);
   const Levels hiz = Concatenate(hizLevels, frame.levels);
   const Levels pyramid = Concatenate(pyramidLevels, frame.levels);
   const TraceOutput trace = RunSsrTrace(frame, config.ssrTrace, words[1], words[2], pick(oracleHiZ, hiz));
   const TraceHits hits{pick(oracleHitX, trace.hitX), pick(oracleHitY, trace.hitY),
                        pick(oracleConfidence, trace.confidence)};
   const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
-  const CompositeOutput composite = RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence,
-                                                 pick(oracleReflected, reflected), pick(oracleDirect, direct));
+  const CompositeOutput composite =
+      RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
+                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, config.directLight.background);
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
     std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));
@@ -539,6 +596,11 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     for (size_t c = 0; c < 3; ++c) out.layers.push_back(PlaneLayer(part, prefix + rgb[c], planes, c, w, h));
   };
   addRgb(main, "direct.", direct, frame.width, frame.height);
+  if (sky) {
+    addRgb(main, "sky.diffuse.", sky->diffuse, frame.width, frame.height);
+    addLayer("sky.visibility", sky->visibility);
+    addRgb(main, "lit.", sky->lit, frame.width, frame.height);
+  }
   addRgb(main, "ssr.reflected.", reflected, frame.width, frame.height);
   addRgb(main, "indirect.", composite.indirect, frame.width, frame.height);
   addRgb(main, "result.", composite.result, frame.width, frame.height);

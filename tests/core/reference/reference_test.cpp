@@ -4,15 +4,17 @@
 #include "core/reference/reference.h"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
+#include <utility>
 #include <vector>
-
-#include <catch2/catch.hpp>
 
 #include "core/brdf.h"
 #include "core/gbuffer.h"
+#include "core/lighting.h"
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "core/scene.h"
@@ -146,12 +148,12 @@ bool SameBytes(const Plane<T>& a, const Plane<T>& b) {
   return true;
 }
 
-// Every radiance value finite and >= 0, visibility in [0, 1], depth > 0 or +inf.
+// Every radiance value and variance finite and >= 0, visibility in [0, 1], depth > 0 or +inf.
 void CheckWellFormed(const ReferenceOutputs& out) {
   size_t bad = 0;
   for (size_t y = 0; y < out.depth.ysize(); ++y) {
     for (size_t x = 0; x < out.depth.xsize(); ++x) {
-      for (const Plane3<float>* p : {&out.direct, &out.indirect, &out.result})
+      for (const Plane3<float>* p : {&out.direct, &out.indirect, &out.result, &out.resultVariance})
         for (int c = 0; c < 3; ++c) {
           const float v = p->c[c].ConstRow(y)[x];
           if (!(std::isfinite(v) && v >= 0.0f)) ++bad;
@@ -171,6 +173,7 @@ TEST_CASE("reference primary visibility matches the rasterizer", "[reference]") 
   GBufferOutputs g;
   RunGBuffer({scene, view}, GBufferParams{}, g);
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 1;
   params.bounceSamples = 0;
   const ReferenceOutputs ref = RenderReferenceOf(scene, params);
@@ -212,6 +215,7 @@ TEST_CASE("reference direct light on an open plane is the analytic BRDF value", 
   scene.materials[0].roughness = 1.0f;
   AddGround(scene.mesh, 50.0f);
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 16;
   params.bounceSamples = 4;
   const SurfaceMaterial material{scene.materials[0].baseColor, 0.0f, 1.0f};
@@ -277,6 +281,7 @@ TEST_CASE("reference soft shadow of a floating slab", "[reference]") {
   AddBox(scene.mesh, {-0.5f, 0.5f, -0.5f}, {0.5f, 0.52f, 0.5f});
   scene.directionalLights.push_back(Sun({0.0f, -1.0f, 0.0f}, 10.0f));
   ReferenceParams params;
+  params.transport = ReferenceTransport::kPaper;
   params.lightSamples = 32;
   params.bounceSamples = 0;
   const ReferenceOutputs out = RenderReferenceOf(scene, params);
@@ -329,7 +334,7 @@ TestScene ConvergenceScene() {
 
 TEST_CASE("reference error falls as 1/sqrt(samples)", "[reference]") {
   const TestScene scene = ConvergenceScene();
-  ReferenceParams truthParams = ReferenceParamsForSpp(1024);
+  ReferenceParams truthParams = ReferenceParamsForSpp(1024, ReferenceTransport::kPaper);
   truthParams.seed = 1000;  // independent of the streams below
   const ReferenceOutputs truth = RenderReferenceOf(scene, truthParams);
   // The mean squared error over a few independent renders: one render's error is dominated by its
@@ -339,7 +344,7 @@ TEST_CASE("reference error falls as 1/sqrt(samples)", "[reference]") {
   for (int spp : {4, 16, 64}) {
     double meanSquared = 0.0;
     for (int i = 0; i < kRenders; ++i) {
-      ReferenceParams params = ReferenceParamsForSpp(spp);
+      ReferenceParams params = ReferenceParamsForSpp(spp, ReferenceTransport::kPaper);
       params.seed = uint32_t(spp * kRenders + i);
       const double e = Rmse(RenderReferenceOf(scene, params).result, truth.result);
       meanSquared += e * e / kRenders;
@@ -358,7 +363,7 @@ TEST_CASE("reference error falls as 1/sqrt(samples)", "[reference]") {
 
 TEST_CASE("reference output is identical at 1, 2 and 3 threads", "[reference]") {
   TestScene scene = FeatureScene(67, 45);
-  ReferenceParams params = ReferenceParamsForSpp(4);
+  ReferenceParams params = ReferenceParamsForSpp(4, ReferenceTransport::kPaper);
   params.seed = 7;
   std::vector<ReferenceOutputs> outs;
   for (int threads : {1, 2, 3}) {
@@ -388,7 +393,9 @@ TEST_CASE("reference output is identical at 1, 2 and 3 threads", "[reference]") 
 }
 
 TEST_CASE("reference output is finite in degenerate set-ups", "[reference]") {
-  ReferenceParams params = ReferenceParamsForSpp(4);
+  const ReferenceTransport transport = GENERATE(ReferenceTransport::kPaper, ReferenceTransport::kFull);
+  CAPTURE(int(transport));
+  ReferenceParams params = ReferenceParamsForSpp(4, transport);
   SECTION("grazing sun, point-sized spot inside the geometry, mirrors") {
     TestScene scene = FeatureScene(40, 30);
     scene.materials[0].roughness = 0.0f;  // mirror ground
@@ -463,6 +470,7 @@ TEST_CASE("an inconsistently wound OBJ renders like the consistent one in both t
     Rendered r;
     RunGBuffer({scene, MakePerspective(scene.camera, 160, 120)}, GBufferParams{}, r.g);
     ReferenceParams params;
+    params.transport = ReferenceTransport::kPaper;
     params.lightSamples = 4;
     params.bounceSamples = 0;
     r.reference = RenderReferenceOf(scene, params);
@@ -520,6 +528,7 @@ TEST_CASE("a scene renders the same at any scale, in the frame and in the refere
     REQUIRE(frame.reflections);
     r.display = frame.display.rgb;
     ReferenceParams params;
+    params.transport = ReferenceTransport::kPaper;
     params.lightSamples = 4;
     params.bounceSamples = 1;
     r.reference = RenderReferenceOf(scene, params);
@@ -547,6 +556,538 @@ TEST_CASE("a scene renders the same at any scale, in the frame and in the refere
     CHECK(displayOff <= metres.display.size() / 200);
     CHECK(referenceOff <= metres.display.size() / 200);
   }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The full transport (ReferenceTransport::kFull): the path tracer against values derived here
+// independently of it, and against the paper transport where the two must agree.
+
+// A UV sphere of radius 1 around the origin, `segments` around y by `rings` from pole to pole,
+// wound to face outward (or inward) and with normals equal to the positions (or their negatives):
+// the interpolated normal at a point p of a facet is then parallel to p itself (sum w_i v_i = p),
+// so a test knows the shading normal of every hit exactly.
+Mesh UnitSphere(int segments, int rings, bool inward) {
+  Mesh mesh;
+  for (int i = 0; i <= rings; ++i) {
+    const double theta = kPi * double(i) / rings;
+    for (int j = 0; j <= segments; ++j) {
+      const double phi = 2.0 * kPi * double(j) / segments;
+      const glm::vec3 p(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                        float(std::sin(theta) * std::sin(phi)));
+      mesh.positions.push_back(p);
+      mesh.normals.push_back(inward ? -p : p);
+      mesh.uvs.push_back({0.0f, 0.0f});
+    }
+  }
+  const auto at = [&](int i, int j) { return uint32_t(i * (segments + 1) + j); };
+  const auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+    const glm::vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], &pc = mesh.positions[c];
+    const bool outward = glm::dot(glm::cross(pb - pa, pc - pa), pa + pb + pc) > 0.0f;
+    if (outward != inward) {
+      mesh.indices.insert(mesh.indices.end(), {a, b, c});
+    } else {
+      mesh.indices.insert(mesh.indices.end(), {a, c, b});
+    }
+    mesh.materials.push_back(0);
+  };
+  for (int i = 0; i < rings; ++i) {
+    for (int j = 0; j < segments; ++j) {
+      if (i > 0) add(at(i, j), at(i + 1, j), at(i, j + 1));                  // none at the top pole
+      if (i < rings - 1) add(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));  // none at the bottom pole
+    }
+  }
+  return mesh;
+}
+
+// The full transport of a test scene, one path per pixel centre unless `jitter`.
+ReferenceOutputs RenderFull(const TestScene& scene, int spp, int bounces, uint32_t seed, bool jitter = false) {
+  ReferenceParams params = ReferenceParamsForSpp(spp);
+  params.bounces = bounces;
+  params.pixelCentre = !jitter;
+  params.seed = seed;
+  return RenderReferenceOf(scene, params);
+}
+
+// The world position of the pixel-centre hit of pixel (x, y), from the reference's depth.
+glm::vec3 HitPosition(const ViewProjection& view, const glm::mat4& viewToWorld, int x, int y, float depth) {
+  return glm::vec3(viewToWorld * glm::vec4(view.PixelRay(x + 0.5f, y + 0.5f).direction * depth, 1.0f));
+}
+
+// (A, B) of the specular lobe as core/brdf.h writes it, at n.v and GGX alpha: the hemispherical
+// integrals of D V n.l (1 - Fc) and D V n.l Fc, Fc = (1 - v.h)^5, so that the lobe's directional
+// albedo is F0 A + B. A product midpoint rule over the light direction l = (mu, phi): mu = t^2
+// with t uniform (nodes gathered towards the horizon, where a grazing viewer's lobe lies), phi
+// uniform over [0, pi] (the integrand is even in it), enough nodes in phi for a lobe that narrows
+// at grazing angles (converged to 1e-5 at n.v = 1/31 and roughness 0.5). Independent of the
+// shipped table (1024 Hammersley half vectors per entry, rescaled where A + B > 1).
+glm::dvec2 SpecularAlbedoByQuadrature(double nDotV, double alpha) {
+  constexpr int kT = 96, kPhi = 384;
+  const double a2 = alpha * alpha;
+  const glm::dvec3 v(std::sqrt(std::max(0.0, 1.0 - nDotV * nDotV)), 0.0, nDotV);
+  const double lambdaV = std::sqrt(a2 + (1.0 - a2) * nDotV * nDotV);
+  double a = 0.0, b = 0.0;
+  for (int i = 0; i < kT; ++i) {
+    const double t = (i + 0.5) / kT;
+    const double mu = t * t, dMu = 2.0 * t / kT;
+    const double sinL = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+    const double lambdaL = std::sqrt(a2 + (1.0 - a2) * mu * mu);
+    const double visibility = 0.5 / (mu * lambdaV + nDotV * lambdaL);
+    for (int k = 0; k < kPhi; ++k) {
+      const double phi = double(kPi) * (k + 0.5) / kPhi;
+      const glm::dvec3 h = glm::normalize(v + glm::dvec3(sinL * std::cos(phi), sinL * std::sin(phi), mu));
+      const double f = h.z * h.z * (a2 - 1.0) + 1.0;
+      const double d = a2 / (double(kPi) * f * f);
+      const double weight = d * visibility * mu * dMu * (2.0 * double(kPi) / kPhi);
+      const double fc = std::pow(1.0 - glm::dot(v, h), 5.0);
+      a += (1.0 - fc) * weight;
+      b += fc * weight;
+    }
+  }
+  return {a, b};
+}
+
+// The furnace: a sphere inside a uniform environment of radiance L. A sphere is convex, so every
+// direction above its surface sees the environment and nothing else (single scattering), and the
+// radiance it sends towards the camera is L times the BRDF's directional albedo at that pixel's
+// n.v: for core/brdf.h's BRDF (Lambert rho (1 - m) / pi, not weighted by 1 - F, plus the GGX lobe)
+// L (rho (1 - m) + F0 A + B), F0 = mix(0.04, rho, m), per channel.
+struct FurnaceCheck {
+  size_t pixels = 0, outliers = 0;
+  double meanError = 0.0, meanSigma = 0.0, meanExpected = 0.0;  // relative sums over pixels
+  double worstZ = 0.0;
+};
+
+template <class Expected>
+FurnaceCheck CheckFurnace(const TestScene& scene, const ReferenceOutputs& out, const Expected& expectedAt,
+                          double systematic) {
+  const ViewProjection view = MakePerspective(scene.camera, scene.width, scene.height);
+  const glm::mat4 viewToWorld = glm::inverse(view.view);
+  FurnaceCheck check;
+  double sumError = 0.0, sumVariance = 0.0, sumExpected = 0.0, sumSigma = 0.0;
+  for (int y = 0; y < scene.height; ++y) {
+    for (int x = 0; x < scene.width; ++x) {
+      const float depth = out.depth.ConstRow(y)[x];
+      if (IsBackground(depth)) continue;
+      const glm::vec3 p = HitPosition(view, viewToWorld, x, y, depth);
+      const glm::dvec3 n = glm::normalize(glm::dvec3(p));
+      const double nDotV = glm::dot(n, glm::normalize(glm::dvec3(scene.camera.position) - glm::dvec3(p)));
+      if (nDotV < 1e-3) continue;  // the silhouette: shading and test normals may disagree in sign
+      const glm::dvec3 expected = expectedAt(nDotV);
+      ++check.pixels;
+      bool outlier = false;
+      for (int c = 0; c < 3; ++c) {
+        const double value = out.result.c[c].ConstRow(y)[x];
+        const double sigma = std::sqrt(double(out.resultVariance.c[c].ConstRow(y)[x]));
+        const double error = value - expected[c];
+        sumError += error;
+        sumVariance += sigma * sigma;
+        sumExpected += expected[c];
+        sumSigma += sigma;
+        check.worstZ = std::max(check.worstZ, std::fabs(error) / std::max(sigma, 1e-12));
+        outlier = outlier || std::fabs(error) > 5.0 * sigma + systematic * expected[c];
+      }
+      check.outliers += outlier;
+    }
+  }
+  check.meanError = sumError / sumExpected;
+  check.meanSigma = sumSigma / sumExpected;
+  check.meanExpected = sumExpected / double(3 * check.pixels);
+  // The mean error's own standard error, relative: independent pixels, so variances add.
+  const double meanSigma = std::sqrt(sumVariance) / sumExpected;
+  WARN(check.pixels << " pixels: mean relative error " << check.meanError << " (standard error " << meanSigma
+                    << "), mean relative sigma per pixel " << check.meanSigma << ", largest |error| / sigma "
+                    << check.worstZ << ", " << check.outliers << " pixels beyond 5 sigma + " << systematic);
+  CHECK(std::fabs(check.meanError) < 5.0 * meanSigma + systematic);
+  return check;
+}
+
+TestScene FurnaceScene(const SurfaceMaterial& material, glm::vec3 environment) {
+  TestScene scene = MakeScene(Camera({0.0f, 0.0f, 3.2f}, {0.0f, 0.0f, 0.0f}, 45.0f), 40, 40);
+  scene.materials[0] = Material{};
+  scene.materials[0].baseColor = material.albedo;
+  scene.materials[0].metallic = material.metallic;
+  scene.materials[0].roughness = material.roughness;
+  scene.mesh = UnitSphere(256, 128, false);
+  scene.background = environment;
+  return scene;
+}
+
+// Facets: the shading normal is the sphere's, the facet is not, so a few directions near the
+// horizon leave below the facet's plane and see the sphere's inside (the terminator effect of a
+// coarse mesh); 256 x 128 facets keep it below this share of the radiance.
+constexpr double kFacetAllowance = 2e-3;
+
+TEST_CASE("reference full transport: a furnace sphere renders L (rho (1 - m) + F0 A + B)", "[reference]") {
+  const SurfaceMaterial material{{0.8f, 0.5f, 0.2f}, 0.3f, 0.5f};
+  const glm::vec3 environment(1.0f, 0.8f, 1.2f);
+  const TestScene scene = FurnaceScene(material, environment);
+  const ReferenceOutputs out = RenderFull(scene, 512, kDefaultReferenceBounces, 11);
+  const float alpha = std::max(material.roughness * material.roughness, kMinGgxAlpha);
+  const glm::dvec3 f0 = glm::dvec3(SpecularF0(material));
+  const FurnaceCheck check = CheckFurnace(
+      scene, out,
+      [&](double nDotV) {
+        const glm::dvec2 ab = SpecularAlbedoByQuadrature(nDotV, alpha);
+        return glm::dvec3(environment) *
+               (glm::dvec3(material.albedo) * (1.0 - double(material.metallic)) + f0 * ab.x + ab.y);
+      },
+      kFacetAllowance);
+  REQUIRE(check.pixels > 600);
+  CHECK(check.outliers == 0);
+  CHECK(check.meanSigma < 0.03);  // the per-pixel test has teeth: 5 sigma is a few percent
+}
+
+TEST_CASE("reference full transport: a metal furnace sphere renders A + B, the DFG table's", "[reference]") {
+  // F0 = 1: Fresnel is 1, the lobe's albedo A + B. Roughness on a table row, so the table
+  // interpolates in n.v only.
+  constexpr int kRow = 16;
+  const SurfaceMaterial material{{1.0f, 1.0f, 1.0f}, 1.0f, float(kRow) / (kDfgSize - 1)};
+  const TestScene scene = FurnaceScene(material, glm::vec3(1.0f));
+  const ReferenceOutputs out = RenderFull(scene, 256, kDefaultReferenceBounces, 12);
+  const float alpha = std::max(material.roughness * material.roughness, kMinGgxAlpha);
+  const DfgTable& table = ShippedDfgTable();
+  const auto node = [&](int i) {
+    const glm::vec2 ab = table.ab[size_t(kRow * kDfgSize + std::clamp(i, 0, kDfgSize - 1))];
+    return double(ab.x) + double(ab.y);
+  };
+  // The table's own error at its nodes (1024 Hammersley samples each), against the quadrature: it
+  // grows towards grazing angles, where the lobe narrows.
+  std::vector<double> nodeError(kDfgSize, 0.0);
+  for (int i = 1; i < kDfgSize; ++i) {
+    const glm::dvec2 ab = SpecularAlbedoByQuadrature(double(i) / (kDfgSize - 1), alpha);
+    nodeError[size_t(i)] = std::fabs(node(i) - (ab.x + ab.y));
+  }
+  WARN("DFG table row " << kRow << ": error at its nodes n.v = 1/31, 2/31, 4/31, 8/31, 16/31, 1: " << nodeError[1]
+                        << ", " << nodeError[2] << ", " << nodeError[4] << ", " << nodeError[8] << ", " << nodeError[16]
+                        << ", " << nodeError[31]);
+  // The quadrature and the table agree to their errors: each is what the other says it is.
+  CHECK(*std::max_element(nodeError.begin(), nodeError.end()) < 0.03);
+  // Against the table: its bilinear interpolation errs by at most h^2 / 8 |f''|, estimated by the
+  // larger second difference of the cell's neighbourhood over 8, plus its node error.
+  const ViewProjection view = MakePerspective(scene.camera, scene.width, scene.height);
+  const glm::mat4 viewToWorld = glm::inverse(view.view);
+  size_t pixels = 0, outliers = 0;
+  for (int y = 0; y < scene.height; ++y) {
+    for (int x = 0; x < scene.width; ++x) {
+      const float depth = out.depth.ConstRow(y)[x];
+      if (IsBackground(depth)) continue;
+      const glm::vec3 p = HitPosition(view, viewToWorld, x, y, depth);
+      const float nDotV = glm::dot(glm::normalize(p), glm::normalize(scene.camera.position - p));
+      if (nDotV < 1e-3f) continue;
+      const int i = std::min(int(nDotV * (kDfgSize - 1)), kDfgSize - 2);
+      const double secondDifference = std::max(std::fabs(node(i - 1) - 2.0 * node(i) + node(i + 1)),
+                                               std::fabs(node(i) - 2.0 * node(i + 1) + node(i + 2)));
+      // Row 0 (n.v = 0) is integrated at n.v = 1e-4 and rescaled: its error is the next node's bound.
+      const double tolerance =
+          secondDifference / 8.0 + std::max(nodeError[size_t(std::max(i, 1))], nodeError[size_t(i + 1)]);
+      const double expected = SpecularWeight(glm::vec3(1.0f), nDotV, material.roughness).x;
+      const double value = out.result.c[1].ConstRow(y)[x];
+      const double sigma = std::sqrt(double(out.resultVariance.c[1].ConstRow(y)[x]));
+      ++pixels;
+      outliers += std::fabs(value - expected) > 5.0 * sigma + tolerance + kFacetAllowance * expected;
+    }
+  }
+  WARN(pixels << " pixels, " << outliers << " beyond 5 sigma + the table's interpolation error");
+  REQUIRE(pixels > 600);
+  CHECK(outliers == 0);
+  // And against the quadrature, as the furnace above.
+  const FurnaceCheck check = CheckFurnace(
+      scene, out,
+      [&](double nDotV) {
+        const glm::dvec2 ab = SpecularAlbedoByQuadrature(nDotV, alpha);
+        return glm::dvec3(ab.x + ab.y);
+      },
+      kFacetAllowance);
+  CHECK(check.outliers == 0);
+  CHECK(check.meanSigma < 0.03);
+}
+
+// The radiance field inside a sphere whose wall receives the same irradiance E at normal incidence
+// everywhere. The chord between two wall points makes the same angle with both normals, so the
+// radiance leaving every point depends only on mu, the cosine of its direction with the normal,
+// and the light arriving at a point from direction mu is the light leaving the far point at mu:
+//   L1(mu_o) = f(mu_o, normal) E                      (the first reflection: the direct light)
+//   L(mu_o) = L1 + Integral f(mu_o, w_i) L(mu_i) mu_i dw_i.
+// The indirect part L - L1, by the Neumann series over a midpoint rule in mu_i and the relative
+// azimuth (the integrand even in it). `brdfCosine(v, l)` is f times n.l with n = +z. For a
+// Lambertian f = rho / pi it is rho E / pi * rho / (1 - rho): the classic integrating sphere's
+// rho / pi * E_indirect, E_indirect = Phi rho / (4 pi R^2 (1 - rho)) with E = Phi / (4 pi R^2).
+class SphereInterreflection {
+ public:
+  using BrdfCosineFn = std::function<double(const glm::vec3& v, const glm::vec3& l)>;
+  SphereInterreflection(const BrdfCosineFn& brdfCosine, double irradiance) : brdfCosine_(brdfCosine) {
+    std::vector<double> direct(kMu);
+    for (int j = 0; j < kMu; ++j) direct[j] = brdfCosine_(Direction(Mu(j), 0.0), {0.0f, 0.0f, 1.0f}) * irradiance;
+    std::vector<std::vector<double>> kernel(kMu);
+    for (int i = 0; i < kMu; ++i) kernel[i] = KernelRow(Mu(i));
+    indirect_.assign(kMu, 0.0);
+    for (int iteration = 0; iteration < 200; ++iteration) {
+      std::vector<double> next(kMu, 0.0);
+      for (int i = 0; i < kMu; ++i)
+        for (int j = 0; j < kMu; ++j) next[i] += kernel[i][j] * (direct[j] + indirect_[j]);
+      indirect_ = next;
+    }
+    total_.resize(kMu);
+    for (int j = 0; j < kMu; ++j) total_[j] = direct[j] + indirect_[j];
+  }
+  // L - L1 leaving the wall at cosine muOut (Nystrom: the kernel row at muOut).
+  double Indirect(double muOut) const {
+    const std::vector<double> row = KernelRow(muOut);
+    double sum = 0.0;
+    for (int j = 0; j < kMu; ++j) sum += row[j] * total_[j];
+    return sum;
+  }
+
+ private:
+  static constexpr int kMu = 192, kPhi = 48;
+  static double Mu(int j) { return (j + 0.5) / kMu; }
+  static glm::vec3 Direction(double mu, double phi) {
+    const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+    return glm::vec3(float(s * std::cos(phi)), float(s * std::sin(phi)), float(mu));
+  }
+  // Weights of L(mu_j) in the integral at muOut: f mu_j dmu dphi over mu_j's cell, phi in [0, 2 pi).
+  std::vector<double> KernelRow(double muOut) const {
+    std::vector<double> row(kMu, 0.0);
+    const glm::vec3 v = Direction(muOut, 0.0);
+    for (int j = 0; j < kMu; ++j) {
+      double sum = 0.0;
+      for (int k = 0; k < kPhi; ++k) sum += brdfCosine_(v, Direction(Mu(j), kPi * (k + 0.5) / kPhi));
+      row[j] = sum * (2.0 * kPi / kPhi) / kMu;
+    }
+    return row;
+  }
+  BrdfCosineFn brdfCosine_;
+  std::vector<double> indirect_, total_;
+};
+
+TEST_CASE("reference full transport: an integrating sphere holds the interreflection of its wall", "[reference]") {
+  // A closed sphere (radius 1, inward normals) of albedo rho and roughness 1, the most diffuse
+  // core/brdf.h's BRDF gets, lit from its centre by two point spots back to back whose cones
+  // (89.99 degrees, no falloff band to speak of) light the whole wall at normal incidence.
+  const SurfaceMaterial material{{0.5f, 0.5f, 0.5f}, 0.0f, 1.0f};
+  TestScene scene = MakeScene(Camera({0.0f, -0.3f, 0.4f}, {0.1f, 0.7f, -0.6f}, 60.0f), 40, 30);
+  scene.materials[0] = Material{};
+  scene.materials[0].baseColor = material.albedo;
+  scene.materials[0].roughness = material.roughness;
+  scene.mesh = UnitSphere(256, 128, true);
+  for (const float y : {1.0f, -1.0f}) {
+    SpotLight spot = test::Spot({0.0f, 0.0f, 0.0f}, {0.0f, y, 0.0f}, 89.99f, 0.0f);
+    spot.innerConeDegrees = 89.99f;
+    spot.intensity = glm::vec3(2.0f);
+    scene.spotLights.push_back(spot);
+  }
+  // The spots' power by integrating their intensity I c(theta)^2 (core/lighting.h's cone) over
+  // the sphere of directions: 2 pi I Integral c(mu)^2 dmu each, midpoint rule in mu = cos theta.
+  double power = 0.0;
+  for (const SpotLight& spot : scene.spotLights) {
+    const PreparedLight light = Prepare(spot, glm::mat4(1.0f));
+    constexpr int kNodes = 1 << 20;
+    double integral = 0.0;
+    for (int k = 0; k < kNodes; ++k) {
+      const double mu = (k + 0.5) / kNodes;
+      const double c = std::clamp((mu - double(light.cosOuter)) * double(light.coneScale), 0.0, 1.0);
+      integral += c * c / kNodes;
+    }
+    power += 2.0 * double(kPi) * double(light.power.x) * integral;
+  }
+  const double irradiance = power / (4.0 * double(kPi));  // Phi / (4 pi R^2)
+  WARN("spots' power " << power << " W, against 4 pi I = " << 4.0 * kPi * 2.0);
+
+  const float alpha = std::max(material.roughness * material.roughness, kMinGgxAlpha);
+  const SphereInterreflection sphere(
+      [&](const glm::vec3& v, const glm::vec3& l) {
+        return double(BrdfCosine(material, alpha, {0.0f, 0.0f, 1.0f}, v, l).x);
+      },
+      irradiance);
+  // The solver itself against the classic closed form, for a Lambertian wall.
+  const double rho = material.albedo.x;
+  const SphereInterreflection lambertian(
+      [&](const glm::vec3&, const glm::vec3& l) { return rho / kPi * std::max(0.0, double(l.z)); }, irradiance);
+  const double classic = rho / kPi * power * rho / (4.0 * kPi * (1.0 - rho));
+  CHECK(std::fabs(lambertian.Indirect(0.7) / classic - 1.0) < 1e-4);
+  WARN("indirect radiance at mu = 0.7: " << sphere.Indirect(0.7) << " for the BRDF, " << classic
+                                         << " for a Lambertian wall of the same albedo");
+
+  const ReferenceOutputs out = RenderFull(scene, 256, 64, 21);
+  const ViewProjection view = MakePerspective(scene.camera, scene.width, scene.height);
+  const glm::mat4 viewToWorld = glm::inverse(view.view);
+  struct WallPixel {
+    double value, expected, variance;
+  };
+  std::vector<WallPixel> wall;
+  size_t directOff = 0;
+  for (int y = 0; y < scene.height; ++y) {
+    for (int x = 0; x < scene.width; ++x) {
+      const float depth = out.depth.ConstRow(y)[x];
+      REQUIRE(!IsBackground(depth));  // closed: every ray meets the wall
+      const glm::vec3 p = HitPosition(view, viewToWorld, x, y, depth);
+      if (std::fabs(p.y) < 0.01f) continue;  // the cones' edge
+      const glm::vec3 n = -glm::normalize(p);
+      const glm::vec3 v = glm::normalize(scene.camera.position - p);
+      // The direct light is a point light's: exact, no noise, so result's variance is indirect's.
+      const double direct = double(BrdfCosine(material, alpha, n, v, n).x) * 2.0 / double(glm::dot(p, p));
+      directOff += std::fabs(out.direct.c[0].ConstRow(y)[x] - direct) > 1e-4 * direct;
+      wall.push_back({out.indirect.c[0].ConstRow(y)[x], sphere.Indirect(glm::dot(n, v)),
+                      double(out.resultVariance.c[0].ConstRow(y)[x])});
+    }
+  }
+  REQUIRE(wall.size() > 1000);
+  CHECK(directOff == 0);
+  double sumError = 0.0, sumVariance = 0.0, sumExpected = 0.0;
+  for (const WallPixel& w : wall) {
+    sumError += w.value - w.expected;
+    sumVariance += w.variance;
+    sumExpected += w.expected;
+  }
+  const double meanError = sumError / sumExpected, meanSigma = std::sqrt(sumVariance) / sumExpected;
+  // Per pixel, against the larger of its own standard error and the wall's root mean one: a path's
+  // light is skewed (rare long bright paths), so a pixel that drew few of them has both a low value
+  // and a low sample variance; the wall's pixels all see the same sphere.
+  const double pooledSigma = std::sqrt(sumVariance / double(wall.size()));
+  size_t outliers = 0;
+  for (const WallPixel& w : wall)
+    outliers += std::fabs(w.value - w.expected) >
+                5.0 * std::max(std::sqrt(w.variance), pooledSigma) + kFacetAllowance * w.expected;
+  WARN(wall.size() << " wall pixels: mean relative error of the indirect light " << meanError << " (standard error "
+                   << meanSigma << "), relative sigma per pixel " << pooledSigma * double(wall.size()) / sumExpected
+                   << ", " << outliers << " beyond 5 sigma");
+  CHECK(outliers == 0);
+  CHECK(pooledSigma * double(wall.size()) / sumExpected < 0.05);
+  CHECK(std::fabs(meanError) < 5.0 * meanSigma + kFacetAllowance);
+}
+
+// Boxes of copper and silver (metallic 1: no diffuse lobe) on a diffuse ground beside a red box,
+// under a sun and a spot with a disc: the metals reflect diffuse surfaces lit by both.
+constexpr glm::vec3 kCopperLo{-0.9f, 0.0f, -0.5f}, kCopperHi{-0.2f, 0.7f, 0.2f};
+constexpr glm::vec3 kSilverLo{0.2f, 0.0f, -0.4f}, kSilverHi{0.8f, 0.5f, 0.1f};
+
+TestScene AgreementScene() {
+  TestScene scene = MakeScene(Camera({0.3f, 1.6f, 2.6f}, {0.0f, 0.3f, -0.1f}, 45.0f), 48, 36);
+  scene.materials[0].baseColor = glm::vec3(0.7f);
+  scene.materials[0].roughness = 0.6f;
+  AddGround(scene.mesh, 3.0f);
+  Mesh box;
+  AddBox(box, kCopperLo, kCopperHi);
+  Append(scene.mesh, box, AddMaterial(scene, {0.95f, 0.64f, 0.54f}, 1.0f, 0.3f, false));
+  box = Mesh{};
+  AddBox(box, kSilverLo, kSilverHi);
+  Append(scene.mesh, box, AddMaterial(scene, {0.9f, 0.9f, 0.9f}, 1.0f, 0.15f, false));
+  box = Mesh{};
+  AddBox(box, {-0.15f, 0.0f, 0.3f}, {0.35f, 0.35f, 0.7f});
+  Append(scene.mesh, box, AddMaterial(scene, {0.8f, 0.15f, 0.1f}, 0.0f, 0.5f, false));
+  scene.directionalLights.push_back(Sun(LightDirection(40.0f, 60.0f), 8.0f));
+  SpotLight spot = test::Spot({0.6f, 1.6f, 0.9f}, {-0.3f, -1.0f, -0.4f}, 50.0f, 0.2f);
+  spot.intensity = glm::vec3(5.0f, 4.0f, 3.0f);
+  scene.spotLights.push_back(spot);
+  scene.background = glm::vec3(0.0f);  // black: the paper transport has no environment light
+  return scene;
+}
+
+bool Inside(glm::vec3 p, glm::vec3 lo, glm::vec3 hi, float margin) {
+  return p.x > lo.x - margin && p.x < hi.x + margin && p.y > lo.y - margin && p.y < hi.y + margin &&
+         p.z > lo.z - margin && p.z < hi.z + margin;
+}
+
+TEST_CASE("reference full transport, one bounce, agrees with the paper transport where nothing is diffuse",
+          "[reference]") {
+  // With a black environment and one bounce the full transport is the paper transport's light
+  // plus, at the first hit, the diffuse lobe's bounce. The two agree on every pixel's direct light,
+  // and on the whole result of pixels whose pixel-centre ray first hits a metal box (metallic 1:
+  // no diffuse lobe at the first hit; the second hit's direct light is the full BRDF's in both).
+  const TestScene scene = AgreementScene();
+  ReferenceParams truthParams = ReferenceParamsForSpp(1024, ReferenceTransport::kPaper);
+  truthParams.seed = 1000;
+  const ReferenceOutputs truth = RenderReferenceOf(scene, truthParams);
+  const ViewProjection view = MakePerspective(scene.camera, scene.width, scene.height);
+  const glm::mat4 viewToWorld = glm::inverse(view.view);
+  std::vector<std::pair<int, int>> metal, covered;
+  double truthIndirect = 0.0, truthResult = 0.0;
+  for (int y = 0; y < scene.height; ++y) {
+    for (int x = 0; x < scene.width; ++x) {
+      const float depth = truth.depth.ConstRow(y)[x];
+      if (IsBackground(depth)) continue;
+      covered.push_back({x, y});
+      const glm::vec3 p = HitPosition(view, viewToWorld, x, y, depth);
+      if (p.y > 1e-3f && (Inside(p, kCopperLo, kCopperHi, 1e-3f) || Inside(p, kSilverLo, kSilverHi, 1e-3f))) {
+        metal.push_back({x, y});
+        truthIndirect += truth.indirect.c[1].ConstRow(y)[x];
+        truthResult += truth.result.c[1].ConstRow(y)[x];
+      }
+    }
+  }
+  REQUIRE(metal.size() > 150);
+  // The reflections are a real part of the metals' light: not an agreement of zeros.
+  CHECK(truthIndirect > 0.1 * truthResult);
+  const auto rmse = [](const Plane3<float>& a, const Plane3<float>& b, const std::vector<std::pair<int, int>>& at) {
+    double sum = 0.0;
+    for (const auto& [x, y] : at)
+      for (int c = 0; c < 3; ++c) {
+        const double d = double(a.c[c].ConstRow(y)[x]) - double(b.c[c].ConstRow(y)[x]);
+        sum += d * d;
+      }
+    return std::sqrt(sum / double(3 * at.size()));
+  };
+  constexpr int kRenders = 4;
+  std::vector<double> resultError, directError;
+  for (int spp : {4, 16, 64}) {
+    double result2 = 0.0, direct2 = 0.0;
+    for (int i = 0; i < kRenders; ++i) {
+      const ReferenceOutputs full = RenderFull(scene, spp, 1, uint32_t(spp * kRenders + i));
+      result2 += std::pow(rmse(full.result, truth.result, metal), 2) / kRenders;
+      direct2 += std::pow(rmse(full.direct, truth.direct, covered), 2) / kRenders;
+    }
+    resultError.push_back(std::sqrt(result2));
+    directError.push_back(std::sqrt(direct2));
+  }
+  WARN("metal pixels' result RMSE at 4 / 16 / 64 spp: "
+       << resultError[0] << " / " << resultError[1] << " / " << resultError[2]
+       << "; every pixel's direct light: " << directError[0] << " / " << directError[1] << " / " << directError[2]);
+  // Unbiased, against a 1024-spp truth: each 4x more samples halve the error (a bias would
+  // flatten it).
+  for (const std::vector<double>* e : {&resultError, &directError}) {
+    CHECK((*e)[0] / (*e)[1] > 1.6);
+    CHECK((*e)[1] / (*e)[2] > 1.6);
+    CHECK((*e)[0] / (*e)[2] > 3.0);
+    CHECK((*e)[0] / (*e)[2] < 5.5);
+  }
+}
+
+TEST_CASE("reference full transport: identical at 1, 2 and 3 threads", "[reference]") {
+  TestScene scene = FeatureScene(67, 45);
+  ReferenceParams params = ReferenceParamsForSpp(4);
+  params.seed = 7;
+  std::vector<ReferenceOutputs> outs;
+  for (int threads : {1, 2, 3}) {
+    const ThreadLimit limit(threads);
+    size_t calls = 0, lastRows = 0;
+    bool increasing = true;
+    outs.push_back(RenderReferenceOf(scene, params, [&](size_t rowsDone, size_t rows) {
+      increasing = increasing && rowsDone > lastRows && rows == 45;
+      lastRows = rowsDone;
+      ++calls;
+    }));
+    CHECK(increasing);
+    CHECK(lastRows == 45);
+    CHECK(calls == RowBandCount(45));
+  }
+  for (size_t i = 1; i < outs.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      CHECK(SameBytes(outs[0].direct.c[c], outs[i].direct.c[c]));
+      CHECK(SameBytes(outs[0].indirect.c[c], outs[i].indirect.c[c]));
+      CHECK(SameBytes(outs[0].result.c[c], outs[i].result.c[c]));
+      CHECK(SameBytes(outs[0].resultVariance.c[c], outs[i].resultVariance.c[c]));
+    }
+    CHECK(SameBytes(outs[0].lightVisibility, outs[i].lightVisibility));
+    CHECK(SameBytes(outs[0].depth, outs[i].depth));
+    CHECK(outs[0].stats.rays == outs[i].stats.rays);
+  }
+  CheckWellFormed(outs[0]);
+  // The environment lights the scene: indirect light on surfaces the paper transport leaves at 0.
+  double indirect = 0.0;
+  for (int y = 0; y < 45; ++y)
+    for (int x = 0; x < 67; ++x) indirect += outs[0].indirect.c[2].ConstRow(y)[x];
+  CHECK(indirect > 0.0);
+  CHECK(outs[0].stats.paths == size_t(67 * 45 * 4));
 }
 
 }  // namespace

@@ -3,13 +3,13 @@
 // the thresholds file.
 #include "passes/frame/diff.h"
 
+#include <catch2/catch.hpp>
 #include <cstring>
 #include <fstream>
-
-#include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "passes/frame/dump.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
@@ -209,6 +209,137 @@ TEST_CASE("diff: the thresholds file", "[diff][errors]") {
   CHECK(error("{\"layers\": [{\"ulp\": 1}]}").find("string \"match\"") != std::string::npos);
   CHECK(error("{\"layers\": [").find("not valid JSON") != std::string::npos);
   CHECK(error("[]").find("t.json: must be an object with an array \"layers\"") != std::string::npos);
+}
+
+TEST_CASE("diff: a thresholds file's errors name its line", "[diff][errors]") {
+  test::ScratchDir dir("diff-thresholds-lines");
+  const auto error = [&](const std::string& text) {
+    std::ofstream(dir / "t.json") << text;
+    const std::string message = test::InputErrorOf([&] { LoadDiffThresholds(dir / "t.json"); });
+    CHECK(message.find('\n') == std::string::npos);  // one line
+    return message;
+  };
+  // A syntax error: the line of the offending byte, not nlohmann's own prefix.
+  const std::string syntax = error("{\n  \"layers\": [\n    {\"match\": \"x\" \"ulp\": 3}\n  ]\n}\n");
+  CHECK(syntax.find("t.json:3: not valid JSON: syntax error") != std::string::npos);
+  CHECK(syntax.find("json.exception") == std::string::npos);
+  CHECK(error("{\"layers\": [\n\n").find("t.json:3: not valid JSON") != std::string::npos);
+  // A bad rule: the line its object starts on, whatever the strings before it hold.
+  const std::string rules =
+      "{\n  \"about\": \"braces { [ and \\\"quotes\\\" in a string\",\n  \"layers\": [\n"
+      "    {\"match\": \"a\", \"ulp\": 1},\n    {\"match\": \"b\",\n     \"ulps\": 1}\n  ]\n}\n";
+  CHECK(error(rules).find("t.json:5: layers[1]: unknown key 'ulps'") != std::string::npos);
+  CHECK(error("{\"layers\": [{\"match\": \"a\"},\n 7]}").find("t.json:2: layers[1]: must be an object") !=
+        std::string::npos);
+  CHECK(error("{\"layers\": [{\"match\": \"a\", \"percent\": -1}]}").find("t.json:1: layers[0].percent") !=
+        std::string::npos);
+}
+
+TEST_CASE("diff: a layer close to its tolerance", "[diff]") {
+  const DiffThresholds thresholds = ShippedThresholds();
+  SECTION("a sample over half of its most lenient bound: direct light 0.075% off of 0.1% relative") {
+    ExrFile port = OracleDump();
+    ExrLayer& direct = LayerOf(port, "frame", "direct.G");
+    size_t i = 0;
+    while (direct.Float(i) < 0.01f) ++i;  // a lit pixel, where 1e-3 relative is far more than 16 ULP
+    const float oracle = direct.Float(i);
+    const auto set = [&](float value) { std::memcpy(&direct.samples[i], &value, 4); };
+    set(oracle * (1.0f + 0.75e-3f));
+    DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK(report.ok);
+    CHECK(Find(report, "direct.G").close);
+    CHECK(Find(report, "direct.G").toleranceUsed == Approx(0.75).epsilon(0.01));
+    set(oracle * (1.0f + 0.25e-3f));
+    report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK_FALSE(Find(report, "direct.G").close);
+    CHECK(Find(report, "direct.G").toleranceUsed == Approx(0.25).epsilon(0.01));
+    CHECK_FALSE(Find(report, "direct.R").close);
+  }
+  SECTION("over half of the share allowed beyond it: 0.15% of hits of 0.2%") {
+    ExrFile port = OracleDump();
+    // 3015 samples: 4 are 0.13%, 5 are 0.17%, 7 are 0.23%.
+    for (size_t i = 0; i < 5; ++i) AddToFloat(LayerOf(port, "frame", "ssr.hitY"), i * 401, 3.0f);
+    DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK(Find(report, "ssr.hitY").ok);
+    CHECK(Find(report, "ssr.hitY").close);
+    for (size_t i = 5; i < 7; ++i) AddToFloat(LayerOf(port, "frame", "ssr.hitY"), i * 401, 3.0f);
+    report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+    CHECK_FALSE(Find(report, "ssr.hitY").ok);
+    CHECK_FALSE(Find(report, "ssr.hitY").close);  // failing, not close
+  }
+}
+
+TEST_CASE("diff: ULPs are not measured between two values within the absolute tolerance of zero", "[diff]") {
+  const DiffThresholds thresholds = ShippedThresholds();
+  ExrFile port = OracleDump();
+  ExrLayer& confidence = LayerOf(port, "frame", "ssr.confidence");  // 1e-4 absolute
+  size_t zero = 0;
+  while (confidence.samples[zero] != 0) ++zero;
+  const float tiny = 1e-6f;  // a billion ULP from 0, a hundredth of the tolerance
+  std::memcpy(&confidence.samples[zero], &tiny, 4);
+  DiffReport report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+  CHECK(Find(report, "ssr.confidence").ok);
+  CHECK(Find(report, "ssr.confidence").maxAbsolute > 0.0);
+  CHECK_FALSE(Find(report, "ssr.confidence").ulpMeasured);
+  CHECK(Find(report, "ssr.hitX").ulpMeasured);             // equal: 0 ULP
+  CHECK_FALSE(Find(report, "gbuffer.word0").ulpMeasured);  // integers
+  // A difference away from zero is measured as before.
+  size_t lit = 0;
+  while (confidence.Float(lit) < 0.5f) ++lit;
+  confidence.samples[lit] += 3;
+  report = DiffDumps(OracleDump(), port, thresholds, std::nullopt);
+  CHECK(Find(report, "ssr.confidence").ulpMeasured);
+  CHECK(Find(report, "ssr.confidence").maxUlp == 3);
+  CHECK(nlohmann::json::parse(DiffReportJson(report))["layers"].size() == report.layers.size());
+}
+
+TEST_CASE("diff: a layer of another type is counted apart and fails", "[diff]") {
+  ExrFile port = OracleDump();
+  LayerOf(port, "frame", "display.G").isUint = false;
+  const DiffReport report = DiffDumps(OracleDump(), port, ShippedThresholds(), std::nullopt);
+  CHECK_FALSE(report.ok);
+  const LayerDiff& display = Find(report, "display.G");
+  CHECK(display.typeDiffers);
+  CHECK_FALSE(display.compared);
+  CHECK(display.problem == "type differs: float, the oracle's uint32");
+  CHECK_FALSE(Find(report, "display.R").typeDiffers);
+}
+
+TEST_CASE("diff: the report is the same at 1 and 2 threads", "[diff]") {
+  ExrFile port = OracleDump();
+  for (size_t i = 0; i < 3000; i += 7) AddToFloat(LayerOf(port, "frame", "result.R"), i, 1e-3f * float(i % 13));
+  LayerOf(port, "frame", "raster.triangle").samples[1234] ^= 5u;
+  AddToFloat(LayerOf(port, "pyramid.2", "B"), 11, 0.25f);
+  std::vector<std::string> reports;
+  for (int threads : {1, 2}) {
+    const ThreadLimit limit(threads);
+    reports.push_back(DiffReportJson(DiffDumps(OracleDump(), port, ShippedThresholds(), std::nullopt)));
+  }
+  CHECK(reports[0] == reports[1]);
+  CHECK(reports[0].find("\"rmse\"") != std::string::npos);
+}
+
+TEST_CASE("diff: the oracle's layers read are those the port holds and the triangle index", "[diff]") {
+  ExrFile port;
+  port.layers.push_back(*OracleDump().Find("frame", "direct.R"));
+  port.layers.back().part = "";  // a single-part port file
+  port.layers.push_back(*OracleDump().Find("hiz.2", "Y"));
+  const ExrChannelFilter read = OracleLayersToRead(port);
+  CHECK(read("frame", "direct.R"));
+  CHECK(read("hiz.2", "Y"));
+  CHECK(read("frame", "raster.triangle"));
+  CHECK_FALSE(read("frame", "direct.G"));
+  CHECK_FALSE(read("hiz.3", "Y"));
+  // What it leaves out the diff does not read: those layers are listed, not compared.
+  ExrFile oracle = OracleDump();
+  for (ExrLayer& layer : oracle.layers)
+    if (!read(layer.part, layer.name)) layer.samples.clear();
+  const DiffReport report = DiffDumps(oracle, port, ShippedThresholds(), std::nullopt);
+  CHECK(report.ok);
+  size_t compared = 0;
+  for (const LayerDiff& layer : report.layers) compared += layer.compared ? 1 : 0;
+  CHECK(compared == 2);
+  CHECK(Find(report, "direct.G").presence == LayerPresence::kOracleOnly);
 }
 
 TEST_CASE("diff: the JSON report", "[diff]") {

@@ -136,10 +136,12 @@ TEST_CASE("frame dump: a missing, misshapen or non-finite input is refused namin
   {
     ExrFile dump = d.dump;
     dump.layers.erase(dump.layers.begin() + (&LayerOf(dump, "frame", "direct.G") - dump.layers.data()));
-    const std::string message = LoadError(d, dump, FramePass::kColorPyramid);
+    const std::string message = LoadError(d, dump, FramePass::kSkyLight);
     CHECK(message == "port.exr: layer 'direct.G': missing, and a pass to run reads it");
-    // Running from the direct light on, the layer is made, not read.
+    // Running from the direct light on, the layer is made, not read; from the colour pyramid on, the
+    // passes read the lit image instead.
     CHECK(LoadError(d, dump, FramePass::kDirectLight).empty());
+    CHECK(LoadError(d, dump, FramePass::kColorPyramid).empty());
   }
   {
     ExrFile dump = d.dump;
@@ -194,6 +196,7 @@ TEST_CASE("frame dump: docs/pipeline.md's table names every layer of the catalog
     const size_t dot = name.rfind('.');
     if (dot != std::string::npos && name.size() - dot == 2) name = name.substr(0, dot + 1);
     if (layer.part == DumpPart::kShadowMap) name = "shadowmap:" + name;
+    if (layer.part == DumpPart::kSkyVolume) name = "skyvolume:" + name;
     if (layer.part == DumpPart::kHiZLevels) name = "hiz.L:";
     if (layer.part == DumpPart::kPyramidLevels) name = "pyramid.L:";
     CAPTURE(layer.name, name);

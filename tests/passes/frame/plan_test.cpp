@@ -240,10 +240,10 @@ TEST_CASE("frame plan: the trace, cone and composite skipping tiles give the byt
     RunSsrCone({gbuffer, frame.colorPyramid, trace.hitX, trace.hitY, trace.confidence, &frame.plan.reflectionTiles},
                config.ssrCone, skipping, kernels);
     CompositeOutputs composite, skippingComposite;
-    RunComposite({gbuffer, frame.view, frame.direct.radiance, cone.reflected, trace.confidence,
+    RunComposite({gbuffer, frame.view, frame.direct.radiance, &cone.reflected, &trace.confidence,
                   config.ssrTrace.roughnessCutoff},
                  composite, kernels);
-    RunComposite({gbuffer, frame.view, frame.direct.radiance, cone.reflected, trace.confidence,
+    RunComposite({gbuffer, frame.view, frame.direct.radiance, &cone.reflected, &trace.confidence,
                   config.ssrTrace.roughnessCutoff, &frame.plan.reflectionTiles},
                  skippingComposite, kernels);
     for (int c = 0; c < 3; ++c) {

@@ -1,0 +1,242 @@
+#include "passes/sky_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "core/check.h"
+#include "core/parallel.h"
+#include "core/raster/raster.h"
+#include "core/raster/scene_raster_input.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+namespace {
+
+// The directions of a Fibonacci spiral over the sphere: near-uniform for any count.
+std::vector<glm::vec3> SphereDirections(int count) {
+  constexpr double kGoldenAngle = 2.39996322972865332;
+  std::vector<glm::vec3> directions;
+  for (int i = 0; i < count; ++i) {
+    const double y = 1.0 - 2.0 * (double(i) + 0.5) / double(count);
+    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
+    const double phi = kGoldenAngle * double(i);
+    directions.emplace_back(float(r * std::cos(phi)), float(y), float(r * std::sin(phi)));
+  }
+  return directions;
+}
+
+// Whether each cell centre sees the sky along `toSky`: the scene rasterized along -toSky over its
+// bounding sphere, a cell visible when nothing drawn lies nearer the sky than it (by more than half
+// a cell, so the surface a cell centre lies on does not hide it).
+std::vector<uint8_t> CellsSeeingSky(const Scene& scene, const SkyVisibilityVolume& volume, const glm::vec3& toSky,
+                                    const glm::vec3& centre, float radius) {
+  const int size = volume.params.mapSize;
+  const glm::vec3 forward = -toSky;
+  const ViewProjection map =
+      MakeOrthographic(centre - forward * (radius * 1.01f), forward, UpHint(forward), radius, radius, 0.0f,
+                       2.02f * radius, size, size);
+  const SceneRasterInput raster(scene, map, false);
+  VisibilityBuffer target = MakeVisibilityBuffer(size, size, RasterOutput::kDepthOnly);
+  Rasterize(raster.Get(), map, RasterOutput::kDepthOnly, target);
+  const float bias = 0.5f * volume.cellSize;
+  std::vector<uint8_t> visible(volume.coefficients.size() / 4, 1);
+  size_t cell = 0;
+  for (int z = 0; z < volume.cellsZ; ++z)
+    for (int y = 0; y < volume.cellsY; ++y)
+      for (int x = 0; x < volume.cellsX; ++x, ++cell) {
+        const glm::vec3 p = volume.origin + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * volume.cellSize;
+        const glm::vec4 v = map.view * glm::vec4(p, 1.0f);
+        const float px = (v.x / map.halfX + 1.0f) * 0.5f * float(size);
+        const float py = (1.0f - v.y / map.halfY) * 0.5f * float(size);
+        if (!(px >= 0.0f && px < float(size) && py >= 0.0f && py < float(size))) continue;
+        const float key = target.depthKey.ConstRow(size_t(py))[size_t(px)];
+        if (key > 0.0f && map.DepthFromKey(key) + bias < -v.z) visible[cell] = 0;
+      }
+  return visible;
+}
+
+}  // namespace
+
+SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityParams& params) {
+  SSGI_CHECK(params.directions > 0 && params.mapSize > 0 && params.cellsOnLongestAxis > 0);
+  SkyVisibilityVolume volume;
+  volume.params = params;
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  for (const glm::vec3& p : scene.mesh.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  if (scene.mesh.positions.empty()) lo = hi = glm::vec3(0.0f);
+  volume.extent = hi - lo;
+  const float longest = std::max({volume.extent.x, volume.extent.y, volume.extent.z, 1e-3f});
+  volume.cellSize = longest / float(params.cellsOnLongestAxis);
+  volume.inverseCellSize = 1.0f / volume.cellSize;
+  volume.origin = lo - volume.cellSize;
+  volume.cellsX = int(std::ceil(volume.extent.x * volume.inverseCellSize)) + 2;
+  volume.cellsY = int(std::ceil(volume.extent.y * volume.inverseCellSize)) + 2;
+  volume.cellsZ = int(std::ceil(volume.extent.z * volume.inverseCellSize)) + 2;
+  return volume;
+}
+
+size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
+  return size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ) * 4 * sizeof(float);
+}
+
+size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
+  const size_t cells = size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ);
+  // What the rasterizer keeps per triangle (its set-up and bins) and the scene's raster input.
+  constexpr size_t kRasterBytesPerTriangle = 168;
+  const size_t map = hwy::ImageBase::BytesPerRow(size_t(params.mapSize), sizeof(float)) * size_t(params.mapSize);
+  const size_t perThread = map + kRasterBytesPerTriangle * scene.mesh.TriangleCount();
+  return size_t(std::min(HardwareThreads(), params.directions)) * perThread + size_t(params.directions) * cells;
+}
+
+uint64_t SceneGeometryHash(const Scene& scene) {
+  // FNV-1a over 64-bit words of the positions' and indices' bytes (and the tail's bytes): every
+  // frame checks it, so it reads words, not bytes.
+  uint64_t hash = 1469598103934665603ull;
+  const auto add = [&](const void* data, size_t bytes) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    size_t i = 0;
+    for (; i + 8 <= bytes; i += 8) {
+      uint64_t word;
+      std::memcpy(&word, p + i, 8);
+      hash = (hash ^ word) * 1099511628211ull;
+    }
+    for (; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
+  };
+  add(scene.mesh.positions.data(), scene.mesh.positions.size() * sizeof(glm::vec3));
+  add(scene.mesh.indices.data(), scene.mesh.indices.size() * sizeof(uint32_t));
+  return hash;
+}
+
+SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityParams& params) {
+  SkyVisibilityVolume volume = SkyVisibilityGrid(scene, params);
+  const size_t cells = size_t(volume.cellsX) * size_t(volume.cellsY) * size_t(volume.cellsZ);
+  volume.coefficients.assign(cells * 4, 0.0f);
+  volume.meshHash = SceneGeometryHash(scene);
+  const glm::vec3 lo = volume.origin + volume.cellSize, hi = lo + volume.extent;
+  const glm::vec3 extent = volume.extent;
+  const glm::vec3 centre = (lo + hi) * 0.5f;
+  const float radius = std::max(0.5f * glm::length(extent), 1e-3f) + volume.cellSize;
+  const std::vector<glm::vec3> directions = SphereDirections(params.directions);
+  std::vector<std::vector<uint8_t>> visible(directions.size());
+  ParallelFor("sky_visibility.maps", directions.size(), [&](size_t i) {
+    visible[i] = CellsSeeingSky(scene, volume, directions[i], centre, radius);
+  });
+  // The clamped-cosine convolution of the visibility in the first two SH bands, with the directions
+  // as an equal-weight quadrature: k0 = mean(v), (kx, ky, kz) = 2 mean(v w) (Y00^2 4 pi = 1 and
+  // 2/3 * 3 / (4 pi) * 4 pi = 2).
+  const float share = 1.0f / float(directions.size());
+  ParallelFor("sky_visibility.cells", cells, [&](size_t cell) {
+    float k[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (size_t i = 0; i < directions.size(); ++i) {
+      if (!visible[i][cell]) continue;
+      k[0] += share;
+      k[1] += 2.0f * share * directions[i].x;
+      k[2] += 2.0f * share * directions[i].y;
+      k[3] += 2.0f * share * directions[i].z;
+    }
+    std::copy_n(k, 4, &volume.coefficients[cell * 4]);
+  });
+  return volume;
+}
+
+float SkyVisibility(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal) {
+  const float offset = 0.5f * volume.cellSize;
+  const glm::vec3 q = (position + normal * offset - volume.origin) * volume.inverseCellSize - 0.5f;
+  const int cells[3] = {volume.cellsX, volume.cellsY, volume.cellsZ};
+  int i0[3], i1[3];
+  float f[3];
+  for (int a = 0; a < 3; ++a) {
+    const float c = std::clamp(q[a], 0.0f, float(cells[a] - 1));
+    i0[a] = int(c);
+    i1[a] = std::min(i0[a] + 1, cells[a] - 1);
+    f[a] = c - float(i0[a]);
+  }
+  const auto at = [&](int x, int y, int z) {
+    return &volume.coefficients[((size_t(z) * size_t(volume.cellsY) + size_t(y)) * size_t(volume.cellsX) + size_t(x)) * 4];
+  };
+  float v[4];
+  for (int k = 0; k < 4; ++k) {
+    // x, then y, then z.
+    const float x00 = at(i0[0], i0[1], i0[2])[k] * (1.0f - f[0]) + at(i1[0], i0[1], i0[2])[k] * f[0];
+    const float x10 = at(i0[0], i1[1], i0[2])[k] * (1.0f - f[0]) + at(i1[0], i1[1], i0[2])[k] * f[0];
+    const float x01 = at(i0[0], i0[1], i1[2])[k] * (1.0f - f[0]) + at(i1[0], i0[1], i1[2])[k] * f[0];
+    const float x11 = at(i0[0], i1[1], i1[2])[k] * (1.0f - f[0]) + at(i1[0], i1[1], i1[2])[k] * f[0];
+    const float y0 = x00 * (1.0f - f[1]) + x10 * f[1];
+    const float y1 = x01 * (1.0f - f[1]) + x11 * f[1];
+    v[k] = y0 * (1.0f - f[2]) + y1 * f[2];
+  }
+  return std::clamp(v[0] + v[1] * normal.x + v[2] * normal.y + v[3] * normal.z, 0.0f, 1.0f);
+}
+
+void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, size_t y, int width) {
+  for (int x = 0; x < width; ++x) {
+    const float depth = UnpackDepth(row.word2[x]);
+    if (depth == kBackgroundDepth) {
+      for (int c = 0; c < 3; ++c) {
+        row.diffuse[c][x] = 0.0f;
+        row.lit[c][x] = row.direct[c][x] + 0.0f;
+      }
+      row.visibility[x] = 1.0f;
+      continue;
+    }
+    // World space: each row of the matrix products left to right, (m0 a + m1 b) + m2 c (+ m3).
+    const glm::mat4& m = context.viewToWorld;
+    const glm::vec3 viewNormal = UnpackNormal(row.word1[x], context.normalEncoding);
+    const glm::vec3 normal =
+        (glm::vec3(m[0]) * viewNormal.x + glm::vec3(m[1]) * viewNormal.y) + glm::vec3(m[2]) * viewNormal.z;
+    const glm::vec3 viewPosition(context.rays.x[size_t(x)] * depth, context.rays.y[y] * depth, -depth);
+    const glm::vec3 position =
+        ((glm::vec3(m[0]) * viewPosition.x + glm::vec3(m[1]) * viewPosition.y) + glm::vec3(m[2]) * viewPosition.z) +
+        glm::vec3(m[3]);
+    const float visibility = context.visibility ? SkyVisibility(*context.visibility, position, normal) : 1.0f;
+    const glm::vec3 irradiance = EnvironmentIrradiance(context.environment, normal);
+    const float metallic = UnpackMetallic(row.word0[x]);
+    const glm::vec3 albedo = UnpackAlbedo(row.word0[x]) * (1.0f - metallic);
+    for (int c = 0; c < 3; ++c) {
+      const float diffuse = albedo[c] * irradiance[c] * visibility;
+      row.diffuse[c][x] = diffuse;
+      row.lit[c][x] = row.direct[c][x] + diffuse;
+    }
+    row.visibility[x] = visibility;
+  }
+}
+
+SkyLightStats RunSkyLight(const SkyLightInputs& in, const SkyLightParams&, SkyLightOutputs& out, KernelPath kernels) {
+  Stopwatch stopwatch;
+  const int width = in.gbuffer.width(), height = in.gbuffer.height();
+  ReusePlane3(out.diffuse, size_t(width), size_t(height));
+  ReusePlane3(out.lit, size_t(width), size_t(height));
+  if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
+    out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
+  const PixelRayTables rays = MakePixelRayTables(in.view, size_t(width), size_t(height));
+  const SkyLightContext context{glm::inverse(in.view.view), in.gbuffer.normalEncoding, rays, in.environment,
+                                in.visibility};
+  const auto kernel = kernels == KernelPath::kSimd ? SkyLightRowSimd : SkyLightRowScalar;
+  ParallelForRowBands("sky_light", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const SkyLightRow row{
+          in.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y),
+          in.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(y),
+          in.gbuffer.word[GBufferWord::kDepth].ConstRow(y),
+          {in.direct.c[0].ConstRow(y), in.direct.c[1].ConstRow(y), in.direct.c[2].ConstRow(y)},
+          {out.diffuse.c[0].MutableRow(y), out.diffuse.c[1].MutableRow(y), out.diffuse.c[2].MutableRow(y)},
+          out.visibility.MutableRow(y),
+          {out.lit.c[0].MutableRow(y), out.lit.c[1].MutableRow(y), out.lit.c[2].MutableRow(y)},
+      };
+      kernel(context, row, y, width);
+    }
+  });
+  SkyLightStats stats;
+  stats.pixels = size_t(width) * size_t(height);
+  stats.ms = stopwatch.Lap();
+  return stats;
+}
+
+}  // namespace ssgi
