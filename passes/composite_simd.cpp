@@ -4,6 +4,10 @@
 // vector without a confident hit on geometry reads neither its material nor its reflection.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/composite_simd.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+
+#include "hwy/highway.h"
+
 #include "core/brdf-inl.h"
 #include "core/camera-inl.h"
 #include "core/color.h"
@@ -11,8 +15,6 @@
 #include "core/gbuffer-inl.h"
 #include "core/row-inl.h"
 #include "hwy/cache_control.h"
-#include "hwy/foreach_target.h"  // IWYU pragma: keep
-#include "hwy/highway.h"
 #include "passes/composite.h"
 
 #ifndef SSGI_PASSES_COMPOSITE_SIMD_ONCE
@@ -67,9 +69,9 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
     const Vec3V<DF> normal = UnpackNormalV(d, word1, c.normalEncoding);
     const Vec3V<DF> toViewer = Normalize3(d, Neg3(PixelRayV(d, *c.view, px, py).direction));
     const auto nDotV = ClampStd(Dot3(normal, toViewer), zero, one);
-    const auto fade = ClampStd(
-        hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)), zero,
-        one);
+    const auto fade =
+        ClampStd(hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)),
+                 zero, one);
     const Vec3V<DF> specular = SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable);
     const auto reflecting = hn::And(confident, lit);
     if (!hn::AllFalse(d, reflecting)) {
