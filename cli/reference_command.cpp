@@ -54,7 +54,7 @@ int Reference(const ReferenceOptions& options) {
   params.seed = options.seed;
   params.width = config.width;
   params.height = config.height;
-  params.environment = {EnvironmentKind::kConstant, config.directLight.background};
+  params.environment = config.environment;
   CheckMemory("a " + std::to_string(config.width) + "x" + std::to_string(config.height) + " reference",
               EstimateReferenceMemory(scene, params), BudgetFor(options.maxMemory), "give a smaller --size");
 

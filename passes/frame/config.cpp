@@ -216,8 +216,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
                             {},
                             {},
                             {}};
-    background.set = [](FrameConfig& c, const SettingValue& v) { c.directLight.background = std::get<glm::vec3>(v); };
-    background.get = [](const FrameConfig& c) { return SettingValue(c.directLight.background); };
+    background.set = [](FrameConfig& c, const SettingValue& v) {
+      c.environment = ConstantEnvironment(std::get<glm::vec3>(v));
+    };
+    background.get = [](const FrameConfig& c) { return SettingValue(c.environment.radiance); };
+    // A sky or an image comes from the scene file, which a dump names: only a constant one is a value.
+    background.holdsValue = [](const FrameConfig& c) { return c.environment.kind == EnvironmentKind::kConstant; };
     table.push_back(std::move(background));
   }
   return table;
@@ -340,9 +344,8 @@ FrameConfig FrameConfigFromSceneFile(const SceneFile& file) {
       throw InputError(path, entry.line, "unknown key render." + entry.key + " (known: " + known + ")");
   }
   FrameConfig config;
-  // The scene's environment is what pixels without geometry show, unless its render block says
-  // otherwise.
-  config.directLight.background = file.scene.environment.radiance;
+  // The scene's environment, unless its render block says otherwise.
+  config.environment = file.scene.environment;
   for (const FrameSetting& setting : FrameSettings()) {
     for (const RenderBlockEntry& entry : file.render) {
       if (entry.key != setting.name) continue;

@@ -553,7 +553,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const auto pick = [](const auto& oracle, const auto& own) -> const auto& { return oracle ? *oracle : own; };
 
   const Buffer direct =
-      RunDirectLight(frame, scene.scene, config.directLight.background, words, visibility ? &*visibility : nullptr);
+      RunDirectLight(frame, scene.scene, config.environment.MeanRadiance(), words, visibility ? &*visibility : nullptr);
   // The sky light, where the frame ran it (its volume in the dump): then the passes after it read `lit`.
   std::optional<SkyLightOutput> sky;
   if (const ExrLayer* volume = dump.Find("skyvolume", "k")) {
@@ -561,7 +561,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     if (volume->width != grid.cellsX * 4 || volume->height != grid.cellsY * grid.cellsZ)
       throw InputError(input, "layer 'k' of part 'skyvolume' is not the scene's sky visibility grid");
     const Buffer volumeBuffer(volume->samples.size(), volume->samples.data());
-    sky = RunSkyLight(frame, grid, volumeBuffer, config.directLight.background, words, pick(oracleDirect, direct));
+    sky = RunSkyLight(frame, grid, volumeBuffer, config.environment.MeanRadiance(), words, pick(oracleDirect, direct));
   }
   const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
   const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
@@ -574,7 +574,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
   const CompositeOutput composite =
       RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
-                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, config.directLight.background);
+                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, config.environment.MeanRadiance());
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
     std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));
