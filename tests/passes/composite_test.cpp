@@ -341,16 +341,28 @@ TEST_CASE("composite: in place over the direct image and the reflection, the sam
   for (const auto& [width, height] : {std::pair{1, 1}, {67, 45}, {1023, 769}}) {
     const Frame frame = scene.Render(width, height);
     REQUIRE(frame.reflections);
+    REQUIRE(frame.bounce);
     for (KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
       const size_t targets = test::ForEachSimdTarget([&](const char* target) {
         // The frame's memory-saving hand-over: the outputs are the inputs' own planes.
         CompositeOutputs inPlace;
         inPlace.result = test::CopyOf(frame.Lit());
         inPlace.indirect = test::CopyOf(frame.ssrCone.reflected);
-        RunComposite({frame.gbuffer.gbuffer, frame.view, inPlace.result, &inPlace.indirect, &frame.ssrTrace.confidence,
-                      SsrTraceParams{}.roughnessCutoff, nullptr, frame.sky ? &frame.environment : nullptr,
-                      frame.sky ? &frame.skyLight.visibility : nullptr},
-                     inPlace, kernels);
+        CompositeInputs inputs{frame.gbuffer.gbuffer,
+                               frame.view,
+                               inPlace.result,
+                               &inPlace.indirect,
+                               &frame.ssrTrace.confidence,
+                               SsrTraceParams{}.roughnessCutoff,
+                               nullptr,
+                               frame.sky ? &frame.environment : nullptr,
+                               frame.sky ? &frame.skyLight.visibility : nullptr};
+        if (frame.bounce) {
+          inputs.bounce = &frame.diffuseBounce.bounce;
+          inputs.skyDiffuse = frame.sky ? &frame.skyLight.diffuse : nullptr;
+          inputs.ambientVisibility = frame.sky ? &frame.diffuseBounce.visibility : nullptr;
+        }
+        RunComposite(inputs, inPlace, kernels);
         for (int c = 0; c < 3; ++c) {
           CAPTURE(target, width, height, c);
           CHECK(test::SameBytes(inPlace.indirect.c[c], frame.composite.indirect.c[c]));
