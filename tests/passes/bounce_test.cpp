@@ -656,9 +656,9 @@ void WritePicture(const std::filesystem::path& path, const Plane<float>* const c
 // bounce_bounce.png (bounce x 4), their 280x280 crops around the spheres 3x enlarged, the bounce and
 // the lit image around the black pawn 3x enlarged (bounce_pawn_crop.png, bounce_pawn_lit_crop.png),
 // bounce_ao_march.png (the unfiltered half-resolution visibility), bounce_lit.png (the input, which
-// is also the frame's result without reflections) and bounce_shaded.png (the direct light, plus the
-// sky's diffuse light times the visibility, plus albedo (1 - metallic) bounce: one way a frame may
-// combine them).
+// is also the frame's result without reflections and bounce) and bounce_shaded.png (the direct light, plus the
+// sky's diffuse light times the visibility, plus albedo (1 - metallic) bounce: the frame's composite
+// without its specular terms).
 TEST_CASE("bounce: pictures of the default scene", "[.bounce_pictures]") {
   const test::DefaultScene scene = test::LoadDefaultScene();
   const Frame frame = scene.Render(1024, 1024);
