@@ -827,6 +827,9 @@ void CompositeStep(FrameStep& s) {
   f.stats.composite = RunComposite(inputs, f.composite);
 }
 
+const char kResultMeaning[] =
+    "lit (its sky light darkened by the bounce's visibility) + indirect radiance, linear, >= 0";
+
 PassDeclaration CompositePass() {
   PassDeclaration pass{P::kComposite, "composite",
                        "indirect = (reflection, or the sky where the trace did not see) x specular weight + "
@@ -857,10 +860,9 @@ PassDeclaration CompositePass() {
        .frameOutput = true,
        .storageOf = B::kLit,
        .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
-       .layers =
-           {{"result.R", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-            {"result.G", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-            {"result.B", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"}},
+       .layers = {{"result.R", P::kComposite, false, DumpPart::kImage, false, kResultMeaning},
+                  {"result.G", P::kComposite, false, DumpPart::kImage, false, kResultMeaning},
+                  {"result.B", P::kComposite, false, DumpPart::kImage, false, kResultMeaning}},
        .heldBytes = [](const Frame& f) { return Held(f.composite.result); },
        .release = nullptr,  // a frame output
        .dump =
