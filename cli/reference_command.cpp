@@ -12,6 +12,7 @@
 #include "core/parallel.h"
 #include "core/reference/reference.h"
 #include "core/stopwatch.h"
+#include "passes/tonemap.h"
 
 namespace ssgi::cli {
 namespace {
@@ -19,6 +20,7 @@ namespace {
 struct ReferenceOptions {
   std::string scene;
   std::string output = "reference.exr";
+  std::string png;  // also the final image as the frame's PNG, when given
   SettingOptions settings;
   int spp = 64;
   std::string transport = "full";
@@ -45,7 +47,13 @@ int Reference(const ReferenceOptions& options) {
   OutputFiles outputs;
   outputs.Add(options.output);
   if (outputs.Kind(options.output) != ImageFileKind::kExr)
-    throw InputError(options.output, "the reference is written as a multi-channel EXR: use a .exr name");
+    throw InputError(options.output,
+                     "the reference is written as a multi-channel EXR: use a .exr name (and --png for a picture)");
+  if (!options.png.empty()) {
+    outputs.Add(options.png);
+    if (outputs.Kind(options.png) != ImageFileKind::kPng)
+      throw InputError(options.png, "--png writes an 8-bit PNG: use a .png name");
+  }
   const auto [scene, config] = LoadSceneAndConfig(scenePath, options.settings);
   ReferenceParams params =
       ReferenceParamsForSpp(options.spp, paper ? ReferenceTransport::kPaper : ReferenceTransport::kFull);
@@ -54,7 +62,7 @@ int Reference(const ReferenceOptions& options) {
   params.seed = options.seed;
   params.width = config.width;
   params.height = config.height;
-  params.environment = {EnvironmentKind::kConstant, config.directLight.background};
+  params.environment = config.environment;
   CheckMemory("a " + std::to_string(config.width) + "x" + std::to_string(config.height) + " reference",
               EstimateReferenceMemory(scene, params), BudgetFor(options.maxMemory), "give a smaller --size");
 
@@ -82,6 +90,12 @@ int Reference(const ReferenceOptions& options) {
   add("depth", ref.depth);
   outputs.Write(options.output,
                 [&](const fs::path& path) { WriteExr(path, config.width, config.height, channels); });
+  if (!options.png.empty()) {
+    // The display curve `ssgi render` gives the frame, so the two pictures compare by eye.
+    TonemapOutputs display;
+    RunTonemap(ref.result, config.tonemap, display);
+    outputs.Write(options.png, [&](const fs::path& path) { WritePng(path, config.width, config.height, display.rgb); });
+  }
   outputs.Commit();
   // The cost of one sample of one pixel, over every pixel (background ones too): what --spp and
   // --size multiply.
@@ -119,7 +133,10 @@ Command AddReferenceCommand(CLI::App& app) {
   command->add_option("-o,--output", options->output,
                       "Multi-channel EXR: R, G, B (the final image) and result.*, direct.*, indirect.*, "
                       "shadow.visibility, depth (default reference.exr).");
-  options->settings.Register(*command, {"size", "background"});
+  command->add_option("--png", options->png,
+                      "Also write the final image as a PNG with the scene's exposure and tonemap, as `ssgi render` "
+                      "writes the frame's.");
+  options->settings.Register(*command, {"size", "background", "exposure_ev", "tonemap"});
   command
       ->add_option("--transport", options->transport,
                    "full (default): path tracing of all light transport, the ground truth; paper: direct light and "

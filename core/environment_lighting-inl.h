@@ -36,6 +36,81 @@ Vec3V<D> EnvironmentIrradianceV(D d, const std::array<glm::vec3, 9>& sh, const V
   return {MaxStd(sum.x, zero), MaxStd(sum.y, zero), MaxStd(sum.z, zero)};
 }
 
+// OctahedralEncode(direction).
+template <class D>
+void OctahedralEncodeV(D d, const Vec3V<D>& direction, hn::Vec<D>& u, hn::Vec<D>& v) {
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f), half = hn::Set(d, 0.5f);
+  const auto l1 = hn::Add(hn::Add(hn::Abs(direction.x), hn::Abs(direction.y)), hn::Abs(direction.z));
+  auto x = hn::Div(direction.x, l1), z = hn::Div(direction.z, l1);
+  const auto signX = hn::IfThenElse(hn::Ge(x, zero), one, hn::Neg(one));
+  const auto signZ = hn::IfThenElse(hn::Ge(z, zero), one, hn::Neg(one));
+  const auto foldedX = hn::Mul(hn::Sub(one, hn::Abs(z)), signX);
+  const auto foldedZ = hn::Mul(hn::Sub(one, hn::Abs(x)), signZ);
+  const auto below = hn::Lt(direction.y, zero);
+  x = hn::IfThenElse(below, foldedX, x);
+  z = hn::IfThenElse(below, foldedZ, z);
+  u = hn::Add(hn::Mul(x, half), half);
+  v = hn::Add(hn::Mul(z, half), half);
+}
+
+// SampleLevel (environment_lighting.cpp): bilinear in the bordered level.
+template <class D>
+Vec3V<D> SampleLevelV(D d, const OctahedralLevel& level, hn::Vec<D> u, hn::Vec<D> v) {
+  const hn::RebindToSigned<D> di;
+  const auto n = hn::Set(d, float(level.size));
+  const auto half = hn::Set(d, 0.5f), one = hn::Set(d, 1.0f);
+  const auto x = hn::Add(hn::Mul(u, n), half), y = hn::Add(hn::Mul(v, n), half);
+  const auto i = hn::Min(hn::ConvertTo(di, x), hn::Set(di, level.size));
+  const auto j = hn::Min(hn::ConvertTo(di, y), hn::Set(di, level.size));
+  const auto fx = hn::Sub(x, hn::ConvertTo(d, i)), fy = hn::Sub(y, hn::ConvertTo(d, j));
+  const auto stride = hn::Set(di, int32_t(level.texels.c[0].PixelsPerRow()));
+  const auto index00 = hn::Add(hn::Mul(j, stride), i);
+  const auto index10 = hn::Add(index00, hn::Set(di, 1));
+  const auto index01 = hn::Add(index00, stride);
+  const auto index11 = hn::Add(index01, hn::Set(di, 1));
+  const auto fx1 = hn::Sub(one, fx), fy1 = hn::Sub(one, fy);
+  hn::Vec<D> out[3];
+  for (int c = 0; c < 3; ++c) {
+    const float* t = level.texels.c[c].ConstRow(0);
+    const auto top = hn::Add(hn::Mul(hn::GatherIndex(d, t, index00), fx1), hn::Mul(hn::GatherIndex(d, t, index10), fx));
+    const auto bottom =
+        hn::Add(hn::Mul(hn::GatherIndex(d, t, index01), fx1), hn::Mul(hn::GatherIndex(d, t, index11), fx));
+    out[c] = hn::Add(hn::Mul(top, fy1), hn::Mul(bottom, fy));
+  }
+  return {out[0], out[1], out[2]};
+}
+
+// EnvironmentRadiance(lighting, direction) for a non-constant environment.
+template <class D>
+Vec3V<D> EnvironmentRadianceV(D d, const EnvironmentLighting& lighting, const Vec3V<D>& direction) {
+  hn::Vec<D> u, v;
+  OctahedralEncodeV(d, direction, u, v);
+  return SampleLevelV(d, lighting.levels[0], u, v);
+}
+
+// PrefilteredEnvironment(lighting, direction, roughness) for a non-constant environment.
+template <class D>
+Vec3V<D> PrefilteredEnvironmentV(D d, const EnvironmentLighting& lighting, const Vec3V<D>& direction,
+                                 hn::Vec<D> roughness) {
+  const hn::RebindToSigned<D> di;
+  const auto position =
+      hn::Mul(ClampStd(roughness, hn::Zero(d), hn::Set(d, 1.0f)), hn::Set(d, float(kEnvironmentLevels - 1)));
+  const auto lower = hn::Min(hn::ConvertTo(di, position), hn::Set(di, kEnvironmentLevels - 2));
+  const auto f = hn::Sub(position, hn::ConvertTo(d, lower));
+  hn::Vec<D> u, v;
+  OctahedralEncodeV(d, direction, u, v);
+  // Each lane's two levels: evaluated for every pair of levels some lane needs, kept where it is
+  // that lane's.
+  Vec3V<D> a{hn::Zero(d), hn::Zero(d), hn::Zero(d)}, b = a;
+  for (int k = 0; k < kEnvironmentLevels - 1; ++k) {
+    const auto mine = hn::RebindMask(d, hn::Eq(lower, hn::Set(di, k)));
+    if (hn::AllFalse(d, mine)) continue;
+    a = IfThenElse3(mine, SampleLevelV(d, lighting.levels[size_t(k)], u, v), a);
+    b = IfThenElse3(mine, SampleLevelV(d, lighting.levels[size_t(k) + 1], u, v), b);
+  }
+  return Add3(Scale3(a, hn::Sub(hn::Set(d, 1.0f), f)), Scale3(b, f));
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();

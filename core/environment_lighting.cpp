@@ -68,13 +68,13 @@ glm::vec3 TexelDirection(int i, int j, int size, float du = 0.5f, float dv = 0.5
   return OctahedralDecode({(float(i) + du) / float(size), (float(j) + dv) / float(size)});
 }
 
-// The solid angle of an element dA of the (u, v) square at the unnormalised octahedral point p
-// (|x| + |y| + |z| = 1): dA (2 * 2) / |p|^3 (the face's area over its projection, times n.p / |p|^3).
+// The solid angle of an element dA of the (u, v) square at `uv`, over dA: 4 / |p|^3 at the octahedron's
+// point p = d / (|d.x| + |d.y| + |d.z|) of the direction d (the face's area over its projection
+// onto the (u, v) square, times n.p / |p|^3), that is 4 (|d.x| + |d.y| + |d.z|)^3 for the unit d.
 float SolidAngleDensity(const glm::vec2& uv) {
-  float x = uv.x * 2.0f - 1.0f, z = uv.y * 2.0f - 1.0f;
-  const float y = 1.0f - std::abs(x) - std::abs(z);
-  const float length = std::sqrt(x * x + y * y + z * z);
-  return 4.0f / (length * length * length);
+  const glm::vec3 d = OctahedralDecode(uv);
+  const float l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+  return 4.0f * l1 * l1 * l1;
 }
 
 // The real SH basis up to l = 2 at a unit direction.
@@ -246,7 +246,7 @@ EnvironmentLighting PrepareEnvironmentLighting(const Environment& environment,
 }
 
 bool SameEnvironment(const EnvironmentLighting& lighting, const Environment& environment) {
-  return lighting.source.kind == environment.kind && lighting.source.radiance == environment.radiance;
+  return lighting.source.Same(environment);
 }
 
 glm::vec3 EnvironmentRadiance(const EnvironmentLighting& lighting, const glm::vec3& direction) {

@@ -323,16 +323,50 @@ CameraDesc ReadCamera(const ErrorReporter& errors, const Json& node) {
   return camera;
 }
 
-Environment ReadEnvironment(const ErrorReporter& errors, const Json& node) {
-  const ObjectReader r(errors, node, "environment", {"type", "radiance"});
-  const Json* type = r.Find("type");
-  if (type == nullptr) errors.Fail("environment", "environment.type is required (\"constant\")");
-  if (!type->is_string() || type->get<std::string>() != "constant")
-    r.Fail("type", "must be \"constant\", got " + type->dump());
-  Environment environment;
-  environment.kind = EnvironmentKind::kConstant;
-  environment.radiance = r.Vec3("radiance", glm::vec3(0.0f), kNonNegative);
-  return environment;
+// "constant" (radiance), "sky" (zenith, horizon, ground, sun_glow, sun_direction: towards the sun,
+// by default against the first directional light's direction) or "image" (file relative to the
+// scene file, rotation_deg, intensity).
+Environment ReadEnvironment(const ErrorReporter& errors, const Json& node, const Scene& scene, const fs::path& folder) {
+  if (!node.is_object())
+    errors.Fail("environment", std::string("environment must be an object, got ") + node.type_name());
+  const Json* type = node.contains("type") ? &node["type"] : nullptr;
+  if (type == nullptr) errors.Fail("environment", "environment.type is required (\"constant\", \"sky\" or \"image\")");
+  const std::string kind = type->is_string() ? type->get<std::string>() : "";
+  if (kind == "constant") {
+    const ObjectReader r(errors, node, "environment", {"type", "radiance"});
+    Environment environment;
+    environment.radiance = r.Vec3("radiance", glm::vec3(0.0f), kNonNegative);
+    return environment;
+  }
+  if (kind == "sky") {
+    const ObjectReader r(errors, node, "environment",
+                         {"type", "zenith", "horizon", "ground", "sun_glow", "sun_direction"});
+    SkyParams sky;
+    sky.zenith = r.Vec3("zenith", sky.zenith, kNonNegative);
+    sky.horizon = r.Vec3("horizon", sky.horizon, kNonNegative);
+    sky.ground = r.Vec3("ground", sky.ground, kNonNegative);
+    sky.sunGlow = r.Vec3("sun_glow", sky.sunGlow, kNonNegative);
+    if (r.Has("sun_direction")) {
+      sky.sunDirection = r.NonZeroDirection("sun_direction");
+    } else if (!scene.directionalLights.empty()) {
+      sky.sunDirection = -glm::normalize(scene.directionalLights.front().direction);
+    }
+    return MakeSkyEnvironment(sky);
+  }
+  if (kind == "image") {
+    const ObjectReader r(errors, node, "environment", {"type", "file", "rotation_deg", "intensity"});
+    const Json* file = r.Find("file");
+    if (file == nullptr || !file->is_string() || file->get<std::string>().empty())
+      r.Fail("file",
+             "must name the environment image (a string), got " + (file ? file->dump() : std::string("nothing")));
+    const fs::path path = folder / file->get<std::string>();
+    std::error_code error;
+    if (!fs::is_regular_file(path, error)) r.Fail("file", "names a missing file: " + path.string());
+    const float rotation = r.Number("rotation_deg", 0.0f);
+    const float intensity = r.Number("intensity", 1.0f, kNonNegative);
+    return LoadImageEnvironment(path, rotation, intensity);
+  }
+  errors.Fail("environment.type", "environment.type must be \"constant\", \"sky\" or \"image\", got " + type->dump());
 }
 
 void ReadLights(const ErrorReporter& errors, const Json& node, Scene& scene) {
@@ -557,10 +591,11 @@ SceneFile LoadJsonScene(const fs::path& file) {
   } else {
     scene.directionalLights.push_back(DefaultLight());
   }
-  if (const Json* environment = root.Find("environment")) scene.environment = ReadEnvironment(errors, *environment);
+  const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  if (const Json* environment = root.Find("environment"))
+    scene.environment = ReadEnvironment(errors, *environment, scene, folder);
   const Json* objects = root.Find("objects");
   if (!objects) errors.Fail("", "objects is required");
-  const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
   Bake(errors, ReadObjects(errors, *objects, folder), scene);
   scene.camera = camera ? *camera
                         : FrameMesh(scene.mesh, FramingSide(loaded.render, "width"), FramingSide(loaded.render, "height"));

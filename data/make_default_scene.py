@@ -441,7 +441,9 @@ OBJECTS = [
 ]
 
 # The night-blue world the pieces stand in: seen behind them, and lighting them in the reference.
-ENVIRONMENT = {"type": "constant", "radiance": [0.05, 0.06, 0.08]}
+# A clear sky, about a fifth of the sun's irradiance on an upward face, with a warm glow round the sun.
+ENVIRONMENT = {"type": "sky", "zenith": [0.08, 0.14, 0.3], "horizon": [0.3, 0.33, 0.38], "ground": [0.1, 0.09, 0.08],
+               "sun_glow": [0.6, 0.5, 0.35]}
 
 RENDER = {"width": 1024, "height": 1024, "exposure_ev": 0, "tonemap": "aces", "normal_encoding": "oct24",
           "effects": {"shadows": "auto", "reflections": "auto"}}

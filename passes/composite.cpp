@@ -52,8 +52,6 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
   const bool inPlace = &in.direct == &out.result && in.reflected == &out.indirect;
   SSGI_CHECK((in.reflected == nullptr) == (in.confidence == nullptr));
   SSGI_CHECK(in.environment == nullptr || (in.skyVisibility != nullptr && in.tiles == nullptr));
-  // The twin reads the prefiltered environment's tables only for a constant environment so far.
-  SSGI_CHECK(in.environment == nullptr || in.environment->constant || kernels == KernelPath::kScalar);
   const CompositeContext context{in.view,
                                  in.gbuffer.normalEncoding,
                                  in.roughnessCutoff,

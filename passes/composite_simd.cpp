@@ -5,14 +5,16 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/composite_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
-#include "hwy/cache_control.h"
+
 #include "hwy/highway.h"
 
 #include "core/brdf-inl.h"
 #include "core/camera-inl.h"
 #include "core/color.h"
+#include "core/environment_lighting-inl.h"
 #include "core/gbuffer-inl.h"
 #include "core/row-inl.h"
+#include "hwy/cache_control.h"
 #include "passes/composite.h"
 
 #ifndef SSGI_PASSES_COMPOSITE_SIMD_ONCE
@@ -28,9 +30,8 @@ struct CompositeConstants {
   const float* srgbDecodeTable;
   const float* dfgTable;
   bool inPlace;  // CompositeContext::inPlace
-  // The sky's specular light (CompositeContext::environment): a constant environment's radiance.
-  bool sky;
-  glm::vec3 skyRadiance;
+  // The sky's specular light (CompositeContext::environment).
+  const EnvironmentLighting* environment;
   glm::mat3 viewToWorld;
 };
 
@@ -51,9 +52,10 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
   const auto one = hn::Set(d, 1.0f);
   const auto confidence = row.confidence ? LoadRow(d, row.confidence, x, count, 0.0f) : zero;
   const auto confident = hn::Gt(confidence, zero);
-  if (c.inPlace && !c.sky && hn::AllFalse(d, confident)) return;
+  const bool sky = c.environment != nullptr;
+  if (c.inPlace && !sky && hn::AllFalse(d, confident)) return;
   // As in the scalar kernel, word 2 is read only where a lane is confident or the sky lights it.
-  auto lit = c.sky ? hn::FirstN(d, count - x) : confident;
+  auto lit = sky ? hn::FirstN(d, count - x) : confident;
   if (!hn::AllFalse(d, lit)) {
     const auto depth = UnpackDepthV(d, LoadRow(du, row.word2, x, count, PackDepth(kBackgroundDepth)));
     lit = hn::And(lit, hn::Ne(depth, hn::Set(d, kBackgroundDepth)));
@@ -67,21 +69,27 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
     const Vec3V<DF> normal = UnpackNormalV(d, word1, c.normalEncoding);
     const Vec3V<DF> toViewer = Normalize3(d, Neg3(PixelRayV(d, *c.view, px, py).direction));
     const auto nDotV = ClampStd(Dot3(normal, toViewer), zero, one);
-    const auto fade = ClampStd(
-        hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)), zero,
-        one);
+    const auto fade =
+        ClampStd(hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)),
+                 zero, one);
     const Vec3V<DF> specular = SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable);
     const auto reflecting = hn::And(confident, lit);
     if (!hn::AllFalse(d, reflecting)) {
       const Vec3V<DF> weight = Scale3(specular, hn::Mul(confidence, fade));
       indirect = IfThenElse3(reflecting, Mul3(LoadRow3(d, row.reflected, x, count), weight), indirect);
     }
-    if (c.sky) {
+    if (sky) {
       const auto share =
           hn::Mul(hn::Sub(one, hn::Mul(confidence, fade)), LoadRow(d, row.skyVisibility, x, count, 0.0f));
-      const Vec3V<DF> environment = Set3(d, c.skyRadiance);
-      const Vec3V<DF> sky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
-      indirect = IfThenElse3(lit, sky, indirect);
+      Vec3V<DF> environment = Set3(d, c.environment->constantRadiance);
+      if (!c.environment->constant) {
+        // r = n (2 n.v) - v, into the world.
+        const Vec3V<DF> reflection = Sub3(Scale3(normal, hn::Mul(hn::Set(d, 2.0f), Dot3(normal, toViewer))), toViewer);
+        environment =
+            PrefilteredEnvironmentV(d, *c.environment, MulMat3(d, c.viewToWorld, reflection), material.roughness);
+      }
+      const Vec3V<DF> withSky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
+      indirect = IfThenElse3(lit, withSky, indirect);
     }
   }
   if (row.indirect[0]) StreamRow3(indirect, d, row.indirect, x, count);
@@ -122,16 +130,9 @@ namespace ssgi {
 HWY_EXPORT(CompositeRowKernel);
 
 void CompositeRowSimd(const CompositeContext& context, const CompositeRow& row, size_t y, int xBegin, int xEnd) {
-  const bool sky = context.environment != nullptr;
-  const CompositeConstants constants{&context.view,
-                                     context.normalEncoding,
-                                     context.roughnessCutoff,
-                                     SrgbDecodeTableForKernels(),
-                                     DfgTableForKernels(),
-                                     context.inPlace,
-                                     sky,
-                                     sky ? context.environment->constantRadiance : glm::vec3(0.0f),
-                                     context.viewToWorld};
+  const CompositeConstants constants{
+      &context.view,        context.normalEncoding, context.roughnessCutoff, SrgbDecodeTableForKernels(),
+      DfgTableForKernels(), context.inPlace,        context.environment,     context.viewToWorld};
   HWY_DYNAMIC_DISPATCH(CompositeRowKernel)(constants, row, y, xBegin, xEnd);
 }
 

@@ -81,11 +81,13 @@ SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityPar
 }
 
 size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  if (params.directions == 0) return 0;
   const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
   return size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ) * 4 * sizeof(float);
 }
 
 size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  if (params.directions == 0) return 0;
   const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
   const size_t cells = size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ);
   // What the rasterizer keeps per triangle (its set-up and bins) and the scene's raster input.
@@ -178,16 +180,23 @@ float SkyVisibility(const SkyVisibilityVolume& volume, const glm::vec3& position
 void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, size_t y, int width) {
   for (int x = 0; x < width; ++x) {
     const float depth = UnpackDepth(row.word2[x]);
+    // World space: each row of the matrix products left to right, (m0 a + m1 b) + m2 c (+ m3).
+    const glm::mat4& m = context.viewToWorld;
     if (depth == kBackgroundDepth) {
+      // The environment itself, seen along the pixel's ray (a constant one is already there).
+      glm::vec3 background(row.direct[0][x] + 0.0f, row.direct[1][x] + 0.0f, row.direct[2][x] + 0.0f);
+      if (!context.environment.constant) {
+        const glm::vec3 ray = glm::normalize(glm::vec3(context.rays.x[size_t(x)], context.rays.y[y], -1.0f));
+        const glm::vec3 direction = (glm::vec3(m[0]) * ray.x + glm::vec3(m[1]) * ray.y) + glm::vec3(m[2]) * ray.z;
+        background = EnvironmentRadiance(context.environment, direction);
+      }
       for (int c = 0; c < 3; ++c) {
         row.diffuse[c][x] = 0.0f;
-        row.lit[c][x] = row.direct[c][x] + 0.0f;
+        row.lit[c][x] = background[c];
       }
       row.visibility[x] = 1.0f;
       continue;
     }
-    // World space: each row of the matrix products left to right, (m0 a + m1 b) + m2 c (+ m3).
-    const glm::mat4& m = context.viewToWorld;
     const glm::vec3 viewNormal = UnpackNormal(row.word1[x], context.normalEncoding);
     const glm::vec3 normal =
         (glm::vec3(m[0]) * viewNormal.x + glm::vec3(m[1]) * viewNormal.y) + glm::vec3(m[2]) * viewNormal.z;

@@ -106,9 +106,16 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
       diffuse = IfThenElse3(background, Vec3V<DF>{hn::Zero(d), hn::Zero(d), hn::Zero(d)}, diffuse);
       visibility = hn::IfThenElse(background, one, visibility);
     }
+    Vec3V<DF> lit = Add3(direct, diffuse);
+    if (!context.environment.constant && !hn::AllFalse(d, background)) {
+      const Vec3V<DF> ray =
+          Normalize3(d, Vec3V<DF>{LoadRow(d, context.rays.x.data(), x, count, 0.0f), rayY, hn::Set(d, -1.0f)});
+      const Vec3V<DF> direction = Add3(Add3(Scale3(m0, ray.x), Scale3(m1, ray.y)), Scale3(m2, ray.z));
+      lit = IfThenElse3(background, EnvironmentRadianceV(d, context.environment, direction), lit);
+    }
     StoreRow3(diffuse, d, row.diffuse, x, count);
     StoreRow(visibility, d, row.visibility, x, count);
-    StoreRow3(Add3(direct, diffuse), d, row.lit, x, count);
+    StoreRow3(lit, d, row.lit, x, count);
   }
 }
 

@@ -165,6 +165,14 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "Sky light: the environment's light on every surface, diffuse and (where the reflections do not "
       "reach) specular, under a world-space sky visibility: auto (when the environment is not black), on or off.",
       effectModes, {}, [](auto& c) -> auto& { return c.sky; }));
+  table.push_back(IntegerSetting(
+      "sky_directions", "--sky-directions",
+      "Directions over the sphere of the sky visibility volume's depth maps, made once per scene: what blocks "
+      "the sky off screen (0 = none: the sky reaches every surface the screen does not show blocked).",
+      0, 1024, {"0", "16", "96"}, [](auto& c) -> auto& { return c.skyVisibility.directions; }));
+  table.push_back(IntegerSetting(
+      "sky_cells", "--sky-cells", "Cells of the sky visibility volume along the scene's longest side.", 4, 512,
+      {"16", "32", "96"}, [](auto& c) -> auto& { return c.skyVisibility.cellsOnLongestAxis; }));
   table.push_back(ChoiceSetting<ShadowFilter>(
       "shadow_filter", "--shadow-filter",
       "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito), sspcss (isotropic screen-space PCSS, "
@@ -216,8 +224,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
                             {},
                             {},
                             {}};
-    background.set = [](FrameConfig& c, const SettingValue& v) { c.directLight.background = std::get<glm::vec3>(v); };
-    background.get = [](const FrameConfig& c) { return SettingValue(c.directLight.background); };
+    background.set = [](FrameConfig& c, const SettingValue& v) {
+      c.environment = ConstantEnvironment(std::get<glm::vec3>(v));
+    };
+    background.get = [](const FrameConfig& c) { return SettingValue(c.environment.radiance); };
+    // A sky or an image comes from the scene file, which a dump names: only a constant one is a value.
+    background.holdsValue = [](const FrameConfig& c) { return c.environment.kind == EnvironmentKind::kConstant; };
     table.push_back(std::move(background));
   }
   return table;
@@ -340,9 +352,8 @@ FrameConfig FrameConfigFromSceneFile(const SceneFile& file) {
       throw InputError(path, entry.line, "unknown key render." + entry.key + " (known: " + known + ")");
   }
   FrameConfig config;
-  // The scene's environment is what pixels without geometry show, unless its render block says
-  // otherwise.
-  config.directLight.background = file.scene.environment.radiance;
+  // The scene's environment, unless its render block says otherwise.
+  config.environment = file.scene.environment;
   for (const FrameSetting& setting : FrameSettings()) {
     for (const RenderBlockEntry& entry : file.render) {
       if (entry.key != setting.name) continue;

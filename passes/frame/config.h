@@ -34,6 +34,9 @@ struct FrameConfig {
   EffectMode sky = EffectMode::kAuto;
   ShadowMapParams shadowMap;
   ShadowFilterParams shadowFilter;
+  // The environment: the scene's, or a constant one of --background / render.background. The
+  // direct light pass's `background` is set from it each frame (its mean radiance).
+  Environment environment;
   DirectLightParams directLight;
   SkyVisibilityParams skyVisibility;
   SsrTraceParams ssrTrace;
@@ -69,6 +72,8 @@ struct FrameSetting {
   std::vector<std::string_view> sweep;    // the values ssgi_sweep tries, one row each; {} = not swept
   std::function<void(FrameConfig&, const SettingValue&)> set;
   std::function<SettingValue(const FrameConfig&)> get;  // the current value; empty: not stored as such
+  // Whether `get` says what the configuration holds (empty: always); a dump records only those.
+  std::function<bool(const FrameConfig&)> holdsValue = {};
 };
 
 // Every setting, in the order they are applied: "quality" first, so the knobs it sets can be

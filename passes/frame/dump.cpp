@@ -143,7 +143,7 @@ std::string DumpPartName(DumpPart part, int level) {
 std::map<std::string, std::string> DumpMetadata(const std::string& scene, const FrameConfig& config) {
   std::string settings;
   for (const FrameSetting& setting : FrameSettings()) {
-    if (!setting.get) continue;
+    if (!setting.get || (setting.holdsValue && !setting.holdsValue(config))) continue;
     settings += std::string(setting.name) + "=" + FormatSettingValue(setting.get(config)) + "\n";
   }
   return {{"ssgi:scene", scene}, {"ssgi:settings", settings}};

@@ -175,7 +175,7 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
   } else if (config.sky == EffectMode::kOn) {
     plan.sky.run = true;
     plan.sky.why = "switched on";
-  } else if (config.directLight.background == glm::vec3(0.0f)) {
+  } else if (config.environment.IsBlack()) {
     plan.sky.why = "the environment is black";
   } else {
     plan.sky.run = plan.geometryPixels > 0;

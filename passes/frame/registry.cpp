@@ -281,7 +281,11 @@ void DirectLightStep(FrameStep& s) {
     inputs.lightVisibility = &f.shadowVisibility.visibility;
     inputs.shadowedLight = f.plan.shadowLight.value_or(0);
   }
-  f.stats.directLight = RunDirectLight(inputs, s.config.directLight, f.direct);
+  // Pixels without geometry show the environment's mean radiance (the sky light, where it runs,
+  // puts the environment's own there).
+  DirectLightParams params = s.config.directLight;
+  params.background = s.config.environment.MeanRadiance();
+  f.stats.directLight = RunDirectLight(inputs, params, f.direct);
 }
 
 const char kDirectMeaning[] = "direct radiance, linear RGB, [0, 65504]; background colour";
@@ -323,11 +327,13 @@ bool SameSkyVisibilityParams(const SkyVisibilityParams& a, const SkyVisibilityPa
 void SkyLightStep(FrameStep& s) {
   Frame& f = s.frame;
   // The environment's tables and the scene's visibility volume outlive the frame while they hold.
-  const Environment environment{EnvironmentKind::kConstant, s.config.directLight.background};
-  if (!SameEnvironment(f.environment, environment)) f.environment = PrepareEnvironmentLighting(environment);
+  if (!SameEnvironment(f.environment, s.config.environment))
+    f.environment = PrepareEnvironmentLighting(s.config.environment);
   if (!s.Runs(P::kSkyLight)) return;
-  if (!f.skyVolume || f.skyVolume->meshHash != SceneGeometryHash(s.scene) ||
-      !SameSkyVisibilityParams(f.skyVolume->params, s.config.skyVisibility)) {
+  if (s.config.skyVisibility.directions == 0) {
+    f.skyVolume.reset();
+  } else if (!f.skyVolume || f.skyVolume->meshHash != SceneGeometryHash(s.scene) ||
+             !SameSkyVisibilityParams(f.skyVolume->params, s.config.skyVisibility)) {
     Stopwatch build;
     f.skyVolume = BuildSkyVisibility(s.scene, s.config.skyVisibility);
     f.stats.skyVisibilityMs = build.Lap();
@@ -335,7 +341,8 @@ void SkyLightStep(FrameStep& s) {
   // Freeing early, `lit` is written over the direct image: each pixel is read before it is written.
   if (s.Releases()) f.skyLight.lit = std::exchange(f.direct.radiance, {});
   const Plane3<float>& direct = s.Releases() ? f.skyLight.lit : f.direct.radiance;
-  f.stats.skyLight = RunSkyLight({f.gbuffer.gbuffer, f.view, f.environment, &*f.skyVolume, direct}, {}, f.skyLight);
+  f.stats.skyLight = RunSkyLight(
+      {f.gbuffer.gbuffer, f.view, f.environment, f.skyVolume ? &*f.skyVolume : nullptr, direct}, {}, f.skyLight);
 }
 
 const char kSkyDiffuseMeaning[] =

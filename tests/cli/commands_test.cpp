@@ -9,10 +9,13 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fstream>
 #include <thread>
 
+#include "core/image_compare.h"
+#include "passes/tonemap.h"
 #include "tests/test_support.h"
 
 namespace ssgi::test {
@@ -161,7 +164,30 @@ TEST_CASE("commands: bad EXRs, wrong layers and unreadable inputs are one line w
                  {"diff " + oracle + " " + oracle + " --thresholds " + Quote(dir / "text.exr"), "text.exr", 2},
                  {"figures " + Quote(dir / "figs") + " --scene " + Quote(dir / "text.exr"), "text.exr", 1},
                  {"reference " + Quote(dir / "missing.json") + " -o " + out, "missing.json: no such file", 1},
-                 {"reference --size 16x16 -o " + Quote(dir / "ref.png"), "use a .exr name", 1}});
+                 {"reference --size 16x16 -o " + Quote(dir / "ref.png"), "use a .exr name", 1},
+                 {"reference --size 16x16 -o " + out + " --png " + Quote(dir / "ref.jpg"), "ref.jpg", 1}});
+}
+
+TEST_CASE("reference: --png is the EXR's image under the frame's exposure and display curve", "[cli][reference]") {
+  ScratchDir dir("cli-reference-png");
+  const fs::path exr = dir / "ref.exr", png = dir / "ref.png";
+  REQUIRE(RunCli("reference " + DefaultSceneArg() + " --size 24x16 --spp 2 --exposure 1.5 -o " + Quote(exr) +
+                 " --png " + Quote(png))
+              .exitCode == 0);
+  const FloatImage linear = SelectLayer(ReadFloatImage(exr), "", exr);
+  const FloatImage codes = ReadFloatImage(png);
+  REQUIRE(codes.integerCodes);
+  REQUIRE((codes.width == 24 && codes.height == 16 && codes.Channels() == 3));
+  Plane3<float> radiance = MakePlane3<float>(24, 16, 0.0f);
+  for (size_t y = 0; y < 16; ++y)
+    for (size_t x = 0; x < 24; ++x)
+      for (int c = 0; c < 3; ++c) radiance.c[c].MutableRow(y)[x] = linear.pixels[(y * 24 + x) * 3 + size_t(c)];
+  TonemapOutputs display;
+  RunTonemap(radiance, TonemapParams{1.5f, Tonemap::kAces}, display);
+  size_t differing = 0;
+  for (size_t i = 0; i < display.rgb.size(); ++i)
+    differing += display.rgb[i] != uint8_t(std::lround(codes.pixels[i] * 255.0f)) ? 1 : 0;
+  CHECK(differing == 0);
 }
 
 TEST_CASE("commands: the small things", "[cli]") {

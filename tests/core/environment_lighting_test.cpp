@@ -45,7 +45,7 @@ TEST_CASE("octahedral map: just outside an edge continues across the seam", "[en
 }
 
 TEST_CASE("environment lighting: a constant environment reads its radiance exactly", "[environment]") {
-  const Environment constant{EnvironmentKind::kConstant, {0.05f, 0.06f, 0.08f}};
+  const Environment constant = ConstantEnvironment({0.05f, 0.06f, 0.08f});
   const EnvironmentLighting lighting = PrepareEnvironmentLighting(constant);
   CHECK(lighting.constant);
   for (const glm::vec3 d : {glm::vec3(0, 1, 0), glm::normalize(glm::vec3(1, -2, 3))}) {
@@ -54,7 +54,7 @@ TEST_CASE("environment lighting: a constant environment reads its radiance exact
     CHECK(EnvironmentIrradiance(lighting, d) == constant.radiance);
   }
   CHECK(SameEnvironment(lighting, constant));
-  CHECK_FALSE(SameEnvironment(lighting, Environment{EnvironmentKind::kConstant, {1.0f, 0.0f, 0.0f}}));
+  CHECK_FALSE(SameEnvironment(lighting, ConstantEnvironment({1.0f, 0.0f, 0.0f})));
 }
 
 }  // namespace

@@ -183,6 +183,45 @@ TEST_CASE("composite: the SIMD pass gives the scalar pass's bytes on the default
   }
 }
 
+TEST_CASE("composite: with the sky's light, a constant or a sky environment, the SIMD pass gives the scalar bytes",
+          "[composite][simd]") {
+  const test::DefaultScene scene = test::LoadDefaultScene();
+  SkyParams skyParams;
+  skyParams.sunGlow = glm::vec3(4.0f, 3.0f, 2.0f);
+  const EnvironmentLighting sky = PrepareEnvironmentLighting(MakeSkyEnvironment(skyParams), {32, 16, 16});
+  const EnvironmentLighting constant = PrepareEnvironmentLighting(ConstantEnvironment(glm::vec3(0.2f, 0.3f, 0.4f)));
+  for (const auto& [width, height] : {std::pair{67, 45}, {1, 1}, {173, 91}}) {
+    const Frame frame = scene.Render(width, height);
+    REQUIRE(frame.reflections);
+    // A sky visibility that varies: the frame's own where it ran, else a ramp.
+    Plane<float> visibility = MakePlane<float>(size_t(width), size_t(height), 0.0f);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) visibility.MutableRow(size_t(y))[x] = float((x * 7 + y * 3) % 11) / 10.0f;
+    for (const EnvironmentLighting* environment : {&sky, &constant}) {
+      for (const bool reflections : {true, false}) {
+        const auto run = [&](KernelPath kernels) {
+          CompositeOutputs out;
+          RunComposite(
+              {frame.gbuffer.gbuffer, frame.view, frame.direct.radiance,
+               reflections ? &frame.ssrCone.reflected : nullptr, reflections ? &frame.ssrTrace.confidence : nullptr,
+               SsrTraceParams{}.roughnessCutoff, nullptr, environment, &visibility},
+              out, kernels);
+          return out;
+        };
+        const auto same = [](const CompositeOutputs& a, const CompositeOutputs& b) {
+          bool equal = true;
+          for (int c = 0; c < 3; ++c)
+            equal = equal && test::SameBytes(a.indirect.c[c], b.indirect.c[c]) &&
+                    test::SameBytes(a.result.c[c], b.result.c[c]);
+          return equal;
+        };
+        CAPTURE(width, height, environment->constant, reflections);
+        CHECK(test::TargetsWhereKernelPathsDiffer(run, same).empty());
+      }
+    }
+  }
+}
+
 TEST_CASE("composite: in place over the direct image and the reflection, the same bytes on every target",
           "[composite][simd][memory]") {
   const test::DefaultScene scene = test::LoadDefaultScene();

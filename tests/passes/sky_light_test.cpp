@@ -57,7 +57,7 @@ float MeanOverRows(const Plane<float>& plane, const GBuffer& g, int y0, int y1) 
 
 TEST_CASE("sky light: open ground under a constant sky gets albedo times the sky's radiance", "[sky_light]") {
   const test::TestScene scene = FloorScene(96, 64);
-  const Environment sky{EnvironmentKind::kConstant, {0.4f, 0.5f, 0.6f}};
+  const Environment sky = ConstantEnvironment({0.4f, 0.5f, 0.6f});
   const EnvironmentLighting lighting = PrepareEnvironmentLighting(sky);
   const SkyVisibilityVolume volume = BuildSkyVisibility(scene, {});
   const SkyFrame f = RenderSky(scene, lighting, &volume);
@@ -103,7 +103,7 @@ TEST_CASE("sky light: a roof the camera does not see still blocks the sky", "[sk
   test::AddGround(open.mesh, 40.0f);
   test::TestScene roofed = open;
   AddBox(roofed.mesh, {-30.0f, 3.0f, -30.0f}, {30.0f, 3.2f, 2.0f});
-  const EnvironmentLighting white = PrepareEnvironmentLighting({EnvironmentKind::kConstant, glm::vec3(1.0f)});
+  const EnvironmentLighting white = PrepareEnvironmentLighting(ConstantEnvironment(glm::vec3(1.0f)));
   const SkyVisibilityVolume roofedVolume = BuildSkyVisibility(roofed, {});
   const SkyVisibilityVolume openVolume = BuildSkyVisibility(open, {});
   const SkyFrame sheltered = RenderSky(roofed, white, &roofedVolume);
@@ -138,14 +138,12 @@ TEST_CASE("sky light: the visibility volume is the same at any thread count", "[
 TEST_CASE("sky light: the SIMD kernel gives the scalar bytes on every target", "[sky_light][simd]") {
   const test::DefaultScene defaults = test::LoadDefaultScene();
   const SkyVisibilityVolume volume = BuildSkyVisibility(defaults.scene, {24, 128, 24});
-  // A non-constant environment's irradiance: any coefficients exercise the twin.
-  EnvironmentLighting lighting;
-  lighting.constant = false;
-  const float k[9][3] = {{0.9f, 0.8f, 0.7f},    {0.3f, 0.2f, 0.1f},     {-0.1f, 0.05f, 0.2f},
-                         {0.15f, -0.2f, 0.1f},  {0.05f, 0.0f, -0.04f},  {0.02f, 0.03f, 0.01f},
-                         {-0.06f, 0.02f, 0.0f}, {0.01f, -0.01f, 0.05f}, {0.03f, 0.04f, -0.02f}};
-  for (int i = 0; i < 9; ++i) lighting.irradianceSh[size_t(i)] = glm::vec3(k[i][0], k[i][1], k[i][2]);
-  const EnvironmentLighting constant = PrepareEnvironmentLighting({EnvironmentKind::kConstant, glm::vec3(0.3f)});
+  // A sky with a glow, in small tables: its irradiance, and its radiance where pixels show it.
+  SkyParams sky;
+  sky.sunGlow = glm::vec3(4.0f, 3.0f, 2.0f);
+  sky.sunDirection = glm::normalize(glm::vec3(0.3f, 0.5f, -0.8f));
+  const EnvironmentLighting lighting = PrepareEnvironmentLighting(MakeSkyEnvironment(sky), {32, 16, 16});
+  const EnvironmentLighting constant = PrepareEnvironmentLighting(ConstantEnvironment(glm::vec3(0.3f)));
   for (const auto& [width, height] : {std::pair{173, 91}, {1, 1}}) {
     const Frame frame = defaults.Render(width, height);
     for (const EnvironmentLighting* environment : {static_cast<const EnvironmentLighting*>(&lighting), &constant}) {

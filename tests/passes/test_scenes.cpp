@@ -69,7 +69,7 @@ FrameConfig ConfigOf(const TestScene& scene) {
   config.width = scene.width;
   config.height = scene.height;
   config.normalEncoding = scene.normalEncoding;
-  config.directLight.background = scene.background;
+  config.environment = ConstantEnvironment(scene.background);
   return config;
 }
 

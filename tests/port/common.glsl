@@ -16,6 +16,17 @@ vec3 PixelRayDirection(vec2 position) {
   return vec3(x, y, -1.0);
 }
 
+// viewToWorld's columns 0-3 (the rotation's three, then the translation), xyz each: the passes
+// that work in world space (the sky light, the composite's environment) set it.
+uniform vec3 viewToWorld[4];
+
+// m0 a + m1 b + m2 c, each row's products rounded and added left to right (glm's mat3 * vec3).
+vec3 Rotate(vec3 v) {
+  precise vec3 r = viewToWorld[0] * v.x + viewToWorld[1] * v.y;
+  precise vec3 s = r + viewToWorld[2] * v.z;
+  return s;
+}
+
 // glm's dot: (a.x b.x + a.y b.y) + a.z b.z, each product rounded (§Direct light).
 float Dot3(vec3 a, vec3 b) {
   precise float xy = a.x * b.x + a.y * b.y;
@@ -94,4 +105,65 @@ vec3 SpecularF0(vec3 albedo, float metallic) {
 // first is 2x: the last destination texel reaches the source's end (§Hi-Z pyramid, footprint).
 int FootprintEnd(int x, int destinationSize, int sourceSize) {
   return x + 1 == destinationSize ? sourceSize - 1 : 2 * x + 1;
+}
+
+// The environment's octahedral levels (§Environment lighting), core's tables uploaded by the
+// runner where the environment is not a constant: level k is `levelSize[k] + 2` texels on a side
+// (a one-texel border across the seams), three planes, from float `levelOffset[k]`, rows in order.
+layout(std430, binding = 14) readonly buffer EnvironmentLevels { float environmentTexels[]; };
+const int kEnvironmentLevels = 6;
+uniform int levelSize[kEnvironmentLevels];
+uniform int levelOffset[kEnvironmentLevels];
+
+float SignNotZero(float t) { return t >= 0.0 ? 1.0 : -1.0; }
+
+// OctahedralEncode: folded about world y, the sky the inner diamond.
+vec2 OctahedralEncode(vec3 d) {
+  precise float l1 = abs(d.x) + abs(d.y);
+  l1 = l1 + abs(d.z);
+  precise float x = d.x / l1;
+  precise float z = d.z / l1;
+  if (d.y < 0.0) {
+    precise float fx = (1.0 - abs(z)) * SignNotZero(x);
+    precise float fz = (1.0 - abs(x)) * SignNotZero(z);
+    x = fx;
+    z = fz;
+  }
+  precise vec2 uv = vec2(x, z) * 0.5 + 0.5;
+  return uv;
+}
+
+vec3 EnvironmentTexel(int level, int i, int j) {
+  const int side = levelSize[level] + 2;
+  const int at = levelOffset[level] + j * side + i;
+  const int plane = side * side;
+  return vec3(environmentTexels[at], environmentTexels[at + plane], environmentTexels[at + 2 * plane]);
+}
+
+// SampleLevel (core): bilinear in the bordered level, texel i's centre at bordered coordinate i + 1.5.
+vec3 SampleEnvironmentLevel(int level, vec2 uv) {
+  const float n = float(levelSize[level]);
+  precise float x = uv.x * n + 0.5;
+  precise float y = uv.y * n + 0.5;
+  const int i = min(int(x), levelSize[level]);
+  const int j = min(int(y), levelSize[level]);
+  precise float fx = x - float(i);
+  precise float fy = y - float(j);
+  precise vec3 top = EnvironmentTexel(level, i, j) * (1.0 - fx) + EnvironmentTexel(level, i + 1, j) * fx;
+  precise vec3 bottom = EnvironmentTexel(level, i, j + 1) * (1.0 - fx) + EnvironmentTexel(level, i + 1, j + 1) * fx;
+  precise vec3 bilinear = top * (1.0 - fy) + bottom * fy;
+  return bilinear;
+}
+
+// EnvironmentRadiance: level 0 towards the world-space unit `direction`.
+vec3 EnvironmentRadiance(vec3 direction) { return SampleEnvironmentLevel(0, OctahedralEncode(direction)); }
+
+// PrefilteredEnvironment: the two levels around roughness * 5, mixed linearly.
+vec3 PrefilteredEnvironment(vec3 direction, float roughness) {
+  precise float position = clamp(roughness, 0.0, 1.0) * float(kEnvironmentLevels - 1);
+  const int lower = min(int(position), kEnvironmentLevels - 2);
+  precise float f = position - float(lower);
+  const vec2 uv = OctahedralEncode(direction);
+  precise vec3 mixed = SampleEnvironmentLevel(lower, uv) * (1.0 - f) + SampleEnvironmentLevel(lower + 1, uv) * f;
+  return mixed;
 }

@@ -19,7 +19,8 @@ layout(std430, binding = 9) readonly buffer SkyVisibility { float skyVisibility[
 uniform float roughnessCutoff;  // the trace's
 uniform int reflections;        // 0: no reflections traced (confidence 0 everywhere)
 uniform int sky;                // 1: the sky light ran: its specular part here
-uniform vec3 skyRadiance;       // a constant environment's radiance
+uniform int constantEnvironment;  // 1: the environment is `skyRadiance`; else its levels (common.glsl)
+uniform vec3 skyRadiance;
 
 const int kDfgSize = 32;
 
@@ -63,7 +64,12 @@ void main() {
     }
     if (sky != 0) {
       precise float share = (1.0 - trust * fade) * skyVisibility[index];
-      precise vec3 environment = skyRadiance * (specular * share);
+      // Towards the mirror direction r = 2 (n.v) n - v, in world space.
+      const vec3 normal = UnpackNormal(w1);
+      precise vec3 reflection = normal * (2.0 * Dot3(normal, toViewer)) - toViewer;
+      const vec3 radiance =
+          constantEnvironment != 0 ? skyRadiance : PrefilteredEnvironment(Rotate(reflection), roughness);
+      precise vec3 environment = radiance * (specular * share);
       indirectRadiance = indirectRadiance + environment;
     }
   }

@@ -27,6 +27,7 @@
 #include "core/brdf.h"
 #include "core/camera.h"
 #include "core/color.h"
+#include "core/environment_lighting.h"
 #include "core/error.h"
 #include "core/gbuffer.h"
 #include "core/image_io.h"
@@ -46,6 +47,7 @@ constexpr int kExitNoGl = 77;
 constexpr int kGroupSize = 8;    // every shader's local_size_x and local_size_y
 constexpr int kMaxLevels = 16;   // the shaders' uniform arrays of pyramid levels
 constexpr GLuint kSrgbDecodeBinding = 15;  // common.glsl's sRGB table
+constexpr GLuint kEnvironmentBinding = 14;  // common.glsl's environment levels
 
 // A GL buffer object of 4-byte words; deleted with the object.
 class Buffer {
@@ -291,25 +293,72 @@ Buffer RunDirectLight(const FrameConstants& frame, const Scene& scene, const glm
   return direct;
 }
 
+// common.glsl's viewToWorld: the inverse view matrix's four columns.
+void SetViewToWorld(const Program& program, const FrameConstants& frame) {
+  const glm::mat4 toWorld = glm::inverse(frame.view.view);
+  std::vector<float> columns;
+  for (int c = 0; c < 4; ++c) columns.insert(columns.end(), {toWorld[c].x, toWorld[c].y, toWorld[c].z});
+  program.SetArray3("viewToWorld", columns);
+}
+
+// The environment as the passes read it (§Environment lighting): core's tables, like the DFG table
+// an input the spec defines and core builds. A constant environment has none: its radiance is a
+// uniform. The levels are bound to kEnvironmentBinding, packed level by level, plane by plane.
+struct EnvironmentTables {
+  explicit EnvironmentTables(const Environment& environment)
+      : lighting(PrepareEnvironmentLighting(environment)), levels(Pack(lighting, sizes, offsets)) {
+    levels.Bind(kEnvironmentBinding);
+  }
+  // The uniforms of sky_light.comp and composite.comp that say which environment they read.
+  void SetOn(const Program& program) const {
+    program.Set("constantEnvironment", lighting.constant ? 1 : 0);
+    if (lighting.constant) return;
+    program.SetArray("levelSize", sizes);
+    program.SetArray("levelOffset", offsets);
+    std::vector<float> sh;
+    for (const glm::vec3& k : lighting.irradianceSh) sh.insert(sh.end(), {k.x, k.y, k.z});
+    program.SetArray3("irradianceSh", sh);
+  }
+
+  EnvironmentLighting lighting;
+  std::vector<int> sizes, offsets;
+  Buffer levels;
+
+ private:
+  static Buffer Pack(const EnvironmentLighting& lighting, std::vector<int>& sizes, std::vector<int>& offsets) {
+    std::vector<float> texels;
+    for (const OctahedralLevel& level : lighting.levels) {
+      sizes.push_back(level.size);
+      offsets.push_back(int(texels.size()));
+      const size_t side = size_t(level.size) + 2;
+      for (int c = 0; c < 3 && !lighting.constant; ++c)
+        for (size_t j = 0; j < side; ++j) {
+          const float* row = level.texels.c[c].ConstRow(j);
+          texels.insert(texels.end(), row, row + side);
+        }
+    }
+    return Buffer(texels.size(), texels.data());
+  }
+};
+
 struct SkyLightOutput {
   Buffer diffuse, visibility, lit;
 };
 
 // §Sky light: `volume` the oracle's sky visibility volume (its grid is the scene's).
 SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolume& grid, const Buffer& volume,
-                           const glm::vec3& environment, const std::vector<Buffer>& words, const Buffer& direct) {
+                           const EnvironmentTables& environment, const std::vector<Buffer>& words,
+                           const Buffer& direct) {
   const Program program("sky_light.comp");
   SetFrameConstants(program, frame);
-  const glm::mat4 toWorld = glm::inverse(frame.view.view);
-  std::vector<float> columns;
-  for (int c = 0; c < 4; ++c) columns.insert(columns.end(), {toWorld[c].x, toWorld[c].y, toWorld[c].z});
-  program.SetArray3("viewToWorld", columns);
+  SetViewToWorld(program, frame);
   program.Set("cells", grid.cellsX, grid.cellsY, grid.cellsZ);
   program.Set("origin", grid.origin.x, grid.origin.y, grid.origin.z);
   program.Set("cellSize", grid.cellSize);
   program.Set("inverseCellSize", grid.inverseCellSize);
-  program.Set("constantEnvironment", 1);
-  program.Set("environmentRadiance", environment.x, environment.y, environment.z);
+  environment.SetOn(program);
+  const glm::vec3 radiance = environment.lighting.constantRadiance;
+  program.Set("environmentRadiance", radiance.x, radiance.y, radiance.z);
   const size_t pixels = size_t(frame.width) * size_t(frame.height);
   SkyLightOutput out{Buffer(3 * pixels), Buffer(pixels), Buffer(3 * pixels)};
   for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
@@ -444,16 +493,19 @@ struct CompositeOutput {
   Buffer indirect, result;
 };
 
-// `skyVisibility` the sky light's, null without it; `environment` then the constant environment.
+// `skyVisibility` the sky light's, null without it; `environment` the frame's.
 CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff, const std::vector<Buffer>& words,
                              const Buffer& confidence, const Buffer& reflected, const Buffer& direct,
-                             const Buffer* skyVisibility, const glm::vec3& environment) {
+                             const Buffer* skyVisibility, const EnvironmentTables& environment) {
   const Program program("composite.comp");
   SetFrameConstants(program, frame);
   program.Set("roughnessCutoff", roughnessCutoff);
   program.Set("reflections", 1);
   program.Set("sky", skyVisibility != nullptr ? 1 : 0);
-  program.Set("skyRadiance", environment.x, environment.y, environment.z);
+  environment.SetOn(program);
+  const glm::vec3 radiance = environment.lighting.constantRadiance;
+  program.Set("skyRadiance", radiance.x, radiance.y, radiance.z);
+  SetViewToWorld(program, frame);
   // The table the spec defines and core builds (core/brdf.h).
   static_assert(sizeof(glm::vec2) == 2 * sizeof(float));
   const Buffer dfg(size_t(2 * kDfgSize * kDfgSize), &ShippedDfgTable().ab[0].x);
@@ -553,15 +605,16 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const auto pick = [](const auto& oracle, const auto& own) -> const auto& { return oracle ? *oracle : own; };
 
   const Buffer direct =
-      RunDirectLight(frame, scene.scene, config.directLight.background, words, visibility ? &*visibility : nullptr);
+      RunDirectLight(frame, scene.scene, config.environment.MeanRadiance(), words, visibility ? &*visibility : nullptr);
   // The sky light, where the frame ran it (its volume in the dump): then the passes after it read `lit`.
   std::optional<SkyLightOutput> sky;
+  const EnvironmentTables environment(config.environment);
   if (const ExrLayer* volume = dump.Find("skyvolume", "k")) {
     const SkyVisibilityVolume grid = SkyVisibilityGrid(scene.scene, config.skyVisibility);
     if (volume->width != grid.cellsX * 4 || volume->height != grid.cellsY * grid.cellsZ)
       throw InputError(input, "layer 'k' of part 'skyvolume' is not the scene's sky visibility grid");
     const Buffer volumeBuffer(volume->samples.size(), volume->samples.data());
-    sky = RunSkyLight(frame, grid, volumeBuffer, config.directLight.background, words, pick(oracleDirect, direct));
+    sky = RunSkyLight(frame, grid, volumeBuffer, environment, words, pick(oracleDirect, direct));
   }
   const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
   const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
@@ -574,7 +627,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
   const CompositeOutput composite =
       RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
-                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, config.directLight.background);
+                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, environment);
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
     std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));

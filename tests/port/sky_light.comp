@@ -1,6 +1,7 @@
 // Sky light (docs/pipeline.md §Sky light): diffuse = albedo (1 - metallic) E(n) / pi V(p, n), with E
 // the environment's irradiance (a constant environment: its radiance; else nine SH coefficients) and
-// V read from the sky visibility volume; lit = direct + diffuse.
+// V read from the sky visibility volume; lit = direct + diffuse. A background pixel's lit value is
+// the environment seen along its ray.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer Word0 { uint word0[]; };
@@ -12,22 +13,14 @@ layout(std430, binding = 5) writeonly buffer Diffuse { float diffuse[]; };      
 layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 7) writeonly buffer Lit { float lit[]; };               // three planes
 
-// viewToWorld's columns 0-3 (the rotation's three, then the translation), xyz each.
-uniform vec3 viewToWorld[4];
 uniform ivec3 cells;
 uniform vec3 origin;
 uniform float cellSize;
 uniform float inverseCellSize;
-uniform int constantEnvironment;  // 1: every irradiance read is `environmentRadiance`
+uniform int constantEnvironment;  // 1: every irradiance read is `environmentRadiance`; else the
+                                  // tables: the SH below, the octahedral levels (common.glsl)
 uniform vec3 environmentRadiance;
 uniform vec3 irradianceSh[9];
-
-// m0 a + m1 b + m2 c, each row's products rounded and added left to right (glm's mat3 * vec3).
-vec3 Rotate(vec3 v) {
-  precise vec3 r = viewToWorld[0] * v.x + viewToWorld[1] * v.y;
-  precise vec3 s = r + viewToWorld[2] * v.z;
-  return s;
-}
 
 float Coefficient(ivec3 c, int k) { return coefficients[((c.z * cells.y + c.y) * cells.x + c.x) * 4 + k]; }
 
@@ -89,7 +82,12 @@ void main() {
   const float d = depth[index];
   precise vec3 light = vec3(0.0);
   float v = 1.0;
-  if (d != kBackgroundDepth) {
+  if (d == kBackgroundDepth) {
+    // The environment itself, seen along the pixel's ray (a constant one is already in `direct`).
+    if (constantEnvironment == 0) {
+      light = EnvironmentRadiance(Rotate(Normalize3(PixelRayDirection(vec2(pixel) + 0.5))));
+    }
+  } else {
     const vec3 normal = Rotate(UnpackNormal(word1[index]));
     const vec3 ray = PixelRayDirection(vec2(pixel) + 0.5);
     precise vec3 viewPosition = vec3(ray.x * d, ray.y * d, -d);
@@ -99,10 +97,11 @@ void main() {
     precise vec3 albedo = UnpackAlbedo(w0) * (1.0 - UnpackMetallic(w0));
     light = albedo * Irradiance(normal) * v;
   }
+  const bool environmentSeen = d == kBackgroundDepth && constantEnvironment == 0;
   for (int c = 0; c < 3; ++c) {
-    diffuse[index + c * plane] = light[c];
+    diffuse[index + c * plane] = environmentSeen ? 0.0 : light[c];
     precise float sum = direct[index + c * plane] + light[c];
-    lit[index + c * plane] = sum;
+    lit[index + c * plane] = environmentSeen ? light[c] : sum;
   }
   visibility[index] = v;
 }

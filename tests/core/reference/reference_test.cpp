@@ -41,7 +41,7 @@ ReferenceOutputs RenderReferenceOf(const TestScene& scene, ReferenceParams param
                                    const ReferenceProgress& progress = nullptr) {
   params.width = scene.width;
   params.height = scene.height;
-  params.environment = {EnvironmentKind::kConstant, scene.background};
+  params.environment = ConstantEnvironment(scene.background);
   return RenderReference(scene, params, progress);
 }
 

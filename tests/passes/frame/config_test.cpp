@@ -92,7 +92,7 @@ TEST_CASE("settings from text: every kind parsed and range-checked with the prob
   ApplySetting(config, "exposure_ev", "-1.5");
   CHECK(config.tonemap.exposureEv == -1.5f);
   ApplySetting(config, "background", "0.1,0.2,0.3");
-  CHECK(config.directLight.background == glm::vec3(0.1f, 0.2f, 0.3f));
+  CHECK(config.environment.radiance == glm::vec3(0.1f, 0.2f, 0.3f));
   ApplySetting(config, "effects.shadows", "off");
   CHECK(config.shadows == EffectMode::kOff);
   ApplySetting(config, "shadow_filter", "sspcss");
@@ -127,7 +127,7 @@ TEST_CASE("a scene file's render block sets the frame configuration", "[frame_co
   CHECK(config.height == 200);
   CHECK(config.tonemap.exposureEv == -1.5f);
   CHECK(config.tonemap.curve == Tonemap::kClamp);
-  CHECK(config.directLight.background == glm::vec3(0.1f, 0.2f, 0.3f));
+  CHECK(config.environment.radiance == glm::vec3(0.1f, 0.2f, 0.3f));
   CHECK(config.normalEncoding == NormalEncoding::kXyz8);
   CHECK(config.shadows == EffectMode::kOff);
   CHECK(config.reflections == EffectMode::kOn);
