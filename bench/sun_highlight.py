@@ -1,19 +1,23 @@
 #!/usr/bin/env python3
-"""The direct light of a frame against the Embree reference's, per metal object and per distance from
+r"""The direct light of a frame against the Embree reference's, per metal object and per distance from
 the sun's highlight: how well the screen-space direct light's area-light approximation
 (docs/pipeline.md "Direct light") matches the reference, which samples the sun's disk.
 
-    build/cli/ssgi render scene.json --shadows off --reflections off --sky off --size 512x512 \\
-        --dump frame.exr -o frame.exr
-    build/cli/ssgi reference scene.json --transport paper --size 512x512 --spp 1024 -o reference.exr
-    python3 bench/sun_highlight.py scene.json frame.exr reference.exr
+    mkdir -p /tmp/sun && ln -sf $PWD/data/*.obj $PWD/data/*.mtl /tmp/sun/
+    sed 's/"cast_shadows": true/"cast_shadows": false/' data/default.json > /tmp/sun/sun.json
+    build/cli/ssgi render /tmp/sun/sun.json --size 1024x1024 --shadows off --reflections off \
+        --sky off --dump /tmp/sun/frame.exr -o /tmp/sun/frame.png
+    build/cli/ssgi reference /tmp/sun/sun.json --transport paper --size 1024x1024 --spp 512 \
+        -o /tmp/sun/reference.exr
+    python3 bench/sun_highlight.py /tmp/sun/sun.json /tmp/sun/frame.exr /tmp/sun/reference.exr
 
-The scene's first directional light is the sun; it should not cast shadows (the reference shadows
-every shadow-casting light, the frame above none). Each metal object (metallic 1 in its "*" material
-override) is found in the dump by its base colour; its pixels are split by the angle between the
-view's mirror direction and the sun's centre: on the highlight (below twice the sun's angular
-radius), its shoulder (two to four times) and off it (above four times). Each row gives the pixel count, the mean luminance of frame
-and reference, the ratio of the means and the median of the per-pixel ratios.
+The scene's first directional light is the sun; it must not cast shadows (the reference shadows
+every shadow-casting light, the frame above none), hence the copy of the default scene. Each metal
+object (metallic 1 in its "*" material override) is found in the dump by its base colour; its
+pixels are split by the angle between the view's mirror direction and the sun's centre: on the
+highlight (below twice the sun's angular radius), its shoulder (two to four times) and off it
+(above four times). Each row gives the pixel count, the mean luminance of frame and reference, the
+ratio of the means and the median of the per-pixel ratios.
 
 Needs numpy and OpenImageIO's Python bindings (Debian: apt-get install python3-numpy
 python3-openimageio)."""
