@@ -1,7 +1,9 @@
 // Composite (docs/pipeline.md §Composite): indirect = the cone-traced radiance times the split-sum
 // specular weight times the trace's confidence and the roughness fade, plus, with the sky light, the
-// environment times the weight for the share the trace did not see, times the sky's visibility;
-// result = lit + indirect ("direct" below is the lit image when the sky light ran).
+// environment times the weight for the share the trace did not see, times the sky's visibility,
+// plus, with the diffuse bounce, the bounce times the diffuse albedo; result = base + indirect, with
+// base the lit image ("direct" below when the sky light ran), its sky diffuse light darkened by the
+// bounce's visibility when both ran.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer Word0 { uint word0[]; };
@@ -15,10 +17,14 @@ layout(std430, binding = 7) writeonly buffer Result { float result[]; };       /
 // The split-sum DFG table (A, B) pairs at [j * 32 + i], n.v = i / 31, roughness j / 31 (core/brdf.h).
 layout(std430, binding = 8) readonly buffer Dfg { vec2 dfg[]; };
 layout(std430, binding = 9) readonly buffer SkyVisibility { float skyVisibility[]; };
+layout(std430, binding = 10) readonly buffer DiffuseBounce { float diffuseBounce[]; };  // three planes
+layout(std430, binding = 11) readonly buffer AmbientVisibility { float ambientVisibility[]; };
+layout(std430, binding = 12) readonly buffer SkyDiffuse { float skyDiffuse[]; };  // three planes
 
 uniform float roughnessCutoff;  // the trace's
 uniform int reflections;        // 0: no reflections traced (confidence 0 everywhere)
 uniform int sky;                // 1: the sky light ran: its specular part here
+uniform int bounceRan;          // 1: the diffuse bounce ran: its light here, and its occlusion of the sky's
 uniform int constantEnvironment;  // 1: the environment is `skyRadiance`; else its levels (common.glsl)
 uniform vec3 skyRadiance;
 
@@ -47,34 +53,53 @@ void main() {
   const int plane = imageSize.x * imageSize.y;
   precise vec3 indirectRadiance = vec3(0.0);
   const float trust = reflections != 0 ? confidence[index] : 0.0;
-  if (depth[index] != kBackgroundDepth && (trust > 0.0 || sky != 0)) {
+  precise vec3 base = vec3(direct[index], direct[index + plane], direct[index + 2 * plane]);
+  if (depth[index] != kBackgroundDepth && (trust > 0.0 || sky != 0 || bounceRan != 0)) {
     const uint w0 = word0[index];
     const uint w1 = word1[index];
     const float roughness = UnpackRoughness(w1);
-    const vec3 f0 = SpecularF0(UnpackAlbedo(w0), UnpackMetallic(w0));
-    const vec3 toViewer = Normalize3(-PixelRayDirection(vec2(pixel) + 0.5));
-    precise float nDotV = clamp(Dot3(UnpackNormal(w1), toViewer), 0.0, 1.0);
-    precise float fade = clamp((roughnessCutoff - roughness) / 0.1, 0.0, 1.0);
-    precise vec3 specular = SpecularWeight(f0, nDotV, roughness);
-    if (trust > 0.0) {
-      const vec3 traced = vec3(reflected[index], reflected[index + plane], reflected[index + 2 * plane]);
-      // The weight first, then the radiance times it (§Composite).
-      precise vec3 weight = specular * (trust * fade);
-      indirectRadiance = traced * weight;
+    const vec3 albedo = UnpackAlbedo(w0);
+    const float metallic = UnpackMetallic(w0);
+    if (trust > 0.0 || sky != 0) {
+      const vec3 f0 = SpecularF0(albedo, metallic);
+      const vec3 toViewer = Normalize3(-PixelRayDirection(vec2(pixel) + 0.5));
+      precise float nDotV = clamp(Dot3(UnpackNormal(w1), toViewer), 0.0, 1.0);
+      precise float fade = clamp((roughnessCutoff - roughness) / 0.1, 0.0, 1.0);
+      precise vec3 specular = SpecularWeight(f0, nDotV, roughness);
+      if (trust > 0.0) {
+        const vec3 traced = vec3(reflected[index], reflected[index + plane], reflected[index + 2 * plane]);
+        // The weight first, then the radiance times it (§Composite).
+        precise vec3 weight = specular * (trust * fade);
+        indirectRadiance = traced * weight;
+      }
+      if (sky != 0) {
+        precise float share = (1.0 - trust * fade) * skyVisibility[index];
+        // Towards the mirror direction r = 2 (n.v) n - v, in world space.
+        const vec3 normal = UnpackNormal(w1);
+        precise vec3 reflection = normal * (2.0 * Dot3(normal, toViewer)) - toViewer;
+        const vec3 radiance =
+            constantEnvironment != 0 ? skyRadiance : PrefilteredEnvironment(Rotate(reflection), roughness);
+        precise vec3 environment = radiance * (specular * share);
+        indirectRadiance = indirectRadiance + environment;
+      }
     }
-    if (sky != 0) {
-      precise float share = (1.0 - trust * fade) * skyVisibility[index];
-      // Towards the mirror direction r = 2 (n.v) n - v, in world space.
-      const vec3 normal = UnpackNormal(w1);
-      precise vec3 reflection = normal * (2.0 * Dot3(normal, toViewer)) - toViewer;
-      const vec3 radiance =
-          constantEnvironment != 0 ? skyRadiance : PrefilteredEnvironment(Rotate(reflection), roughness);
-      precise vec3 environment = radiance * (specular * share);
-      indirectRadiance = indirectRadiance + environment;
+    if (bounceRan != 0) {
+      // A Lambertian surface reflects its diffuse albedo times E / pi (the bounce), after the terms above.
+      precise vec3 diffuseAlbedo = albedo * (1.0 - metallic);
+      const vec3 arriving = vec3(diffuseBounce[index], diffuseBounce[index + plane], diffuseBounce[index + 2 * plane]);
+      precise vec3 reflectedBounce = arriving * diffuseAlbedo;
+      indirectRadiance = indirectRadiance + reflectedBounce;
+      // The lit image holds the sky's diffuse light unoccluded by the surfaces around the pixel: the
+      // share 1 - visibility of it is taken away, `visibility - 1` rounded first.
+      if (sky != 0) {
+        precise float darkening = ambientVisibility[index] - 1.0;
+        const vec3 skyLight = vec3(skyDiffuse[index], skyDiffuse[index + plane], skyDiffuse[index + 2 * plane]);
+        precise vec3 occluded = skyLight * darkening;
+        base = base + occluded;
+      }
     }
   }
-  const vec3 directRadiance = vec3(direct[index], direct[index + plane], direct[index + 2 * plane]);
-  precise vec3 sum = directRadiance + indirectRadiance;
+  precise vec3 sum = base + indirectRadiance;
   for (int c = 0; c < 3; ++c) {
     indirect[index + c * plane] = indirectRadiance[c];
     result[index + c * plane] = sum[c];

@@ -35,6 +35,7 @@
 #include "core/parallel.h"
 #include "core/pyramid.h"
 #include "core/scene.h"
+#include "passes/bounce.h"
 #include "passes/frame/config.h"
 #include "passes/frame/dump.h"
 #include "passes/sky_light.h"
@@ -371,6 +372,127 @@ SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolum
   return out;
 }
 
+// §Diffuse bounce and ambient occlusion: the half-resolution steps' buffers (as the dump's part
+// bounce.half names them) and the full-resolution outputs. Several channels: planes one after the
+// other.
+struct BounceBuffers {
+  Buffer depth, normal, normalCode, lit;
+  Buffer marchVisibility, march, rowsVisibility, rows, filteredVisibility, filtered;
+  Buffer visibility, bounce;
+};
+
+// The dump's part holding the bounce's half-resolution steps, and its layers in BounceBuffers' order.
+const char kBounceHalfPart[] = "bounce.half";
+
+// The oracle's bounce buffers each step reads, where the dump holds them (--oracle-inputs): prepare
+// reads only the G-buffer and `lit`, so the first is the half-resolution inputs.
+struct OracleBounce {
+  std::optional<Buffer> depth, normal, normalCode, lit;
+  std::optional<Buffer> marchVisibility, march, rowsVisibility, rows, filteredVisibility, filtered;
+  std::optional<Buffer> visibility, bounce;
+};
+
+OracleBounce UploadOracleBounce(const ExrFile& dump, const FrameConstants& frame, const std::filesystem::path& file) {
+  const size_t halfWidth = size_t(frame.width + 1) / 2, halfHeight = size_t(frame.height + 1) / 2;
+  const auto half = [&](const std::vector<std::string>& names) {
+    return UploadPlanes(dump, kBounceHalfPart, names, halfWidth, halfHeight, file);
+  };
+  OracleBounce oracle;
+  oracle.depth = half({"depth"});
+  oracle.normal = half({"normal.X", "normal.Y", "normal.Z"});
+  if (const ExrLayer* codes = FindLayer(dump, kBounceHalfPart, "normalCode", true, halfWidth, halfHeight, file))
+    oracle.normalCode.emplace(codes->samples.size(), codes->samples.data());
+  oracle.lit = half({"lit.R", "lit.G", "lit.B"});
+  oracle.marchVisibility = half({"march.visibility"});
+  oracle.march = half({"march.R", "march.G", "march.B"});
+  oracle.rowsVisibility = half({"rows.visibility"});
+  oracle.rows = half({"rows.R", "rows.G", "rows.B"});
+  oracle.filteredVisibility = half({"filtered.visibility"});
+  oracle.filtered = half({"filtered.R", "filtered.G", "filtered.B"});
+  const size_t width = size_t(frame.width), height = size_t(frame.height);
+  oracle.visibility = UploadPlanes(dump, "frame", {"bounce.visibility"}, width, height, file);
+  oracle.bounce = UploadPlanes(dump, "frame", {"bounce.R", "bounce.G", "bounce.B"}, width, height, file);
+  return oracle;
+}
+
+// The direction table (§Diffuse bounce, set-up): for slice k and rotation phase r, angle = pi (k +
+// (r + 0.5) / 16) / slices in double, its cos and sin rounded once; (x, y) pairs at [16 k + r].
+std::vector<float> BounceDirections(int slices) {
+  std::vector<float> xy;
+  for (int k = 0; k < slices; ++k) {
+    for (int r = 0; r < 16; ++r) {
+      const double angle = 3.14159265358979323846 * (double(k) + (double(r) + 0.5) / 16.0) / double(slices);
+      xy.push_back(float(std::cos(angle)));
+      xy.push_back(float(std::sin(angle)));
+    }
+  }
+  return xy;
+}
+
+// The bounce's five steps on `lit` (the sky light's, else the direct light). Each step reads the
+// port's own earlier buffers, or the oracle's where `oracle` holds them.
+BounceBuffers RunBounce(const FrameConstants& frame, const BounceParams& params, const std::vector<Buffer>& words,
+                        const Buffer& lit, const OracleBounce& oracle) {
+  enum Stage { kPrepare = 0, kMarch = 1, kFilterRows = 2, kFilterColumns = 3, kUpsample = 4 };
+  const Program program("bounce.comp");
+  SetFrameConstants(program, frame);
+  const int halfWidth = (frame.width + 1) / 2, halfHeight = (frame.height + 1) / 2;
+  program.Set("halfSize", halfWidth, halfHeight);
+  program.Set("slices", params.slices);
+  program.Set("steps", params.steps);
+  program.Set("sectors", params.sectors);
+  program.Set("radius", params.radius);
+  program.Set("maxRadiusPixels", params.maxRadiusPixels);
+  program.Set("thickness", params.thickness);
+  program.Set("depthTolerance", params.depthTolerance);
+  const std::vector<float> table = BounceDirections(params.slices);
+  const Buffer directions(table.size(), table.data());
+  const size_t half = size_t(halfWidth) * size_t(halfHeight), pixels = size_t(frame.width) * size_t(frame.height);
+  BounceBuffers out{Buffer(half), Buffer(3 * half), Buffer(half), Buffer(3 * half), Buffer(half),   Buffer(3 * half),
+                    Buffer(half), Buffer(3 * half), Buffer(half), Buffer(3 * half), Buffer(pixels), Buffer(3 * pixels)};
+  const auto pick = [](const std::optional<Buffer>& theirs, const Buffer& own) -> const Buffer& {
+    return theirs ? *theirs : own;
+  };
+  words[1].Bind(0);
+  words[2].Bind(1);
+  lit.Bind(2);
+  directions.Bind(11);
+  const auto run = [&](Stage stage, const Buffer* sourceVisibility, const Buffer* sourceBounce,
+                       const Buffer& visibility, const Buffer& bounce) {
+    if (sourceVisibility != nullptr) {
+      sourceVisibility->Bind(7);
+      sourceBounce->Bind(8);
+    }
+    visibility.Bind(9);
+    bounce.Bind(10);
+    program.Set("stage", int(stage));
+    if (stage == kUpsample) {
+      program.Dispatch(frame.width, frame.height);
+    } else {
+      program.Dispatch(halfWidth, halfHeight);
+    }
+  };
+  // Prepare writes the half-resolution inputs (bindings 3-6); the later steps read them, the oracle's
+  // where taken.
+  out.depth.Bind(3);
+  out.normal.Bind(4);
+  out.normalCode.Bind(5);
+  out.lit.Bind(6);
+  run(kPrepare, nullptr, nullptr, out.marchVisibility, out.march);
+  pick(oracle.depth, out.depth).Bind(3);
+  pick(oracle.normal, out.normal).Bind(4);
+  pick(oracle.normalCode, out.normalCode).Bind(5);
+  pick(oracle.lit, out.lit).Bind(6);
+  run(kMarch, nullptr, nullptr, out.marchVisibility, out.march);
+  run(kFilterRows, &pick(oracle.marchVisibility, out.marchVisibility), &pick(oracle.march, out.march),
+      out.rowsVisibility, out.rows);
+  run(kFilterColumns, &pick(oracle.rowsVisibility, out.rowsVisibility), &pick(oracle.rows, out.rows),
+      out.filteredVisibility, out.filtered);
+  run(kUpsample, &pick(oracle.filteredVisibility, out.filteredVisibility), &pick(oracle.filtered, out.filtered),
+      out.visibility, out.bounce);
+  return out;
+}
+
 // §Hi-Z pyramid: level 0 = 1 / word 2, then each level the max of its footprint.
 std::vector<Buffer> RunHiZ(const FrameConstants& frame, const Buffer& word2) {
   const Program program("hiz.comp");
@@ -493,10 +615,20 @@ struct CompositeOutput {
   Buffer indirect, result;
 };
 
-// `skyVisibility` the sky light's, null without it; `environment` the frame's.
+// What the composite reads of the diffuse bounce: its light and visibility, and the sky light's
+// diffuse term that the visibility darkens (null without the sky light).
+struct CompositeBounce {
+  const Buffer& bounce;
+  const Buffer& visibility;
+  const Buffer* skyDiffuse;
+};
+
+// `skyVisibility` the sky light's, null without it; `environment` the frame's; `bounce` null
+// without the diffuse bounce.
 CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff, const std::vector<Buffer>& words,
                              const Buffer& confidence, const Buffer& reflected, const Buffer& direct,
-                             const Buffer* skyVisibility, const EnvironmentTables& environment) {
+                             const Buffer* skyVisibility, const EnvironmentTables& environment,
+                             const CompositeBounce* bounce) {
   const Program program("composite.comp");
   SetFrameConstants(program, frame);
   program.Set("roughnessCutoff", roughnessCutoff);
@@ -519,6 +651,12 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   out.result.Bind(7);
   dfg.Bind(8);
   if (skyVisibility != nullptr) skyVisibility->Bind(9);
+  program.Set("bounceRan", bounce != nullptr ? 1 : 0);
+  if (bounce != nullptr) {
+    bounce->bounce.Bind(10);
+    bounce->visibility.Bind(11);
+    if (bounce->skyDiffuse != nullptr) bounce->skyDiffuse->Bind(12);
+  }
   program.Dispatch(frame.width, frame.height);
   return out;
 }
@@ -531,6 +669,28 @@ ExrLayer PlaneLayer(const std::string& part, const std::string& name, const std:
   return ExrLayer{part, name, width, height, false,
                   std::vector<uint32_t>(words.begin() + std::ptrdiff_t(plane * pixels),
                                         words.begin() + std::ptrdiff_t((plane + 1) * pixels))};
+}
+
+// The bounce's half-resolution steps as the dump's part bounce.half (halfWidth x halfHeight).
+void AddBounceHalfLayers(const BounceBuffers& bounce, int halfWidth, int halfHeight, ExrFile& out) {
+  const auto add = [&](const Buffer& buffer, const std::vector<std::string>& names, bool isUint = false) {
+    const std::vector<uint32_t> planes = buffer.Download();
+    for (size_t c = 0; c < names.size(); ++c) {
+      ExrLayer layer = PlaneLayer(kBounceHalfPart, names[c], planes, c, halfWidth, halfHeight);
+      layer.isUint = isUint;
+      out.layers.push_back(std::move(layer));
+    }
+  };
+  add(bounce.depth, {"depth"});
+  add(bounce.normal, {"normal.X", "normal.Y", "normal.Z"});
+  add(bounce.normalCode, {"normalCode"}, true);
+  add(bounce.lit, {"lit.R", "lit.G", "lit.B"});
+  add(bounce.marchVisibility, {"march.visibility"});
+  add(bounce.march, {"march.R", "march.G", "march.B"});
+  add(bounce.rowsVisibility, {"rows.visibility"});
+  add(bounce.rows, {"rows.R", "rows.G", "rows.B"});
+  add(bounce.filteredVisibility, {"filtered.visibility"});
+  add(bounce.filtered, {"filtered.R", "filtered.G", "filtered.B"});
 }
 
 int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input,
@@ -578,13 +738,17 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   std::optional<Buffer> visibility = UploadPlanes(dump, main, {"shadow.visibility"}, width, height, input);
 
   // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
-  std::optional<Buffer> oracleDirect, oracleLit, oracleSkyVisibility, oracleHitX, oracleHitY, oracleConfidence,
-      oracleReflected;
+  std::optional<Buffer> oracleDirect, oracleLit, oracleSkyVisibility, oracleSkyDiffuse, oracleHitX, oracleHitY,
+      oracleConfidence, oracleReflected;
+  OracleBounce oracleBounce;
   std::optional<Levels> oracleHiZ, oraclePyramid;
   if (oracleInputs) {
     oracleDirect = UploadPlanes(dump, main, {"direct.R", "direct.G", "direct.B"}, width, height, input);
     oracleLit = UploadPlanes(dump, main, {"lit.R", "lit.G", "lit.B"}, width, height, input);
     oracleSkyVisibility = UploadPlanes(dump, main, {"sky.visibility"}, width, height, input);
+    oracleSkyDiffuse =
+        UploadPlanes(dump, main, {"sky.diffuse.R", "sky.diffuse.G", "sky.diffuse.B"}, width, height, input);
+    oracleBounce = UploadOracleBounce(dump, frame, input);
     oracleHitX = UploadPlanes(dump, main, {"ssr.hitX"}, width, height, input);
     oracleHitY = UploadPlanes(dump, main, {"ssr.hitY"}, width, height, input);
     oracleConfidence = UploadPlanes(dump, main, {"ssr.confidence"}, width, height, input);
@@ -596,6 +760,12 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
     note(oracleDirect.has_value(), "direct");
     note(oracleLit.has_value(), "lit");
+    note(oracleBounce.depth && oracleBounce.normal && oracleBounce.normalCode && oracleBounce.lit,
+         "bounce.half:inputs");
+    note(oracleBounce.marchVisibility && oracleBounce.march, "bounce.half:march");
+    note(oracleBounce.rowsVisibility && oracleBounce.rows, "bounce.half:rows");
+    note(oracleBounce.filteredVisibility && oracleBounce.filtered, "bounce.half:filtered");
+    note(oracleBounce.visibility && oracleBounce.bounce, "bounce");
     note(oracleHiZ.has_value(), "hiz");
     note(oraclePyramid.has_value(), "pyramid");
     note(oracleHitX && oracleHitY && oracleConfidence, "ssr.hit");
@@ -617,6 +787,10 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     sky = RunSkyLight(frame, grid, volumeBuffer, environment, words, pick(oracleDirect, direct));
   }
   const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
+  // The diffuse bounce, where the frame ran it (its layers in the dump), on `lit`.
+  std::optional<BounceBuffers> bounce;
+  if (dump.Find(main, "bounce.visibility") != nullptr)
+    bounce = RunBounce(frame, config.diffuseBounce, words, lit, oracleBounce);
   const std::vector<Buffer> hizLevels = RunHiZ(frame, words[2]);
   const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, lit);
   const Levels hiz = Concatenate(hizLevels, frame.levels);
@@ -625,9 +799,15 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const TraceHits hits{pick(oracleHitX, trace.hitX), pick(oracleHitY, trace.hitY),
                        pick(oracleConfidence, trace.confidence)};
   const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
+  std::optional<CompositeBounce> compositeBounce;
+  if (bounce)
+    compositeBounce.emplace(CompositeBounce{pick(oracleBounce.bounce, bounce->bounce),
+                                            pick(oracleBounce.visibility, bounce->visibility),
+                                            sky ? &pick(oracleSkyDiffuse, sky->diffuse) : nullptr});
   const CompositeOutput composite =
       RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
-                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, environment);
+                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, environment,
+                   bounce ? &compositeBounce.value() : nullptr);
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
     std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));
@@ -654,9 +834,14 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     addLayer("sky.visibility", sky->visibility);
     addRgb(main, "lit.", sky->lit, frame.width, frame.height);
   }
+  if (bounce) {
+    addRgb(main, "bounce.", bounce->bounce, frame.width, frame.height);
+    addLayer("bounce.visibility", bounce->visibility);
+  }
   addRgb(main, "ssr.reflected.", reflected, frame.width, frame.height);
   addRgb(main, "indirect.", composite.indirect, frame.width, frame.height);
   addRgb(main, "result.", composite.result, frame.width, frame.height);
+  if (bounce) AddBounceHalfLayers(*bounce, (frame.width + 1) / 2, (frame.height + 1) / 2, out);
   for (size_t k = 0; k < frame.levels.size(); ++k) {
     const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
     out.layers.push_back(ExrLayer{"hiz." + std::to_string(k), "Y", w, h, false, hizLevels[k].Download()});

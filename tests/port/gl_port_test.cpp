@@ -39,8 +39,13 @@ void CompareWithOracle(const ExrFile& oracle, const std::filesystem::path& porte
                   << " samples differ, the worst at (" << layer.worstX << ", " << layer.worstY << ")");
     CHECK(layer.ok);
   }
-  // The port writes the direct light, every Hi-Z and pyramid level, the trace, cone and composite.
+  // The port writes the direct light, every Hi-Z and pyramid level, the trace, cone and composite,
+  // and the bounce's layers and every half-resolution step where the oracle ran the bounce.
   CHECK(compared >= 18);
+  if (oracle.Find("frame", "bounce.visibility") != nullptr) {
+    CHECK(port.Find("frame", "bounce.visibility") != nullptr);
+    CHECK(port.Find("bounce.half", "filtered.visibility") != nullptr);
+  }
   CHECK(report.ok);
 }
 
@@ -49,12 +54,17 @@ void CompareWithOracle(const ExrFile& oracle, const std::filesystem::path& porte
 // pass of the other run sees the same bits, so it is run where the mode itself is to be tested.
 enum class PortRuns { kChained, kChainedAndOracleInputs };
 
+// The oracle's frame with its default effects (the diffuse bounce on wherever something on screen is
+// lit), or with the bounce switched off: the composite without its terms.
+enum class Bounce { kDefault, kOff };
+
 // Renders `sceneFile` at width x height with the oracle, runs the port on its buffers as `runs`
 // says and checks every layer the port writes against the oracle's. Every layer must be bit-exact: the
 // spec pins each operation and its order, and the shaders' `precise` forbids the contractions GLSL
 // otherwise allows (tests/port/README.md); a tolerance here would hide a departure from the spec.
 // (Thresholds for GPUs with approximate division or sqrt are `ssgi diff`'s, data/diff_thresholds.json.)
-void CheckPort(const std::filesystem::path& sceneFile, int width, int height, PortRuns runs = PortRuns::kChained) {
+void CheckPort(const std::filesystem::path& sceneFile, int width, int height, PortRuns runs = PortRuns::kChained,
+               Bounce bounce = Bounce::kDefault) {
   if (std::string(kGlPortPath).empty()) {
     WARN("the GLSL port is not built (no EGL/OpenGL development files): skipped");
     return;
@@ -63,10 +73,11 @@ void CheckPort(const std::filesystem::path& sceneFile, int width, int height, Po
   FrameConfig config = FrameConfigFromSceneFile(scene);
   config.width = width;
   config.height = height;
-  // The port has no diffuse bounce yet (tests/port/README.md): the oracle's frame without it.
-  config.bounce = EffectMode::kOff;
+  if (bounce == Bounce::kOff) config.bounce = EffectMode::kOff;
   const Frame frame = RenderFrame(scene.scene, config);
   REQUIRE(frame.reflections);
+  // Every scene here has something lit on screen, so the default frame runs the bounce.
+  REQUIRE(frame.bounce == (bounce == Bounce::kDefault));
   const test::ScratchDir scratch("gl-port");
   const std::filesystem::path input = scratch / "oracle.exr", ported = scratch / "port.exr";
   WriteFrameDump(input, frame, DumpMetadata(std::filesystem::absolute(sceneFile).string(), config));
@@ -83,7 +94,8 @@ void CheckPort(const std::filesystem::path& sceneFile, int width, int height, Po
     }
     INFO(run.output);
     REQUIRE(run.exitCode == 0);
-    std::printf("port%s vs oracle, %s at %dx%d:\n", mode.c_str(), sceneFile.filename().c_str(), width, height);
+    std::printf("port%s vs oracle, %s at %dx%d%s:\n", mode.c_str(), sceneFile.filename().c_str(), width, height,
+                frame.bounce ? "" : ", bounce off");
     CompareWithOracle(oracle, ported);
     // And as a port engineer checks it: `ssgi diff` with the shipped tolerances passes.
     const test::CommandResult diff = test::RunCli("diff " + test::Quote(input) + " " + test::Quote(ported));
@@ -95,6 +107,8 @@ void CheckPort(const std::filesystem::path& sceneFile, int width, int height, Po
 TEST_CASE("the GLSL port matches the oracle on the default scene", "[port]") {
   CheckPort(test::SourceDir() / "data" / "default.json", 160, 120, PortRuns::kChainedAndOracleInputs);
   CheckPort(test::SourceDir() / "data" / "default.json", 67, 45, PortRuns::kChainedAndOracleInputs);
+  // Without the bounce: the composite is the same operations as before the bounce existed.
+  CheckPort(test::SourceDir() / "data" / "default.json", 160, 120, PortRuns::kChainedAndOracleInputs, Bounce::kOff);
   // Degenerate pyramids: one level; a 3-wide footprint beside a 1-tall one.
   CheckPort(test::SourceDir() / "data" / "default.json", 1, 1);
   CheckPort(test::SourceDir() / "data" / "default.json", 33, 2);
