@@ -864,8 +864,8 @@ int main(int argc, char** argv) {
   bool oracleInputs = false;
   app.add_flag("--oracle-inputs", oracleInputs,
                "Each pass reads the oracle's buffers of the passes before it where the dump holds them "
-               "(direct.*, hiz.L, pyramid.L, ssr.hitX/hitY/confidence, ssr.reflected.*), so each pass is checked "
-               "alone; default: the port's own.");
+               "(direct.*, lit.*, the bounce's steps, hiz.L, pyramid.L, ssr.hitX/hitY/confidence, ssr.reflected.*), so "
+               "each pass is checked alone; default: the port's own.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
