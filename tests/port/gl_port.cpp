@@ -457,14 +457,7 @@ BounceBuffers RunBounce(const FrameConstants& frame, const BounceParams& params,
   words[2].Bind(1);
   lit.Bind(2);
   directions.Bind(11);
-  const auto run = [&](Stage stage, const Buffer* sourceVisibility, const Buffer* sourceBounce,
-                       const Buffer& visibility, const Buffer& bounce) {
-    if (sourceVisibility != nullptr) {
-      sourceVisibility->Bind(7);
-      sourceBounce->Bind(8);
-    }
-    visibility.Bind(9);
-    bounce.Bind(10);
+  const auto dispatch = [&](Stage stage) {
     program.Set("stage", int(stage));
     if (stage == kUpsample) {
       program.Dispatch(frame.width, frame.height);
@@ -478,11 +471,23 @@ BounceBuffers RunBounce(const FrameConstants& frame, const BounceParams& params,
   out.normal.Bind(4);
   out.normalCode.Bind(5);
   out.lit.Bind(6);
-  run(kPrepare, nullptr, nullptr, out.marchVisibility, out.march);
+  dispatch(kPrepare);
   pick(oracle.depth, out.depth).Bind(3);
   pick(oracle.normal, out.normal).Bind(4);
   pick(oracle.normalCode, out.normalCode).Bind(5);
   pick(oracle.lit, out.lit).Bind(6);
+  // The march and the steps after it write a visibility and a bounce (bindings 9, 10); the filter's
+  // passes and the upsample read the step's before them (7, 8).
+  const auto run = [&](Stage stage, const Buffer* sourceVisibility, const Buffer* sourceBounce,
+                       const Buffer& visibility, const Buffer& bounce) {
+    if (sourceVisibility != nullptr) {
+      sourceVisibility->Bind(7);
+      sourceBounce->Bind(8);
+    }
+    visibility.Bind(9);
+    bounce.Bind(10);
+    dispatch(stage);
+  };
   run(kMarch, nullptr, nullptr, out.marchVisibility, out.march);
   run(kFilterRows, &pick(oracle.marchVisibility, out.marchVisibility), &pick(oracle.march, out.march),
       out.rowsVisibility, out.rows);
