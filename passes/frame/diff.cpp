@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -51,30 +52,62 @@ double SegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   return glm::length(p - (a + t * ab));
 }
 
-// Which pixels lie within kCoverageRounding of an edge of a triangle the oracle draws there or next
-// to them, or the port draws there: computed on first asking, per pixel. Bands of several layers
-// may ask about one pixel at once; each computes the same answer, so the memo is relaxed atomics.
+// The part of triangle `t` in front of the near plane and behind the far plane (clip w - z >= 0,
+// z >= 0, as the oracle clips it), in pixels on the view's y-down screen; returns its vertex count
+// (0 to 5).
+int ScreenPolygon(const CoverageGeometry& geometry, uint32_t t, glm::dvec2* out) {
+  glm::dvec4 polygon[2][5];
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3 p = geometry.mesh.positions[geometry.mesh.indices[size_t(t) * 3 + size_t(k)]];
+    polygon[0][k] = glm::dvec4(geometry.view.viewProjection * glm::vec4(p, 1.0f));
+  }
+  int count = 3, current = 0;
+  for (int plane = 0; plane < 2 && count > 0; ++plane) {
+    const auto distance = [plane](const glm::dvec4& v) { return plane == 0 ? v.w - v.z : v.z; };
+    int written = 0;
+    for (int i = 0; i < count; ++i) {
+      const glm::dvec4& a = polygon[current][i];
+      const glm::dvec4& b = polygon[current][(i + 1) % count];
+      const double da = distance(a), db = distance(b);
+      if (da >= 0.0) polygon[current ^ 1][written++] = a;
+      if ((da >= 0.0) != (db >= 0.0)) polygon[current ^ 1][written++] = a + (b - a) * (da / (da - db));
+    }
+    count = written;
+    current ^= 1;
+  }
+  for (int k = 0; k < count; ++k) {
+    const glm::dvec4& v = polygon[current][k];
+    out[k] = {(v.x / v.w * 0.5 + 0.5) * geometry.view.width, (0.5 - v.y / v.w * 0.5) * geometry.view.height};
+  }
+  return count;
+}
+
+// How far each pixel's centre lies from the nearest edge of a triangle the oracle draws there or
+// next to it, or the port draws there (the drawn part of it: clipped at the near plane), in pixels:
+// computed on first asking, per pixel. Bands of several layers may ask about one pixel at once; each
+// computes the same answer, so the memo is relaxed atomics.
 class EdgePixels {
  public:
   EdgePixels(const CoverageGeometry& geometry, const ExrLayer& oracleTriangles, const ExrLayer* portTriangles)
       : geometry_(geometry), oracle_(oracleTriangles), port_(portTriangles), known_(oracleTriangles.samples.size()) {
     SSGI_CHECK_EQ(oracle_.samples.size(), size_t(oracle_.width) * size_t(oracle_.height));
+    for (std::atomic<uint32_t>& distance : known_) distance.store(kUnknown, std::memory_order_relaxed);
   }
 
-  bool At(int x, int y) const {
-    std::atomic<int8_t>& known = known_[size_t(y) * size_t(oracle_.width) + size_t(x)];
-    int8_t state = known.load(std::memory_order_relaxed);
-    if (state == kUnknown) {
-      state = Classify(x, y) ? kEdge : kInterior;
-      known.store(state, std::memory_order_relaxed);
+  double Distance(int x, int y) const {
+    std::atomic<uint32_t>& known = known_[size_t(y) * size_t(oracle_.width) + size_t(x)];
+    uint32_t bits = known.load(std::memory_order_relaxed);
+    if (bits == kUnknown) {
+      bits = std::bit_cast<uint32_t>(float(Measure(x, y)));
+      known.store(bits, std::memory_order_relaxed);
     }
-    return state == kEdge;
+    return double(std::bit_cast<float>(bits));
   }
 
  private:
-  static constexpr int8_t kUnknown = 0, kInterior = 1, kEdge = 2;
+  static constexpr uint32_t kUnknown = 0xFFFFFFFFu;  // a NaN no distance is
 
-  bool Classify(int x, int y) const {
+  double Measure(int x, int y) const {
     // The triangles of the 3x3 neighbourhood and the port's, each once.
     uint32_t triangles[10];
     size_t count = 0;
@@ -89,29 +122,22 @@ class EdgePixels {
       }
     if (port_ != nullptr) add(port_->samples[size_t(y) * size_t(oracle_.width) + size_t(x)]);
     const glm::dvec2 centre(x + 0.5, y + 0.5);
+    double nearest = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < count; ++i) {
       const uint32_t t = triangles[i];
       if (t == kNoTriangle || size_t(t) >= geometry_.mesh.TriangleCount()) continue;
-      glm::dvec2 corners[3];
-      for (int k = 0; k < 3; ++k) {
-        const glm::vec3 p = geometry_.mesh.positions[geometry_.mesh.indices[size_t(t) * 3 + size_t(k)]];
-        const glm::dvec4 clip = glm::dvec4(geometry_.view.viewProjection * glm::vec4(p, 1.0f));
-        // A vertex behind the camera: the drawn triangle is clipped, its edges are not these; its
-        // pixels are not judged.
-        if (!(clip.w > 0.0)) return true;
-        corners[k] = {(clip.x / clip.w * 0.5 + 0.5) * geometry_.view.width,
-                      (0.5 - clip.y / clip.w * 0.5) * geometry_.view.height};
-      }
-      for (int k = 0; k < 3; ++k)
-        if (SegmentDistance(centre, corners[k], corners[(k + 1) % 3]) <= kCoverageRounding) return true;
+      glm::dvec2 corners[5];
+      const int n = ScreenPolygon(geometry_, t, corners);
+      for (int k = 0; k < n; ++k)
+        nearest = std::min(nearest, SegmentDistance(centre, corners[k], corners[(k + 1) % n]));
     }
-    return false;
+    return nearest;
   }
 
   const CoverageGeometry& geometry_;
   const ExrLayer& oracle_;
   const ExrLayer* port_;
-  mutable std::vector<std::atomic<int8_t>> known_;
+  mutable std::vector<std::atomic<uint32_t>> known_;
 };
 
 // Whether sample a (port) is within tolerance of b (oracle), and the differences measured.
@@ -168,6 +194,7 @@ struct BandDiff {
   uint64_t maxUlp = 0;
   bool ulpMeasured = false, hardFailed = false;
   size_t samples = 0, overTolerance = 0, edgePixels = 0;
+  double maxEdgeDistance = 0.0;
   int worstX = -1, worstY = -1;
 };
 
@@ -186,9 +213,13 @@ BandDiff CompareBand(const ExrLayer& oracle, const ExrLayer& port, const LayerTo
         ++band.samples;
         continue;
       }
-      if (tolerance.coverage && edges != nullptr && edges->At(x, y)) {
-        ++band.edgePixels;
-        continue;
+      if (tolerance.coverage && edges != nullptr) {
+        const double distance = edges->Distance(x, y);
+        if (distance <= kCoverageRounding) {
+          ++band.edgePixels;
+          band.maxEdgeDistance = std::max(band.maxEdgeDistance, distance);
+          continue;
+        }
       }
       ++band.samples;
       band.maxAbsolute = std::max(band.maxAbsolute, d.absolute);
@@ -252,6 +283,7 @@ void CombineBands(const std::vector<BandDiff>& bands, const LayerTolerance& tole
     diff.samples += band.samples;
     diff.overTolerance += band.overTolerance;
     diff.edgePixels += band.edgePixels;
+    diff.maxEdgeDistance = std::max(diff.maxEdgeDistance, band.maxEdgeDistance);
     diff.maxAbsolute = std::max(diff.maxAbsolute, band.maxAbsolute);
     diff.maxUlp = std::max(diff.maxUlp, band.maxUlp);
     diff.toleranceUsed = std::max(diff.toleranceUsed, band.toleranceUsed);
@@ -564,6 +596,7 @@ std::string DiffReportJson(const DiffReport& report) {
       entry["samples"] = layer.samples;
       entry["overTolerance"] = layer.overTolerance;
       entry["edgePixels"] = layer.edgePixels;
+      entry["maxEdgeDistance"] = layer.maxEdgeDistance;
       if (layer.worstX >= 0) entry["worst"] = {layer.worstX, layer.worstY};
     }
     json["layers"].push_back(entry);

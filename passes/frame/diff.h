@@ -31,7 +31,8 @@ struct LayerTolerance {
   double percent = 0.0;   // share of samples allowed beyond the tolerance, in percent
   double hardFail = std::numeric_limits<double>::infinity();  // a sample off by more fails the layer
   // A rasterizer output: samples that differ at pixels whose centre lies within kCoverageRounding
-  // of an edge of a triangle either side covers there are allowed (needs the scene's geometry).
+  // of an edge of a triangle either side covers there (its part in front of the near plane) are
+  // allowed (needs the scene's geometry).
   bool coverage = false;
 };
 
@@ -45,9 +46,11 @@ struct DiffThresholds {
 // naming the file and the key for anything malformed.
 DiffThresholds LoadDiffThresholds(const std::filesystem::path& file);
 
-// How far from an edge a pixel centre may be and still be covered differently by two
-// rasterizers: a GPU's 8 sub-pixel bits snap each vertex by up to 1/512 pixel on each axis, as the
-// oracle's do, so an edge may move by up to about 1/256 pixel between the two; twice that.
+// How far from an edge (the exact one, through the unsnapped vertices) a pixel centre may be and
+// still be covered differently by two rasterizers: two steps of an 8-bit sub-pixel grid. A
+// rasterizer with GL_SUBPIXEL_BITS >= 8 moves a vertex by at most half a step per axis (0.0028
+// pixel), its float32 viewport transform by a few ULP more; measured with llvmpipe, 0.0019 pixel at
+// most (docs/pipeline.md, Matching rules). Fewer bits need 2^(1 - bits).
 inline constexpr double kCoverageRounding = 1.0 / 128.0;
 
 // The geometry behind the oracle's visibility buffer, for the coverage classification.
@@ -84,6 +87,7 @@ struct LayerDiff {
   size_t samples = 0;
   size_t overTolerance = 0;  // samples beyond the tolerance, edge pixels excluded
   size_t edgePixels = 0;     // samples that differ at an edge pixel (coverage layers), allowed
+  double maxEdgeDistance = 0.0;  // the farthest of those from its edge, in pixels (at most kCoverageRounding)
   int worstX = -1, worstY = -1;  // where the largest difference beyond tolerance is
   double toleranceUsed = 0.0;    // the largest share of its tolerance a sample within it uses, 0 to 1
   double percentOver = 0.0;      // overTolerance as a percentage of samples
