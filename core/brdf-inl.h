@@ -35,13 +35,14 @@ hn::Vec<D> GgxDistributionV(D d, hn::Vec<D> nDotH, hn::Vec<D> alpha) {
   return hn::Div(a2, hn::Mul(hn::Mul(hn::Set(d, kPi), f), f));
 }
 
+// SmithGgxCorrelatedVisibilityCosine(nDotV, nDotL, alpha).
 template <class D>
-hn::Vec<D> SmithGgxCorrelatedVisibilityV(D d, hn::Vec<D> nDotV, hn::Vec<D> nDotL, hn::Vec<D> alpha) {
+hn::Vec<D> SmithGgxCorrelatedVisibilityCosineV(D d, hn::Vec<D> nDotV, hn::Vec<D> nDotL, hn::Vec<D> alpha) {
   const auto a2 = hn::Mul(alpha, alpha);
   const auto oneMinusA2 = hn::Sub(hn::Set(d, 1.0f), a2);
-  const auto ggxV = hn::Mul(nDotL, hn::Sqrt(hn::Add(hn::Mul(hn::Mul(nDotV, nDotV), oneMinusA2), a2)));
-  const auto ggxL = hn::Mul(nDotV, hn::Sqrt(hn::Add(hn::Mul(hn::Mul(nDotL, nDotL), oneMinusA2), a2)));
-  return hn::Div(hn::Set(d, 0.5f), hn::Add(ggxV, ggxL));
+  const auto lambdaV = hn::Sqrt(hn::Add(hn::Mul(hn::Mul(nDotV, nDotV), oneMinusA2), a2));
+  const auto lambdaL = hn::Sqrt(hn::Add(hn::Mul(hn::Mul(nDotL, nDotL), oneMinusA2), a2));
+  return hn::Div(hn::Set(d, 0.5f), hn::Add(lambdaV, hn::Mul(hn::Div(nDotV, nDotL), lambdaL)));
 }
 
 template <class D>
@@ -55,29 +56,6 @@ Vec3V<D> SchlickFresnelV(D d, hn::Vec<D> vDotH, const Vec3V<D>& f0) {
 template <class D>
 Vec3V<D> SpecularF0V(D d, const SurfaceMaterialV<D>& m) {
   return Mix3(d, Set3(d, glm::vec3(0.04f)), m.albedo, m.metallic);
-}
-
-// BrdfCosine(m, alpha, n, v, l).
-template <class D>
-Vec3V<D> BrdfCosineV(D d, const SurfaceMaterialV<D>& m, hn::Vec<D> alpha, const Vec3V<D>& n, const Vec3V<D>& v,
-                     const Vec3V<D>& l) {
-  const auto zero = hn::Zero(d);
-  const auto one = hn::Set(d, 1.0f);
-  const auto nDotL = Dot3(n, l);
-  const auto nDotV = Dot3(n, v);
-  const auto lit = hn::And(hn::Gt(nDotL, zero), hn::Gt(nDotV, zero));
-  Vec3V<D> h = Add3(v, l);
-  const auto hLength = Length3(h);
-  h = IfThenElse3(hn::Gt(hLength, zero), Div3(h, hLength), n);
-  const auto nDotH = ClampStd(Dot3(n, h), zero, one);
-  const auto vDotH = ClampStd(Dot3(v, h), zero, one);
-  alpha = MaxStd(alpha, hn::Set(d, kMinGgxAlpha));
-  const Vec3V<D> specular =
-      Scale3(SchlickFresnelV(d, vDotH, SpecularF0V(d, m)),
-             hn::Mul(GgxDistributionV(d, nDotH, alpha), SmithGgxCorrelatedVisibilityV(d, nDotV, nDotL, alpha)));
-  const Vec3V<D> diffuse = Scale3(m.albedo, hn::Div(hn::Sub(one, m.metallic), hn::Set(d, kPi)));
-  const Vec3V<D> cosine = Scale3(Add3(diffuse, specular), nDotL);
-  return {hn::IfThenElseZero(lit, cosine.x), hn::IfThenElseZero(lit, cosine.y), hn::IfThenElseZero(lit, cosine.z)};
 }
 
 // SpecularWeight(f0, nDotV, roughness), bilinear in `dfgTable` (DfgTableForKernels(), core/brdf.h):

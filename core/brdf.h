@@ -38,6 +38,15 @@ inline float SmithGgxCorrelatedVisibility(float nDotV, float nDotL, float alpha)
   return 0.5f / (ggxV + ggxL);
 }
 
+// V n.l, at most 0.5 / alpha: V above divided through by n.l, so that it stays finite where n.l and
+// n.v are both so small (denormal) that V's denominator underflows to 0. n.l > 0.
+inline float SmithGgxCorrelatedVisibilityCosine(float nDotV, float nDotL, float alpha) {
+  const float a2 = alpha * alpha;
+  const float lambdaV = std::sqrt(nDotV * nDotV * (1.0f - a2) + a2);
+  const float lambdaL = std::sqrt(nDotL * nDotL * (1.0f - a2) + a2);
+  return 0.5f / (lambdaV + (nDotV / nDotL) * lambdaL);
+}
+
 inline glm::vec3 SchlickFresnel(float vDotH, const glm::vec3& f0) {
   const float m = 1.0f - vDotH;
   const float m2 = m * m;
@@ -46,9 +55,10 @@ inline glm::vec3 SchlickFresnel(float vDotH, const glm::vec3& f0) {
 
 inline glm::vec3 SpecularF0(const SurfaceMaterial& m) { return glm::mix(glm::vec3(0.04f), m.albedo, m.metallic); }
 
-// BRDF times n.l for unit vectors n (normal), v (to viewer), l (to light). `alpha` is the GGX alpha
-// to use for the specular lobe (the material's, possibly widened for the light's size); it is
-// clamped to kMinGgxAlpha. Returns 0 when l or v is below the surface.
+// BRDF times n.l for unit vectors n (normal), v (to viewer), l (to light), a point light's or one
+// sample of an area light's (the screen-space passes' area light is DiskLightBrdfCosine,
+// core/lighting.h). `alpha` is the specular lobe's GGX alpha, clamped to kMinGgxAlpha. Returns 0
+// when l or v is below the surface.
 inline glm::vec3 BrdfCosine(const SurfaceMaterial& m, float alpha, const glm::vec3& n, const glm::vec3& v,
                             const glm::vec3& l) {
   const float nDotL = glm::dot(n, l);

@@ -33,7 +33,7 @@ size_t DirectLightRowScalar(const DirectLightContext& context, const uint32_t* w
       for (size_t i = 0; i < context.lightCount; ++i) {
         const LightAtPoint l = Evaluate(context.lights[i], position);
         glm::vec3 contribution =
-            BrdfCosine(material, WidenedAlpha(alpha, l.tanAngularRadius), normal, toViewer, l.toLight) * l.irradiance;
+            DiskLightBrdfCosine(material, alpha, normal, toViewer, l.toLight, l.tanAngularRadius) * l.irradiance;
         if (visibility && i == context.shadowedLight) contribution *= visibility[x];
         radiance += contribution;
       }

@@ -60,8 +60,7 @@ Vec3V<DF> ShadePixels(const DirectLightConstants& c, hn::Vec<DU> word0, hn::Vec<
   for (size_t i = 0; i < c.lightCount; ++i) {
     const LightAtPointV<DF> l = EvaluateV(d, c.lights[i], position);
     Vec3V<DF> contribution =
-        Mul3(BrdfCosineV(d, material, WidenedAlphaV(d, alpha, l.tanAngularRadius), normal, toViewer, l.toLight),
-             l.irradiance);
+        Mul3(DiskLightBrdfCosineV(d, material, alpha, normal, toViewer, l.toLight, l.tanAngularRadius), l.irradiance);
     if (shadowed && i == c.shadowedLight) contribution = Scale3(contribution, visibility);
     radiance = Add3(radiance, contribution);
   }

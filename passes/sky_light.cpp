@@ -81,11 +81,13 @@ SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityPar
 }
 
 size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  if (params.directions == 0) return 0;
   const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
   return size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ) * 4 * sizeof(float);
 }
 
 size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params) {
+  if (params.directions == 0) return 0;
   const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
   const size_t cells = size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ);
   // What the rasterizer keeps per triangle (its set-up and bins) and the scene's raster input.

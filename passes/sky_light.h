@@ -28,7 +28,7 @@
 namespace ssgi {
 
 struct SkyVisibilityParams {
-  int directions = 48;          // maps over the sphere (a Fibonacci spiral)
+  int directions = 48;          // maps over the sphere (a Fibonacci spiral); 0: no volume, V = 1
   int mapSize = 256;            // texels per side of each map
   int cellsOnLongestAxis = 48;  // the grid's resolution along the scene's longest side
 };
@@ -51,7 +51,8 @@ struct SkyVisibilityVolume {
 // grid's outer cells lie outside the scene.
 SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityParams& params);
 // What the volume for `scene` takes (its coefficients), and what making it holds besides: each
-// thread's map and rasterizer set-up, and every map's cell visibility.
+// thread's map and rasterizer set-up, and every map's cell visibility; 0 for 0 directions, where the
+// frame makes no volume.
 size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params);
 size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params);
 

@@ -165,6 +165,14 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "Sky light: the environment's light on every surface, diffuse and (where the reflections do not "
       "reach) specular, under a world-space sky visibility: auto (when the environment is not black), on or off.",
       effectModes, {}, [](auto& c) -> auto& { return c.sky; }));
+  table.push_back(IntegerSetting(
+      "sky_directions", "--sky-directions",
+      "Directions over the sphere of the sky visibility volume's depth maps, made once per scene: what blocks "
+      "the sky off screen (0 = none: the sky reaches every surface the screen does not show blocked).",
+      0, 1024, {"0", "16", "96"}, [](auto& c) -> auto& { return c.skyVisibility.directions; }));
+  table.push_back(IntegerSetting(
+      "sky_cells", "--sky-cells", "Cells of the sky visibility volume along the scene's longest side.", 4, 512,
+      {"16", "32", "96"}, [](auto& c) -> auto& { return c.skyVisibility.cellsOnLongestAxis; }));
   table.push_back(ChoiceSetting<ShadowFilter>(
       "shadow_filter", "--shadow-filter",
       "Soft-shadow filter: ssabss (anisotropic, Zheng & Saito), sspcss (isotropic screen-space PCSS, "

@@ -330,8 +330,10 @@ void SkyLightStep(FrameStep& s) {
   if (!SameEnvironment(f.environment, s.config.environment))
     f.environment = PrepareEnvironmentLighting(s.config.environment);
   if (!s.Runs(P::kSkyLight)) return;
-  if (!f.skyVolume || f.skyVolume->meshHash != SceneGeometryHash(s.scene) ||
-      !SameSkyVisibilityParams(f.skyVolume->params, s.config.skyVisibility)) {
+  if (s.config.skyVisibility.directions == 0) {
+    f.skyVolume.reset();
+  } else if (!f.skyVolume || f.skyVolume->meshHash != SceneGeometryHash(s.scene) ||
+             !SameSkyVisibilityParams(f.skyVolume->params, s.config.skyVisibility)) {
     Stopwatch build;
     f.skyVolume = BuildSkyVisibility(s.scene, s.config.skyVisibility);
     f.stats.skyVisibilityMs = build.Lap();
@@ -339,7 +341,8 @@ void SkyLightStep(FrameStep& s) {
   // Freeing early, `lit` is written over the direct image: each pixel is read before it is written.
   if (s.Releases()) f.skyLight.lit = std::exchange(f.direct.radiance, {});
   const Plane3<float>& direct = s.Releases() ? f.skyLight.lit : f.direct.radiance;
-  f.stats.skyLight = RunSkyLight({f.gbuffer.gbuffer, f.view, f.environment, &*f.skyVolume, direct}, {}, f.skyLight);
+  f.stats.skyLight = RunSkyLight(
+      {f.gbuffer.gbuffer, f.view, f.environment, f.skyVolume ? &*f.skyVolume : nullptr, direct}, {}, f.skyLight);
 }
 
 const char kSkyDiffuseMeaning[] =

@@ -1,7 +1,7 @@
 // The Highway twins of the BRDF (core/brdf-inl.h) against the scalar functions, bit for bit, on every
-// compiled and supported target: BrdfCosine on random and degenerate geometry (light or viewer
-// below the surface, grazing, v = -l) over the range of alphas, and SpecularWeight over and past
-// the table's range, its grid points included. Rows of inputs not a multiple of any vector length.
+// compiled and supported target: SpecularWeight over and past the table's range, its grid points
+// included, on rows of inputs not a multiple of any vector length. The GGX, Smith and Fresnel terms
+// are checked through the disk light's BRDF (tests/core/lighting_simd_test.cpp).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tests/core/brdf_simd_test.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -16,18 +16,6 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<float>;
-
-// in: n, v, l, albedo (three rows each), metallic, alpha; out: three rows.
-void BrdfCosines(const float* const* in, size_t count, float* const* out) {
-  const D d;
-  for (size_t x = 0; x < count; x += hn::Lanes(d)) {
-    const SurfaceMaterialV<D> material{LoadRow3(d, in + 9, x, count), LoadRow(d, in[12], x, count, 0.0f),
-                                                 hn::Zero(d)};
-    const auto brdf = BrdfCosineV(d, material, LoadRow(d, in[13], x, count, 0.0f), LoadRow3(d, in, x, count),
-                                  LoadRow3(d, in + 3, x, count), LoadRow3(d, in + 6, x, count));
-    StoreRow3(brdf, d, out, x, count);
-  }
-}
 
 // in: f0 (three rows), n.v, roughness; out: three rows.
 void SpecularWeights(const float* const* in, size_t count, float* const* out) {
@@ -50,41 +38,9 @@ HWY_AFTER_NAMESPACE();
 #include "tests/simd_rows.h"
 
 namespace ssgi {
-HWY_EXPORT(BrdfCosines);
 HWY_EXPORT(SpecularWeights);
 
 namespace {
-
-TEST_CASE("BRDF: BrdfCosineV equals BrdfCosine on every target", "[brdf][simd]") {
-  constexpr size_t kCount = 20011;
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  test::SimdRows in(14, kCount);
-  test::SimdRows expected(3, kCount);
-  const float alphas[] = {0.0f, 1e-7f, kMinGgxAlpha, 0.5f, 1.0f};
-  for (size_t i = 0; i < kCount; ++i) {
-    glm::vec3 n = test::RandomUnitVector(rng), v = test::RandomUnitVector(rng), l = test::RandomUnitVector(rng);
-    switch (i % 8) {
-      case 0: v = -l; break;                                   // h = 0: falls back to n
-      case 1: n = {0.0f, 0.0f, 1.0f}, l = {1.0f, 0.0f, -0.0f}; break;  // grazing light
-      case 2: v = l; break;
-      default: break;
-    }
-    const SurfaceMaterial material{{unit(rng), unit(rng), unit(rng)}, i % 3 == 0 ? float(i % 2) : unit(rng), 0.0f};
-    const float alpha = i % 4 == 0 ? alphas[(i / 4) % 5] : unit(rng) * unit(rng);
-    in.Set3(0, i, n);
-    in.Set3(3, i, v);
-    in.Set3(6, i, l);
-    in.Set3(9, i, material.albedo);
-    in.values[12][i] = material.metallic;
-    in.values[13][i] = alpha;
-    expected.Set3(0, i, BrdfCosine(material, alpha, n, v, l));
-  }
-  for (size_t count : {size_t(1), size_t(7), size_t(33), kCount})
-    test::CheckEveryTarget(expected, count, [&](float* const* out) {
-      HWY_DYNAMIC_DISPATCH(BrdfCosines)(in.in.data(), count, out);
-    });
-}
 
 TEST_CASE("BRDF: SpecularWeightV equals SpecularWeight on every target", "[brdf][simd]") {
   constexpr size_t kCount = 40009;

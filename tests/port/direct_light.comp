@@ -1,6 +1,7 @@
 // Direct light (docs/pipeline.md §Direct light): every light of the scene on every G-buffer pixel,
-// Lambert diffuse plus GGX specular (core/brdf.h's operations in its order), the shadowed light's
-// term times the shadow filter's visibility. Background pixels get the background radiance.
+// Lambert diffuse plus GGX specular over the light's disk (core/lighting.h's DiskLightBrdfCosine,
+// its operations in its order), the shadowed light's term times the shadow filter's visibility.
+// Background pixels get the background radiance.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer Word0 { uint word0[]; };
@@ -33,12 +34,13 @@ float GgxDistribution(float nDotH, float alpha) {
   return d;
 }
 
-// Height-correlated Smith visibility V = G / (4 n.l n.v) (Heitz 2014).
-float SmithGgxCorrelatedVisibility(float nDotV, float nDotL, float alpha) {
+// Height-correlated Smith visibility V = G / (4 n.l n.v) (Heitz 2014), times n.l: divided through
+// by n.l, which stays finite where both cosines are denormal.
+float SmithGgxCorrelatedVisibilityCosine(float nDotV, float nDotL, float alpha) {
   precise float a2 = alpha * alpha;
-  precise float ggxV = nDotL * sqrt(nDotV * nDotV * (1.0 - a2) + a2);
-  precise float ggxL = nDotV * sqrt(nDotL * nDotL * (1.0 - a2) + a2);
-  precise float v = 0.5 / (ggxV + ggxL);
+  precise float lambdaV = sqrt(nDotV * nDotV * (1.0 - a2) + a2);
+  precise float lambdaL = sqrt(nDotL * nDotL * (1.0 - a2) + a2);
+  precise float v = 0.5 / (lambdaV + (nDotV / nDotL) * lambdaL);
   return v;
 }
 
@@ -49,21 +51,47 @@ vec3 SchlickFresnel(float vDotH, vec3 f0) {
   return f;
 }
 
-// BRDF times n.l; 0 when l or v is below the surface.
-vec3 BrdfCosine(vec3 albedo, float metallic, float alpha, vec3 n, vec3 v, vec3 l) {
+// The representative direction: r where it passes through the disk of `radius` at distance 1 along
+// l, else the point whose distance from r is sqrt(T^2 - radius^2), T r's distance from the centre
+// (an area-preserving remap); l when r.l <= 0 or radius is 0.
+vec3 RepresentativeDirection(vec3 r, vec3 l, float radius) {
+  const float rDotL = Dot3(r, l);
+  if (!(rDotL > 0.0) || !(radius > 0.0)) return l;
+  precise vec3 s = r - l * rDotL;
+  precise float sLength = sqrt(Dot3(s, s));
+  precise float u = radius * rDotL;
+  if (sLength <= u) return r;
+  precise float k = (radius * u) / (sLength * (sLength + sqrt(sLength * sLength - u * u)));
+  return Normalize3(l + s * k);
+}
+
+// BRDF times n.l over a disk light of angular radius atan(tanAngularRadius) around l, per unit of
+// its irradiance: Lambert at the centre; GGX toward the representative direction, D limited to the
+// peak of the lobe averaged over the disk. 0 when l or v is below the surface.
+vec3 DiskLightBrdfCosine(vec3 albedo, float metallic, float alpha, vec3 n, vec3 v, vec3 l, float tanAngularRadius) {
   const float nDotL = Dot3(n, l);
   const float nDotV = Dot3(n, v);
   if (!(nDotL > 0.0) || !(nDotV > 0.0)) return vec3(0.0);
-  precise vec3 h = v + l;
-  precise float hLength = sqrt(Dot3(h, h));
-  h = hLength > 0.0 ? h / hLength : n;
-  const float nDotH = Clamp01(Dot3(n, h));
-  const float vDotH = Clamp01(Dot3(v, h));
-  const float a = alpha < kMinGgxAlpha ? kMinGgxAlpha : alpha;
-  precise vec3 specular = SchlickFresnel(vDotH, SpecularF0(albedo, metallic)) *
-                          (GgxDistribution(nDotH, a) * SmithGgxCorrelatedVisibility(nDotV, nDotL, a));
   precise vec3 diffuse = albedo * ((1.0 - metallic) / kPi);
-  precise vec3 result = (diffuse + specular) * nDotL;
+  const float a = alpha < kMinGgxAlpha ? kMinGgxAlpha : alpha;
+  precise float slopeRadius = (0.5 * tanAngularRadius) / sqrt(nDotV);
+  precise float peakAlpha = min(1.0, sqrt(a * a + slopeRadius * slopeRadius));
+  precise vec3 r = n * (2.0 * nDotV) - v;
+  const vec3 toDisk = RepresentativeDirection(r, l, (tanAngularRadius * slopeRadius) / (a + peakAlpha));
+  const float nDotDisk = Dot3(n, toDisk);
+  precise vec3 specular = vec3(0.0);
+  if (nDotDisk > 0.0) {
+    precise vec3 h = v + toDisk;
+    precise float hLength = sqrt(Dot3(h, h));
+    h = hLength > 0.0 ? h / hLength : n;
+    const float nDotH = Clamp01(Dot3(n, h));
+    const float vDotH = Clamp01(Dot3(v, h));
+    precise float peak = 1.0 / (kPi * (peakAlpha * peakAlpha));
+    const float d = min(GgxDistribution(nDotH, a), peak);
+    specular = SchlickFresnel(vDotH, SpecularF0(albedo, metallic)) *
+               (d * SmithGgxCorrelatedVisibilityCosine(nDotV, nDotDisk, a));
+  }
+  precise vec3 result = diffuse * nDotL + specular;
   return result;
 }
 
@@ -102,9 +130,8 @@ void main() {
         irradiance = light.powerTanRadius.xyz * falloff;
         tanAngularRadius = distance > radius ? radius / distance : 1.0;
       }
-      // The specular lobe widened by the light's size (Karis 2013).
-      precise float widened = min(1.0, alpha + 0.5 * tanAngularRadius);
-      precise vec3 contribution = BrdfCosine(albedo, metallic, widened, n, toViewer, toLight) * irradiance;
+      precise vec3 contribution =
+          DiskLightBrdfCosine(albedo, metallic, alpha, n, toViewer, toLight, tanAngularRadius) * irradiance;
       if (i == shadowedLight) contribution *= visibility[index];
       radiance += contribution;
     }

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/procedural_mesh.h"
+#include "passes/frame/memory.h"
 #include "tests/passes/test_scenes.h"
 
 namespace ssgi {
@@ -51,6 +52,32 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
                                  "frame total"});
   CHECK(!direct.stats.shadowMap);
   CHECK(!direct.stats.composite);
+}
+
+TEST_CASE("sky_directions 0: the frame makes no sky visibility volume, opens the sky everywhere and counts none",
+          "[frame][sky_light]") {
+  test::TestScene scene = BoxOnGlossyGround(48, 32);
+  scene.background = glm::vec3(0.3f);
+  FrameConfig config = test::ConfigOf(scene);
+  const Frame withVolume = RenderFrame(scene, config, BufferLifetime::kKeepAll);
+  ApplySetting(config, "sky_directions", "0");
+  const Frame without = RenderFrame(scene, config, BufferLifetime::kKeepAll);
+  REQUIRE(withVolume.skyVolume.has_value());
+  CHECK(!without.skyVolume.has_value());
+  REQUIRE(without.stats.skyLight);
+  float lowest = 1.0f;
+  for (size_t y = 0; y < 32; ++y)
+    for (size_t x = 0; x < 48; ++x) lowest = std::min(lowest, without.skyLight.visibility.ConstRow(y)[x]);
+  CHECK(lowest == 1.0f);
+  // The box shelters the ground next to it only through the volume.
+  float lowestWith = 1.0f;
+  for (size_t y = 0; y < 32; ++y)
+    for (size_t x = 0; x < 48; ++x) lowestWith = std::min(lowestWith, withVolume.skyLight.visibility.ConstRow(y)[x]);
+  CHECK(lowestWith < 0.9f);
+  FrameConfig volumeConfig = config;
+  ApplySetting(volumeConfig, "sky_directions", "48");
+  CHECK(EstimateFrameMemory(scene, config, BufferLifetime::kKeepAll).bytes <
+        EstimateFrameMemory(scene, volumeConfig, BufferLifetime::kKeepAll).bytes);
 }
 
 TEST_CASE("a frame that frees each buffer after its last reader gives the same image", "[frame][memory]") {

@@ -1,0 +1,53 @@
+// The sky light per frame, and the sky visibility volume it reads, made once per scene; bench/README.md
+// records results.
+#include <benchmark/benchmark.h>
+
+#include "bench/bench_scene.h"
+#include "bench/memory_floor.h"
+#include "core/environment_lighting.h"
+#include "core/parallel.h"
+#include "passes/sky_light.h"
+
+namespace ssgi {
+namespace {
+
+// As a frame runs it, on the default scene's G-buffer and direct light under its sky, the volume
+// made beforehand (a frame keeps it). Arguments: KernelBenchArgs.
+void BM_SkyLight(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelBenchArgs args(state);
+  const Frame& frame = DefaultBenchFrame(args.size);
+  static const EnvironmentLighting environment = PrepareEnvironmentLighting(bench.config.environment);
+  static const SkyVisibilityVolume volume = BuildSkyVisibility(bench.scene, bench.config.skyVisibility);
+  const SkyLightInputs in{frame.gbuffer.gbuffer, frame.view, environment, &volume, frame.direct.radiance};
+  SkyLightOutputs out;
+  // Outputs allocated before timing, as a renderer keeps them.
+  RunSkyLight(in, {}, out, args.kernels);
+  for (auto _ : state) RunSkyLight(in, {}, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
+}
+
+// The sky light's memory floor per pixel: G-buffer words 0-2 and the direct R, G, B read (24 bytes);
+// the sky's diffuse R, G, B, its visibility and lit R, G, B written (28).
+[[maybe_unused]] const bool kSkyLightFloor = (RegisterMemoryFloor(24, 28), true);
+
+// The volume of a scene (BenchSceneOf: 0 the default scene, -1 Sponza) at the frame's default
+// settings: what the first frame of a scene pays once. Arguments: scene, threads.
+void BM_SkyVisibilityBuild(benchmark::State& state) {
+  const BenchScene& bench = BenchSceneOf(state.range(0));
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const ThreadLimit threads(int(state.range(1)));
+  for (auto _ : state) benchmark::DoNotOptimize(BuildSkyVisibility(bench.scene, bench.config.skyVisibility));
+  state.counters["cells"] = double(SkyVisibilityBytes(bench.scene, bench.config.skyVisibility) / (4 * sizeof(float)));
+}
+
+BENCHMARK(BM_SkyLight)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_SkyVisibilityBuild)
+    ->ArgNames({"scene", "threads"})
+    ->Args({0, 2})
+    ->Args({-1, 2})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace ssgi
