@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -17,6 +18,7 @@
 #include "core/parallel.h"
 #include "core/raster/raster.h"
 #include "passes/frame/dump.h"
+#include "passes/shadow_map.h"
 
 namespace ssgi {
 namespace {
@@ -55,11 +57,11 @@ double SegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
 // The part of triangle `t` in front of the near plane and behind the far plane (clip w - z >= 0,
 // z >= 0, as the oracle clips it), in pixels on the view's y-down screen; returns its vertex count
 // (0 to 5).
-int ScreenPolygon(const CoverageGeometry& geometry, uint32_t t, glm::dvec2* out) {
+int ScreenPolygon(const Mesh& mesh, const ViewProjection& view, uint32_t t, glm::dvec2* out) {
   glm::dvec4 polygon[2][5];
   for (int k = 0; k < 3; ++k) {
-    const glm::vec3 p = geometry.mesh.positions[geometry.mesh.indices[size_t(t) * 3 + size_t(k)]];
-    polygon[0][k] = glm::dvec4(geometry.view.viewProjection * glm::vec4(p, 1.0f));
+    const glm::vec3 p = mesh.positions[mesh.indices[size_t(t) * 3 + size_t(k)]];
+    polygon[0][k] = glm::dvec4(view.viewProjection * glm::vec4(p, 1.0f));
   }
   int count = 3, current = 0;
   for (int plane = 0; plane < 2 && count > 0; ++plane) {
@@ -77,24 +79,41 @@ int ScreenPolygon(const CoverageGeometry& geometry, uint32_t t, glm::dvec2* out)
   }
   for (int k = 0; k < count; ++k) {
     const glm::dvec4& v = polygon[current][k];
-    out[k] = {(v.x / v.w * 0.5 + 0.5) * geometry.view.width, (0.5 - v.y / v.w * 0.5) * geometry.view.height};
+    out[k] = {(v.x / v.w * 0.5 + 0.5) * view.width, (0.5 - v.y / v.w * 0.5) * view.height};
   }
   return count;
 }
+
+// How far a pixel's centre lies from the nearest edge of a triangle that may cover it, in pixels,
+// and how far is within rounding.
+class EdgeDistances {
+ public:
+  explicit EdgeDistances(double rounding) : rounding_(rounding) {}
+  virtual ~EdgeDistances() = default;
+  double Rounding() const { return rounding_; }
+  virtual double Distance(int x, int y) const = 0;
+
+ private:
+  double rounding_;
+};
 
 // How far each pixel's centre lies from the nearest edge of a triangle the oracle draws there or
 // next to it, or the port draws there (the drawn part of it: clipped at the near plane), in pixels:
 // computed on first asking, per pixel. Bands of several layers may ask about one pixel at once; each
 // computes the same answer, so the memo is relaxed atomics.
-class EdgePixels {
+class EdgePixels : public EdgeDistances {
  public:
   EdgePixels(const CoverageGeometry& geometry, const ExrLayer& oracleTriangles, const ExrLayer* portTriangles)
-      : geometry_(geometry), oracle_(oracleTriangles), port_(portTriangles), known_(oracleTriangles.samples.size()) {
+      : EdgeDistances(geometry.rounding),
+        geometry_(geometry),
+        oracle_(oracleTriangles),
+        port_(portTriangles),
+        known_(oracleTriangles.samples.size()) {
     SSGI_CHECK_EQ(oracle_.samples.size(), size_t(oracle_.width) * size_t(oracle_.height));
     for (std::atomic<uint32_t>& distance : known_) distance.store(kUnknown, std::memory_order_relaxed);
   }
 
-  double Distance(int x, int y) const {
+  double Distance(int x, int y) const override {
     std::atomic<uint32_t>& known = known_[size_t(y) * size_t(oracle_.width) + size_t(x)];
     uint32_t bits = known.load(std::memory_order_relaxed);
     if (bits == kUnknown) {
@@ -127,7 +146,7 @@ class EdgePixels {
       const uint32_t t = triangles[i];
       if (t == kNoTriangle || size_t(t) >= geometry_.mesh.TriangleCount()) continue;
       glm::dvec2 corners[5];
-      const int n = ScreenPolygon(geometry_, t, corners);
+      const int n = ScreenPolygon(geometry_.mesh, geometry_.view, t, corners);
       for (int k = 0; k < n; ++k)
         nearest = std::min(nearest, SegmentDistance(centre, corners[k], corners[(k + 1) % n]));
     }
@@ -138,6 +157,73 @@ class EdgePixels {
   const ExrLayer& oracle_;
   const ExrLayer* port_;
   mutable std::vector<std::atomic<uint32_t>> known_;
+};
+
+// How far each texel's centre lies from the nearest edge of any triangle of the mesh seen from
+// `view` (its part between the near and far planes): for a target with no triangle index, such as
+// the shadow map, where every triangle is drawn with both faces. The triangles are binned into
+// cells of kCell texels on the first question, which comes only where two maps differ.
+class MeshEdges : public EdgeDistances {
+ public:
+  MeshEdges(const Mesh& mesh, const ViewProjection& view, double rounding)
+      : EdgeDistances(rounding),
+        mesh_(mesh),
+        view_(view),
+        cellsX_((view.width + kCell - 1) / kCell),
+        cellsY_((view.height + kCell - 1) / kCell) {}
+
+  double Distance(int x, int y) const override {
+    std::call_once(binned_, [this] { Bin(); });
+    const glm::dvec2 centre(x + 0.5, y + 0.5);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const uint32_t p : cells_[size_t(y / kCell) * size_t(cellsX_) + size_t(x / kCell)]) {
+      const Polygon& polygon = polygons_[p];
+      for (int k = 0; k < polygon.count; ++k)
+        nearest =
+            std::min(nearest, SegmentDistance(centre, polygon.corners[k], polygon.corners[(k + 1) % polygon.count]));
+    }
+    return nearest;
+  }
+
+ private:
+  static constexpr int kCell = 32;
+  struct Polygon {
+    glm::dvec2 corners[5];
+    int count;
+  };
+
+  // Each drawn polygon into the cells its bounds, widened by the rounding, overlap.
+  void Bin() const {
+    cells_.resize(size_t(cellsX_) * size_t(cellsY_));
+    for (uint32_t t = 0; t < mesh_.TriangleCount(); ++t) {
+      Polygon polygon;
+      polygon.count = ScreenPolygon(mesh_, view_, t, polygon.corners);
+      if (polygon.count < 3) continue;
+      glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+      for (int k = 0; k < polygon.count; ++k) {
+        lo = glm::min(lo, polygon.corners[k]);
+        hi = glm::max(hi, polygon.corners[k]);
+      }
+      const auto cell = [&](double v, int cells) {
+        return int(std::clamp(std::floor(v / kCell), 0.0, double(cells - 1)));
+      };
+      if (!(hi.x >= -Rounding() && hi.y >= -Rounding() && lo.x <= view_.width + Rounding() &&
+            lo.y <= view_.height + Rounding()))
+        continue;
+      const uint32_t index = uint32_t(polygons_.size());
+      polygons_.push_back(polygon);
+      for (int cy = cell(lo.y - Rounding(), cellsY_); cy <= cell(hi.y + Rounding(), cellsY_); ++cy)
+        for (int cx = cell(lo.x - Rounding(), cellsX_); cx <= cell(hi.x + Rounding(), cellsX_); ++cx)
+          cells_[size_t(cy) * size_t(cellsX_) + size_t(cx)].push_back(index);
+    }
+  }
+
+  const Mesh& mesh_;
+  const ViewProjection& view_;
+  int cellsX_, cellsY_;
+  mutable std::once_flag binned_;
+  mutable std::vector<Polygon> polygons_;
+  mutable std::vector<std::vector<uint32_t>> cells_;
 };
 
 // Whether sample a (port) is within tolerance of b (oracle), and the differences measured.
@@ -199,7 +285,7 @@ struct BandDiff {
 };
 
 BandDiff CompareBand(const ExrLayer& oracle, const ExrLayer& port, const LayerTolerance& tolerance,
-                     const EdgePixels* edges, int yBegin, int yEnd) {
+                     const EdgeDistances* edges, int yBegin, int yEnd) {
   BandDiff band;
   for (int y = yBegin; y < yEnd; ++y) {
     for (int x = 0; x < oracle.width; ++x) {
@@ -215,7 +301,7 @@ BandDiff CompareBand(const ExrLayer& oracle, const ExrLayer& port, const LayerTo
       }
       if (tolerance.coverage && edges != nullptr) {
         const double distance = edges->Distance(x, y);
-        if (distance <= kCoverageRounding) {
+        if (distance <= edges->Rounding()) {
           ++band.edgePixels;
           band.maxEdgeDistance = std::max(band.maxEdgeDistance, distance);
           continue;
@@ -443,6 +529,9 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   DiffReport report;
   const std::string image = DumpPartName(DumpPart::kImage, 0);
   std::optional<EdgePixels> edges;
+  std::optional<MeshEdges> shadowEdges;
+  if (geometry && geometry->shadowView != nullptr)
+    shadowEdges.emplace(geometry->mesh, *geometry->shadowView, geometry->rounding);
   if (geometry) {
     if (const ExrLayer* triangles = FindDumpLayer(oracle, image, "raster.triangle")) {
       // The port's triangles only where they can be indexed like the oracle's.
@@ -458,6 +547,7 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
     const ExrLayer* oracle = nullptr;
     const ExrLayer* port = nullptr;
     LayerTolerance tolerance;
+    const EdgeDistances* edges = nullptr;  // where coverage is judged
   };
   std::vector<Pair> pairs;
   std::set<std::pair<std::string, std::string>> seen;
@@ -468,7 +558,13 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
     const std::string id = LayerId(part, name);
     const ExrLayer* b = FindDumpLayer(port, part, name);
     report.layers.push_back(CheckLayerPair(id, pass, *a, b));
-    pairs.push_back({a, b, thresholds.For(id)});
+    const EdgeDistances* layerEdges = nullptr;
+    if (part == DumpPartName(DumpPart::kShadowMap, 0)) {
+      if (shadowEdges) layerEdges = &*shadowEdges;
+    } else if (edges) {
+      layerEdges = &*edges;
+    }
+    pairs.push_back({a, b, thresholds.For(id), layerEdges});
     return true;
   };
   const std::vector<DumpLayer>& catalogue = DumpLayers();
@@ -508,8 +604,7 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   std::vector<BandDiff> results(bands.size());
   ParallelFor("diff layers", bands.size(), [&](size_t i) {
     const Pair& pair = pairs[bands[i].layer];
-    results[i] = CompareBand(*pair.oracle, *pair.port, pair.tolerance, edges ? &*edges : nullptr, bands[i].yBegin,
-                             bands[i].yEnd);
+    results[i] = CompareBand(*pair.oracle, *pair.port, pair.tolerance, pair.edges, bands[i].yBegin, bands[i].yEnd);
   });
   for (size_t l = 0; l < report.layers.size(); ++l) {
     if (!report.layers[l].compared) continue;
@@ -537,11 +632,33 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   return report;
 }
 
+std::optional<ViewProjection> DiffShadowView(const ExrFile& oracle, const ExrFile& port, const Scene& scene,
+                                             const FrameConfig& config) {
+  const std::string image = DumpPartName(DumpPart::kImage, 0), shadowMap = DumpPartName(DumpPart::kShadowMap, 0);
+  if (FindDumpLayer(oracle, shadowMap, "depthKey") == nullptr || FindDumpLayer(port, shadowMap, "depthKey") == nullptr)
+    return std::nullopt;
+  const std::vector<size_t> lights = ShadowCastingLights(scene);
+  const ExrLayer* word2 = FindDumpLayer(oracle, image, "gbuffer.word2");
+  if (word2 == nullptr || word2->samples.empty()) word2 = FindDumpLayer(port, image, "gbuffer.word2");
+  if (lights.empty() || word2 == nullptr || word2->samples.empty() || word2->isUint == false) return std::nullopt;
+  GBuffer gbuffer = MakeGBuffer(word2->width, word2->height, config.normalEncoding);
+  for (size_t y = 0; y < size_t(word2->height); ++y)
+    std::copy_n(word2->samples.begin() + std::ptrdiff_t(y * size_t(word2->width)), word2->width,
+                gbuffer.word[GBufferWord::kDepth].MutableRow(y));
+  const ViewProjection camera = MakePerspective(scene.camera, word2->width, word2->height);
+  size_t receivers = 0;
+  return FitShadowMapView(scene, camera, gbuffer, lights.front(), config.shadowMap, KernelPath::kSimd, receivers);
+}
+
 ExrChannelFilter OracleLayersToRead(const ExrFile& port) {
   return [&port](const std::string& part, const std::string& name) {
     const std::string image = DumpPartName(DumpPart::kImage, 0);
     const std::string dumpPart = part.empty() ? image : part;
-    return FindDumpLayer(port, dumpPart, name) != nullptr || (dumpPart == image && name == "raster.triangle");
+    // The visibility buffer's triangles judge the image's coverage; word 2 fits the light's view that
+    // judges the shadow map's.
+    const bool portHasShadowMap = FindDumpLayer(port, DumpPartName(DumpPart::kShadowMap, 0), "depthKey") != nullptr;
+    return FindDumpLayer(port, dumpPart, name) != nullptr || (dumpPart == image && name == "raster.triangle") ||
+           (dumpPart == image && name == "gbuffer.word2" && portHasShadowMap);
   };
 }
 

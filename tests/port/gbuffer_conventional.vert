@@ -7,7 +7,7 @@ out float viewDepth;
 
 void main() {
   const uint vertex = uint(gl_VertexID);
-  gl_Position = Transform(viewProjection, MeshPosition(vertex));
+  gl_Position = SnapToGrid(Transform(viewProjection, MeshPosition(vertex)));
   const mat3 rotation = mat3(surfaceView);
   const vec3 n = MeshNormal(vertex);
   precise vec3 rotated = rotation[0] * n.x + rotation[1] * n.y;

@@ -446,7 +446,7 @@ void AppendDumpLayers(const DumpSink& sink, ExrFile& out) {
 }
 
 int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input, const std::filesystem::path& output,
-        bool oracleInputs, RasterSource raster) {
+        bool oracleInputs, RasterSource raster, int subpixelBits) {
   const ExrFile dump = ReadExrFile(input);
   // The image part: "frame" in ssgi's dumps.
   const std::string main = "frame";
@@ -472,9 +472,9 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     return kExitNoGl;
   }
   // The rasterizer's sub-pixel precision, which the coverage rule assumes is at least 8 bits.
-  GLint subpixelBits = 0;
-  glGetIntegerv(GL_SUBPIXEL_BITS, &subpixelBits);
-  std::printf("ssgi_gl_port: %s, GL_SUBPIXEL_BITS %d\n", context->renderer().c_str(), int(subpixelBits));
+  GLint glSubpixelBits = 0;
+  glGetIntegerv(GL_SUBPIXEL_BITS, &glSubpixelBits);
+  std::printf("ssgi_gl_port: %s, GL_SUBPIXEL_BITS %d\n", context->renderer().c_str(), int(glSubpixelBits));
 
   // The G-buffer's albedo codes and sRGB textures decode through core's sRGB table (core/color.h).
   const Buffer srgbDecode(256, SrgbDecodeTableForKernels());
@@ -483,9 +483,9 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   std::optional<PortGBuffer> gbuffer;
   if (raster != RasterSource::kOracle) {
     sceneBuffers.emplace(scene.scene);
-    gbuffer =
-        RunGBufferPass(*sceneBuffers, frame.view, frame.normalEncoding,
-                       raster == RasterSource::kVisibility ? GBufferForm::kVisibility : GBufferForm::kConventional);
+    gbuffer = RunGBufferPass(
+        *sceneBuffers, frame.view, frame.normalEncoding,
+        raster == RasterSource::kVisibility ? GBufferForm::kVisibility : GBufferForm::kConventional, subpixelBits);
   }
   std::vector<Buffer> words;
   const size_t width = size_t(frame.width), height = size_t(frame.height);
@@ -665,6 +665,11 @@ int main(int argc, char** argv) {
                  "(visibility) or from a conventional pass writing the words from interpolated varyings "
                  "(conventional). Default: oracle.")
       ->check(CLI::IsMember({"oracle", "visibility", "conventional"}));
+  int subpixelBits = 8;
+  app.add_option("--subpixel-bits", subpixelBits,
+                 "With --raster visibility or conventional: the G-buffer's vertices snapped to this many sub-pixel "
+                 "bits before GL's rasterizer snaps them to its 8, to emulate a coarser one. Default: 8.")
+      ->check(CLI::Range(1, 8));
   app.add_flag("--oracle-inputs", oracleInputs,
                "Each pass reads the oracle's buffers of the passes before it where the dump holds them "
                "(direct.*, hiz.L, pyramid.L, ssr.hitX/hitY/confidence, ssr.reflected.*), so each pass is checked "
@@ -679,7 +684,7 @@ int main(int argc, char** argv) {
     const RasterSource source = raster == "visibility"     ? RasterSource::kVisibility
                                 : raster == "conventional" ? RasterSource::kConventional
                                                            : RasterSource::kOracle;
-    return ssgi::port::Run(scene, input, output, oracleInputs, source);
+    return ssgi::port::Run(scene, input, output, oracleInputs, source, subpixelBits);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi_gl_port: error: %s\n", e.what());
     return 1;

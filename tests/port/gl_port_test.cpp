@@ -145,15 +145,21 @@ void CheckRasterPort(const std::filesystem::path& sceneFile, int width, int heig
       test::RunCli("passes " + test::Quote(ported) + " --from shadow_map -o " + test::Quote(onPort));
   INFO(passes.output);
   REQUIRE(passes.exitCode == 0);
-  const DiffReport after = DiffDumps(ReadExrFile(onPort), port, thresholds, std::nullopt);
+  const ExrFile oracleOnPort = ReadExrFile(onPort);
+  const std::optional<ViewProjection> shadowView = DiffShadowView(oracleOnPort, port, scene.scene, config);
+  CHECK(shadowView.has_value() == frame.shadows);
+  const DiffReport after =
+      DiffDumps(oracleOnPort, port, thresholds,
+                CoverageGeometry{scene.scene.mesh, view, kCoverageRounding, shadowView ? &*shadowView : nullptr});
   for (const LayerDiff& layer : after.layers) {
     if (!layer.compared || layer.pass == FramePass::kGBuffer) continue;
-    if (layer.overTolerance > 0)
-      std::printf("  vs the oracle on the port's G-buffer: %-18s %zu beyond its tolerance\n", layer.id.c_str(),
-                  layer.overTolerance);
+    if (layer.edgePixels + layer.overTolerance > 0)
+      std::printf("  vs the oracle on the port's G-buffer: %-18s %zu at edges (farthest %.5f), %zu beyond tolerance\n",
+                  layer.id.c_str(), layer.edgePixels, layer.maxEdgeDistance, layer.overTolerance);
     INFO(layer.id << " against the oracle on the port's G-buffer: " << layer.overTolerance << " beyond tolerance");
     CHECK(layer.ok);
   }
+  CHECK(after.ok);
 }
 
 TEST_CASE("the port's G-buffer pass on GL's rasterizer differs from the oracle only at edges", "[port]") {

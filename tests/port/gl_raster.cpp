@@ -208,17 +208,18 @@ struct RasterSetUp {
 
 }  // namespace
 
-void SetRasterView(const Program& program, const ViewProjection& view) {
+void SetRasterView(const Program& program, const ViewProjection& view, int snapBits) {
   SetSurfaceView(program, view);
   program.Set("rasterSize", view.width, view.height);
   program.SetMatrix("viewProjection", &view.viewProjection[0][0]);
+  program.Set("snapBits", snapBits);
 }
 
 VisibilityTargets RunVisibilityPass(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces,
-                                    RasterKind kind) {
+                                    RasterKind kind, int snapBits) {
   const RasterSetUp setUp(scene, view, cullBackFaces);
   const Program draw("visibility.vert", "visibility.frag", {"surface.glsl", "raster.glsl"});
-  SetRasterView(draw, view);
+  SetRasterView(draw, view, snapBits);
   draw.Set("cullBackFaces", cullBackFaces ? 1 : 0);
   const Framebuffer target({GL_R32UI, GL_R32F}, view.width, view.height);
   target.Clear(0, {kNoTriangle, 0u, 0u, 0u});
@@ -230,8 +231,9 @@ VisibilityTargets RunVisibilityPass(const SceneBuffers& scene, const ViewProject
 
 namespace {
 
-PortGBuffer ResolveGBuffer(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding) {
-  PortGBuffer out{{}, RunVisibilityPass(scene, camera, true, RasterKind::kVisibility)};
+PortGBuffer ResolveGBuffer(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
+                           int snapBits) {
+  PortGBuffer out{{}, RunVisibilityPass(scene, camera, true, RasterKind::kVisibility, snapBits)};
   const size_t pixels = size_t(camera.width) * size_t(camera.height);
   for (int w = 0; w < 3; ++w) out.words.emplace_back(pixels);
   const Program resolve("gbuffer_resolve.comp", {"surface.glsl", "gbuffer_pack.glsl"});
@@ -248,13 +250,14 @@ PortGBuffer ResolveGBuffer(const SceneBuffers& scene, const ViewProjection& came
   return out;
 }
 
-PortGBuffer ConventionalGBuffer(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding) {
+PortGBuffer ConventionalGBuffer(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
+                                int snapBits) {
   scene.Bind();
   const Buffer thresholds(255, SrgbEncodeThresholds());
   thresholds.Bind(kSrgbThresholds);
   const Program draw("gbuffer_conventional.vert", "gbuffer_conventional.frag",
                      {"surface.glsl", "raster.glsl", "gbuffer_pack.glsl"});
-  SetRasterView(draw, camera);
+  SetRasterView(draw, camera, snapBits);
   draw.Set("cullBackFaces", 1);
   draw.Set("normalEncoding", encoding == NormalEncoding::kXyz8 ? 0 : 1);
   const Framebuffer target({GL_RGBA32UI, GL_R32UI}, camera.width, camera.height);
@@ -270,9 +273,9 @@ PortGBuffer ConventionalGBuffer(const SceneBuffers& scene, const ViewProjection&
 }  // namespace
 
 PortGBuffer RunGBufferPass(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
-                           GBufferForm form) {
-  return form == GBufferForm::kVisibility ? ResolveGBuffer(scene, camera, encoding)
-                                          : ConventionalGBuffer(scene, camera, encoding);
+                           GBufferForm form, int snapBits) {
+  return form == GBufferForm::kVisibility ? ResolveGBuffer(scene, camera, encoding, snapBits)
+                                          : ConventionalGBuffer(scene, camera, encoding, snapBits);
 }
 
 }  // namespace ssgi::port

@@ -28,9 +28,9 @@ class SceneBuffers {
 };
 
 // surface.glsl's view uniforms (and common.glsl's imageSize and tanHalf) for `view`; SetRasterView
-// also raster.glsl's.
+// also raster.glsl's, the vertices snapped to `snapBits` sub-pixel bits (8: GL's own grid alone).
 void SetSurfaceView(const Program& program, const ViewProjection& view);
-void SetRasterView(const Program& program, const ViewProjection& view);
+void SetRasterView(const Program& program, const ViewProjection& view, int snapBits = 8);
 
 // A rasterized target: per pixel, row by row from the top, the triangle index (kNoTriangle where
 // nothing was drawn) and the depth key (0 there). `triangle` is empty (no words) for depth-only.
@@ -41,9 +41,10 @@ struct VisibilityTargets {
 enum class RasterKind { kVisibility, kDepthOnly };
 
 // §Rasterizer on GL: every triangle of the scene seen from `view` (the camera, or a light at the
-// map's resolution), back faces of one-sided materials culled where `cullBackFaces`.
+// map's resolution), back faces of one-sided materials culled where `cullBackFaces`, the vertices
+// snapped to `snapBits` sub-pixel bits first where fewer than GL's 8 (an emulated coarser rasterizer).
 VisibilityTargets RunVisibilityPass(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces,
-                                    RasterKind kind);
+                                    RasterKind kind, int snapBits = 8);
 
 // G-buffer words 0-2 (word 3 is the shadow pass's) and the visibility buffer they came from.
 struct PortGBuffer {
@@ -56,6 +57,6 @@ struct PortGBuffer {
 enum class GBufferForm { kVisibility, kConventional };
 
 PortGBuffer RunGBufferPass(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
-                           GBufferForm form);
+                           GBufferForm form, int snapBits);
 
 }  // namespace ssgi::port

@@ -28,6 +28,20 @@ layout(std430, binding = 4) buffer PieceCounts { uint pieceCount[]; };
 // The target the triangles are set up for: the image or the shadow map, and its view-projection.
 uniform ivec2 rasterSize;
 uniform mat4 viewProjection;
+// Below 8, the vertex shaders snap their window positions to steps of 2^-snapBits pixel before GL
+// snaps them to its own grid: a coarser rasterizer, emulated, to measure what it changes.
+uniform int snapBits;
+
+// A clip position with its window position on the grid of snapBits bits (vertices in front of the
+// eye; GL clips the others).
+vec4 SnapToGrid(vec4 clip) {
+  if (snapBits >= 8 || !(clip.w > 0.0)) return clip;
+  const float steps = float(1 << snapBits);
+  precise vec2 window = (clip.xy / clip.w * 0.5 + 0.5) * vec2(rasterSize);
+  precise vec2 snapped = round(window * steps) / steps;
+  precise vec2 ndc = snapped / vec2(rasterSize) * 2.0 - 1.0;
+  return vec4(ndc * clip.w, clip.zw);
+}
 
 // Whether the centre of `pixel` is inside `t`: its exact edge functions with the top-left rule.
 bool Covers(ScreenTriangle t, ivec2 pixel) {
