@@ -131,9 +131,9 @@ BENCHMARK(BM_FramePenumbraShare)->Apply(RegisterPenumbrae);
 
 // The rows of `ssgi figures`' Table 1, with each stage's time: the scene (BenchSceneOf: 0 the default
 // scene, -1 Dabrovic Sponza) at its own 1024x1024, row 0 direct light only, 1 with shadows,
-// 2 with shadows and reflections (rows 0-2 the paper's pipeline: the effects it does not have
-// switched off), 3 with every effect, on `threads` threads, rendered as Table 1 renders them (into
-// the last frame's buffers).
+// 2 with shadows and reflections (rows 0-2 the paper's pipeline: the effects it does not have, the
+// sky light and the diffuse bounce, switched off), 3 with every effect, on `threads` threads,
+// rendered as Table 1 renders them (into the last frame's buffers).
 void BM_Table1Frame(benchmark::State& state) {
   const BenchScene& bench = BenchSceneOf(state.range(2));
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
@@ -142,6 +142,7 @@ void BM_Table1Frame(benchmark::State& state) {
   config.shadows = state.range(0) >= 1 ? EffectMode::kAuto : EffectMode::kOff;
   config.reflections = state.range(0) >= 2 ? EffectMode::kAuto : EffectMode::kOff;
   config.sky = state.range(0) >= 3 ? EffectMode::kAuto : EffectMode::kOff;
+  config.bounce = state.range(0) >= 3 ? EffectMode::kAuto : EffectMode::kOff;
   TimeFrames(state, bench.scene, config, BufferLifetime::kKeepForReuse);
 }
 

@@ -84,11 +84,44 @@ void BM_Composite(benchmark::State& state) {
 // lane it also reads words 0-2 and reflected R, G, B (24 more).
 [[maybe_unused]] const bool kCompositeFloors = (RegisterMemoryFloor(16, 24), RegisterMemoryFloor(40, 24), true);
 
+// The composite as the default scene's frame runs it, every term on: the reflection, the sky's
+// specular light where the trace did not see, the bounce on the diffuse albedo and its visibility
+// darkening the sky's diffuse light, on every pixel (no tile is skipped).
+void BM_CompositeEveryTerm(benchmark::State& state) {
+  const BenchScene& bench = DefaultBenchScene();
+  if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
+  const KernelBenchArgs args(state);
+  const Frame& f = DefaultBenchFrame(args.size);
+  if (!f.sky || !f.bounce) return state.SkipWithError("the default scene's frame runs no sky light or bounce");
+  CompositeInputs in{f.gbuffer.gbuffer,
+                     f.view,
+                     f.Lit(),
+                     &f.ssrCone.reflected,
+                     &f.ssrTrace.confidence,
+                     bench.config.ssrTrace.roughnessCutoff,
+                     nullptr,
+                     &f.environment,
+                     &f.skyLight.visibility};
+  in.bounce = &f.diffuseBounce.bounce;
+  in.skyDiffuse = &f.skyLight.diffuse;
+  in.ambientVisibility = &f.diffuseBounce.visibility;
+  CompositeOutputs out;
+  RunComposite(in, out, args.kernels);
+  for (auto _ : state) RunComposite(in, out, args.kernels);
+  state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
+}
+
+// Its floor per pixel: words 0-2, confidence, lit, reflected, the sky's visibility, the bounce, the
+// sky's diffuse light and the bounce's visibility read (12 + 4 + 12 + 12 + 4 + 12 + 12 + 4), indirect
+// and result written (24).
+[[maybe_unused]] const bool kCompositeEveryTermFloor = (RegisterMemoryFloor(72, 24), true);
+
 BENCHMARK(BM_HiZ)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_ColorPyramid)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_SsrTrace)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_SsrCone)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_Composite)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_CompositeEveryTerm)->Apply(KernelBenchArgs::Register);
 
 }  // namespace
 }  // namespace ssgi

@@ -140,11 +140,14 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   const char* regionColumns[] = {"lit", "shadow", "reflective", "background"};
   for (const char* region : regionColumns) csv << ",rmse_display_" << region << ",ratio_" << region;
   std::vector<std::string> stages;
-  {
-    // One discarded frame first, so the first setting's times do not include the process's first
-    // touch of every buffer.
-    ssgi::RenderFrame(loaded.scene, Configure(settings.front(), sceneConfig, width, height));
-  }
+  // Every frame is rendered into this one's buffers, as a running renderer renders: what a scene
+  // makes once (the sky visibility volume, the environment's tables) is kept while it holds, and
+  // one discarded frame first keeps the process's first touch of every buffer out of the times.
+  ssgi::Frame frame;
+  const auto render = [&](const ssgi::FrameConfig& config) {
+    ssgi::RunFramePasses(loaded.scene, config, ssgi::FramePass::kGBuffer, ssgi::FramePass::kTonemap, frame);
+  };
+  render(Configure(settings.front(), sceneConfig, width, height));
   for (const Setting& setting : settings) {
     if (!knobs.empty() && std::find(knobs.begin(), knobs.end(), setting.knob) == knobs.end()) continue;
     const ssgi::FrameConfig config = Configure(setting, sceneConfig, width, height);
@@ -153,7 +156,7 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     std::string visibilityError, indirectError;
     std::vector<ssgi::RegionDifference> regions;
     for (int r = 0; r < repeats; ++r) {
-      const ssgi::Frame frame = ssgi::RenderFrame(loaded.scene, config);
+      render(config);
       const std::vector<ssgi::StageStats> rows = ssgi::StageRows(frame.stats);
       for (const ssgi::StageStats& s : rows) times[s.name].push_back(s.ms);
       if (r == 0) {

@@ -37,6 +37,7 @@ ExrChannelFilter LayersBefore(FramePass from) {
           break;
         case DumpPart::kShadowMap:
         case DumpPart::kSkyVolume:
+        case DumpPart::kBounceHalf:
           if (part == DumpPartName(layer.part, 0)) return true;
           break;
         case DumpPart::kHiZLevels:

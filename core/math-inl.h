@@ -20,6 +20,7 @@
 #include <glm/glm.hpp>
 
 #include "core/color.h"
+#include "core/fast_math.h"
 #include "hwy/highway.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -266,6 +267,18 @@ Vec3V<D> MulMat3(D d, const glm::mat3& m, const Vec3V<D>& v) {
 template <class D>
 Vec3V<D> Mix3(D d, const Vec3V<D>& x, const Vec3V<D>& y, hn::Vec<D> a) {
   return Add3(Scale3(x, hn::Sub(hn::Set(d, 1.0f), a)), Scale3(y, a));
+}
+
+// AcosPoly (core/fast_math.h) per lane: the same Horner steps, square root and select.
+template <class V>
+V AcosPolyV(V x) {
+  const hn::DFromV<V> d;
+  const V a = hn::Abs(x);
+  V p = hn::Add(hn::Mul(hn::Set(d, kAcosA3), a), hn::Set(d, kAcosA2));
+  p = hn::Add(hn::Mul(p, a), hn::Set(d, kAcosA1));
+  p = hn::Add(hn::Mul(p, a), hn::Set(d, kAcosA0));
+  const V r = hn::Mul(p, hn::Sqrt(hn::Sub(hn::Set(d, 1.0f), a)));
+  return hn::IfThenElse(hn::Lt(x, hn::Zero(d)), hn::Sub(hn::Set(d, kPiFloat), r), r);
 }
 
 }  // namespace HWY_NAMESPACE

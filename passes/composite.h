@@ -5,7 +5,10 @@
 // confidence and the roughness fade; and, where the sky light runs, the environment prefiltered
 // towards the reflected direction for the share the trace did not see (a miss, low confidence, a
 // surface rougher than the cut-off), weighted alike and by the sky's visibility. With the sky light
-// `direct` is its `lit` image (direct + the sky's diffuse light).
+// `direct` is its `lit` image (direct + the sky's diffuse light). Where the diffuse bounce runs
+// (passes/bounce.h), indirect also holds its light on the diffuse albedo, and its ambient visibility
+// darkens the sky's diffuse light, which `lit` holds at full strength: result = (lit + skyDiffuse
+// (visibility - 1)) + indirect.
 #pragma once
 
 #include <cstddef>
@@ -36,6 +39,16 @@ struct CompositeInputs {
   // visibility (passes/sky_light.h). Every pixel then has indirect light: `tiles` must be null.
   const EnvironmentLighting* environment = nullptr;
   const Plane<float>* skyVisibility = nullptr;
+  // The diffuse bounce, where it runs (null: none): its radiance E / pi (passes/bounce.h), which
+  // indirect gains times the diffuse albedo, albedo (1 - metallic) as the direct light's Lambert
+  // term takes it. Every pixel then has indirect
+  // light: `tiles` must be null.
+  const Plane3<float>* bounce = nullptr;
+  // With the bounce and the sky light both (else both null): the sky's diffuse light (in `direct`
+  // already, passes/sky_light.h) and the bounce's ambient visibility, which scales it:
+  // the base image is direct + skyDiffuse (visibility - 1).
+  const Plane3<float>* skyDiffuse = nullptr;
+  const Plane<float>* ambientVisibility = nullptr;
   // Whether out.indirect is written: not where nothing reads the indirect term apart from the result.
   bool keepIndirect = true;
 };
@@ -47,8 +60,8 @@ inline constexpr float kRoughnessFadeWidth = 0.1f;
 // out.result may be in.direct's planes and out.indirect in.reflected's (the frame's memory-saving
 // mode): each pixel is read before it is written.
 struct CompositeOutputs {
-  Plane3<float> indirect;  // reflected x specular weight x confidence
-  Plane3<float> result;    // direct + indirect
+  Plane3<float> indirect;  // reflected x specular weight x confidence (+ the sky's, + the bounce's)
+  Plane3<float> result;    // direct (darkened where the bounce's visibility is below 1) + indirect
 };
 
 struct CompositeStats {
@@ -65,7 +78,8 @@ struct CompositeContext {
   float roughnessCutoff;
   // The outputs are the inputs' planes (result = direct, indirect = reflected): a pixel the trace
   // did not hit already holds its outputs there (the direct light is sanitised, so direct + 0 is
-  // direct, and the cone wrote 0), so it is not written again. Not with the sky's light.
+  // direct, and the cone wrote 0), so it is not written again. Not with the sky's light or the
+  // bounce.
   bool inPlace = false;
   const EnvironmentLighting* environment = nullptr;  // CompositeInputs::environment
   glm::mat3 viewToWorld{1.0f};                       // rotates the reflected direction into the world
@@ -83,6 +97,9 @@ struct CompositeRow {
   const float* reflected[3];
   float* indirect[3];  // null: not kept (CompositeInputs::keepIndirect)
   float* result[3];
+  const float* bounce[3];          // null without the bounce
+  const float* skyDiffuse[3];      // null unless both the bounce and the sky's light
+  const float* ambientVisibility;  // likewise
 };
 
 // The composite's scalar row kernel, the definition a SIMD twin (passes/composite_simd.cpp) must

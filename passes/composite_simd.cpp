@@ -1,7 +1,8 @@
 // The Highway twin of CompositeRowScalar (composite.cpp): the same operations in the same order
 // through the core twins (core/*-inl.h), so every target gives the scalar bits
 // (tests/passes/composite_test.cpp checks each compiled target). Lanes are pixels of the row; a
-// vector without a confident hit on geometry reads neither its material nor its reflection.
+// vector without a confident hit on geometry reads neither its material nor its reflection (unless
+// the sky or the bounce lights it).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/composite_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -53,47 +54,61 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
   const auto confidence = row.confidence ? LoadRow(d, row.confidence, x, count, 0.0f) : zero;
   const auto confident = hn::Gt(confidence, zero);
   const bool sky = c.environment != nullptr;
-  if (c.inPlace && !sky && hn::AllFalse(d, confident)) return;
-  // As in the scalar kernel, word 2 is read only where a lane is confident or the sky lights it.
-  auto lit = sky ? hn::FirstN(d, count - x) : confident;
+  const bool bounce = row.bounce[0] != nullptr;
+  if (c.inPlace && !sky && !bounce && hn::AllFalse(d, confident)) return;
+  // As in the scalar kernel, word 2 is read only where a lane is confident or the sky or the bounce
+  // lights it.
+  auto lit = sky || bounce ? hn::FirstN(d, count - x) : confident;
   if (!hn::AllFalse(d, lit)) {
     const auto depth = UnpackDepthV(d, LoadRow(du, row.word2, x, count, PackDepth(kBackgroundDepth)));
     lit = hn::And(lit, hn::Ne(depth, hn::Set(d, kBackgroundDepth)));
   }
+  Vec3V<DF> base = LoadRow3(d, row.direct, x, count);
   Vec3V<DF> indirect{zero, zero, zero};
   if (!hn::AllFalse(d, lit)) {
     const auto word0 = LoadRow(du, row.word0, x, count, 0u);
     const auto word1 = LoadRow(du, row.word1, x, count, 0u);
     const SurfaceMaterialV<DF> material{UnpackAlbedoV(d, word0, c.srgbDecodeTable), UnpackMetallicV(d, word0),
                                         UnpackRoughnessV(d, word1)};
-    const Vec3V<DF> normal = UnpackNormalV(d, word1, c.normalEncoding);
-    const Vec3V<DF> toViewer = Normalize3(d, Neg3(PixelRayV(d, *c.view, px, py).direction));
-    const auto nDotV = ClampStd(Dot3(normal, toViewer), zero, one);
-    const auto fade =
-        ClampStd(hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)),
-                 zero, one);
-    const Vec3V<DF> specular = SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable);
     const auto reflecting = hn::And(confident, lit);
-    if (!hn::AllFalse(d, reflecting)) {
-      const Vec3V<DF> weight = Scale3(specular, hn::Mul(confidence, fade));
-      indirect = IfThenElse3(reflecting, Mul3(LoadRow3(d, row.reflected, x, count), weight), indirect);
-    }
-    if (sky) {
-      const auto share =
-          hn::Mul(hn::Sub(one, hn::Mul(confidence, fade)), LoadRow(d, row.skyVisibility, x, count, 0.0f));
-      Vec3V<DF> environment = Set3(d, c.environment->constantRadiance);
-      if (!c.environment->constant) {
-        // r = n (2 n.v) - v, into the world.
-        const Vec3V<DF> reflection = Sub3(Scale3(normal, hn::Mul(hn::Set(d, 2.0f), Dot3(normal, toViewer))), toViewer);
-        environment =
-            PrefilteredEnvironmentV(d, *c.environment, MulMat3(d, c.viewToWorld, reflection), material.roughness);
+    if (sky || !hn::AllFalse(d, reflecting)) {
+      const Vec3V<DF> normal = UnpackNormalV(d, word1, c.normalEncoding);
+      const Vec3V<DF> toViewer = Normalize3(d, Neg3(PixelRayV(d, *c.view, px, py).direction));
+      const auto nDotV = ClampStd(Dot3(normal, toViewer), zero, one);
+      const auto fade =
+          ClampStd(hn::Div(hn::Sub(hn::Set(d, c.roughnessCutoff), material.roughness), hn::Set(d, kRoughnessFadeWidth)),
+                   zero, one);
+      const Vec3V<DF> specular = SpecularWeightV(d, SpecularF0V(d, material), nDotV, material.roughness, c.dfgTable);
+      if (!hn::AllFalse(d, reflecting)) {
+        const Vec3V<DF> weight = Scale3(specular, hn::Mul(confidence, fade));
+        indirect = IfThenElse3(reflecting, Mul3(LoadRow3(d, row.reflected, x, count), weight), indirect);
       }
-      const Vec3V<DF> withSky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
-      indirect = IfThenElse3(lit, withSky, indirect);
+      if (sky) {
+        const auto share =
+            hn::Mul(hn::Sub(one, hn::Mul(confidence, fade)), LoadRow(d, row.skyVisibility, x, count, 0.0f));
+        Vec3V<DF> environment = Set3(d, c.environment->constantRadiance);
+        if (!c.environment->constant) {
+          // r = n (2 n.v) - v, into the world.
+          const Vec3V<DF> reflection =
+              Sub3(Scale3(normal, hn::Mul(hn::Set(d, 2.0f), Dot3(normal, toViewer))), toViewer);
+          environment =
+              PrefilteredEnvironmentV(d, *c.environment, MulMat3(d, c.viewToWorld, reflection), material.roughness);
+        }
+        const Vec3V<DF> withSky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
+        indirect = IfThenElse3(lit, withSky, indirect);
+      }
+    }
+    if (bounce) {
+      const Vec3V<DF> diffuseAlbedo = Scale3(material.albedo, hn::Sub(one, material.metallic));
+      indirect = IfThenElse3(lit, Add3(indirect, Mul3(LoadRow3(d, row.bounce, x, count), diffuseAlbedo)), indirect);
+      if (row.skyDiffuse[0]) {
+        const auto darkening = hn::Sub(LoadRow(d, row.ambientVisibility, x, count, 1.0f), one);
+        base = IfThenElse3(lit, Add3(base, Scale3(LoadRow3(d, row.skyDiffuse, x, count), darkening)), base);
+      }
     }
   }
   if (row.indirect[0]) StreamRow3(indirect, d, row.indirect, x, count);
-  StreamRow3(Add3(LoadRow3(d, row.direct, x, count), indirect), d, row.result, x, count);
+  StreamRow3(Add3(base, indirect), d, row.result, x, count);
 }
 
 // 128 pixels, 8 vectors of 16 lanes: a line from memory takes about as long as 8 vectors of the kernel.

@@ -82,6 +82,15 @@ FrameSetting IntegerSetting(std::string_view name, std::string_view option, std:
   return s;
 }
 
+template <class Member>
+FrameSetting NumberSetting(std::string_view name, std::string_view option, std::string_view help, double min,
+                           double max, std::vector<std::string_view> sweep, Member member) {
+  FrameSetting s{name, option, true, help, SettingKind::kNumber, min, max, {}, std::move(sweep), {}, {}};
+  s.set = [member](FrameConfig& c, const SettingValue& v) { member(c) = ToFloat(v); };
+  s.get = [member](const FrameConfig& c) { return SettingValue(double(member(c))); };
+  return s;
+}
+
 template <class Enum, class Member>
 FrameSetting ChoiceSetting(std::string_view name, std::string_view option, std::string_view help,
                            std::vector<std::pair<std::string_view, Enum>> names, std::vector<std::string_view> sweep,
@@ -165,6 +174,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "Sky light: the environment's light on every surface, diffuse and (where the reflections do not "
       "reach) specular, under a world-space sky visibility: auto (when the environment is not black), on or off.",
       effectModes, {}, [](auto& c) -> auto& { return c.sky; }));
+  table.push_back(ChoiceSetting<EffectMode>(
+      "effects.bounce", "--bounce",
+      "Diffuse bounce and ambient occlusion (screen-space visibility bitmask): the lit image's light bounced once "
+      "onto diffuse surfaces, and the sky's diffuse light darkened where nearby surfaces cover the sky: auto (when "
+      "something on screen is lit: a light reaches a visible pixel or the sky light runs), on or off.",
+      effectModes, {}, [](auto& c) -> auto& { return c.bounce; }));
   table.push_back(IntegerSetting(
       "sky_directions", "--sky-directions",
       "Directions over the sphere of the sky visibility volume's depth maps, made once per scene: what blocks "
@@ -199,6 +214,24 @@ std::vector<FrameSetting> BuildFrameSettings() {
                                  0, 30, {"0", "2", "4"}, [](auto& c) -> auto& { return c.ssrTrace.startLevel; }));
   table.push_back(IntegerSetting("cone_samples", "--cone-samples", "Colour-pyramid samples per cone.", 1, 64,
                                  {"3", "7", "12"}, [](auto& c) -> auto& { return c.ssrCone.maxSamples; }));
+  table.push_back(IntegerSetting(
+      "bounce_slices", "--bounce-slices", "Diffuse bounce: slice directions per pixel, each marched both ways.", 1,
+      kBounceMaxSlices, {"1", "3", "4"}, [](auto& c) -> auto& { return c.diffuseBounce.slices; }));
+  table.push_back(IntegerSetting(
+      "bounce_steps", "--bounce-steps", "Diffuse bounce: depth samples per slice direction.", 1, kBounceMaxSteps,
+      {"2", "8", "16"}, [](auto& c) -> auto& { return c.diffuseBounce.steps; }));
+  table.push_back(NumberSetting(
+      "bounce_radius", "--bounce-radius", "Diffuse bounce: search radius in metres around each pixel (view space).",
+      0.0, kUnbounded, {"0.5", "2"}, [](auto& c) -> auto& { return c.diffuseBounce.radius; }));
+  table.push_back(NumberSetting(
+      "bounce_max_radius", "--bounce-max-radius",
+      "Diffuse bounce: the search radius's cap in pixels, however near the surface.", 0.0, kUnbounded, {"64", "256"},
+      [](auto& c) -> auto& { return c.diffuseBounce.maxRadiusPixels; }));
+  table.push_back(NumberSetting(
+      "bounce_thickness", "--bounce-thickness",
+      "Diffuse bounce: the thickness in metres taken behind every surface the camera sees "
+      "(light passes behind it).",
+      0.0, kUnbounded, {"0.1", "1"}, [](auto& c) -> auto& { return c.diffuseBounce.thickness; }));
   {
     FrameSetting exposure{"exposure_ev", "--exposure", true, "Exposure in EV (image x 2^EV before the tonemap).",
                           SettingKind::kNumber, -kUnbounded, kUnbounded, {}, {}, {}, {}};

@@ -15,6 +15,7 @@
 
 #include "core/render_modes.h"
 #include "core/scene.h"
+#include "passes/bounce.h"
 #include "passes/direct_light.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
@@ -32,6 +33,7 @@ struct FrameConfig {
   EffectMode shadows = EffectMode::kAuto;
   EffectMode reflections = EffectMode::kAuto;
   EffectMode sky = EffectMode::kAuto;
+  EffectMode bounce = EffectMode::kAuto;
   ShadowMapParams shadowMap;
   ShadowFilterParams shadowFilter;
   // The environment: the scene's, or a constant one of --background / render.background. The
@@ -39,6 +41,7 @@ struct FrameConfig {
   Environment environment;
   DirectLightParams directLight;
   SkyVisibilityParams skyVisibility;
+  BounceParams diffuseBounce;
   SsrTraceParams ssrTrace;
   SsrConeParams ssrCone;
   TonemapParams tonemap;

@@ -570,7 +570,8 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   const std::vector<DumpLayer>& catalogue = DumpLayers();
   for (size_t i = 0; i < catalogue.size(); ++i) {
     const DumpLayer& layer = catalogue[i];
-    if (layer.part == DumpPart::kImage || layer.part == DumpPart::kShadowMap || layer.part == DumpPart::kSkyVolume) {
+    if (layer.part == DumpPart::kImage || layer.part == DumpPart::kShadowMap || layer.part == DumpPart::kSkyVolume ||
+        layer.part == DumpPart::kBounceHalf) {
       compare(DumpPartName(layer.part, 0), std::string(layer.name), layer.pass);
       continue;
     }

@@ -136,6 +136,8 @@ std::string DumpPartName(DumpPart part, int level) {
     case DumpPart::kPyramidLevels: return "pyramid." + std::to_string(level);
     case DumpPart::kSkyVolume:
       return "skyvolume";
+    case DumpPart::kBounceHalf:
+      return "bounce.half";
   }
   return "";
 }
@@ -299,7 +301,7 @@ namespace {
 
 // Which effects belong to the frame a dump is loaded into: all of them until the plan has decided.
 struct EffectSet {
-  bool shadows = true, reflections = true, sky = true;
+  bool shadows = true, reflections = true, sky = true, bounce = true;
   bool Has(FrameEffect effect) const {
     switch (effect) {
       case FrameEffect::kAlways:
@@ -310,8 +312,10 @@ struct EffectSet {
         return reflections;
       case FrameEffect::kSky:
         return sky;
+      case FrameEffect::kBounce:
+        return bounce;
       case FrameEffect::kIndirect:
-        return reflections || sky;
+        return reflections || sky || bounce;
     }
     return false;
   }
@@ -354,7 +358,7 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
     if (made.maker->pass == FramePass::kGBuffer && made.buffer->readByPlan) load(made);
   const FramePlan plan =
       PlanFrame(scene, config, frame.gbuffer.gbuffer, MakePerspective(scene.camera, config.width, config.height));
-  effects = {plan.shadows.run, plan.reflections.run, plan.sky.run};
+  effects = {plan.shadows.run, plan.reflections.run, plan.sky.run, plan.bounce.run};
   for (const MadeBuffer& made : FrameBuffers())
     if (!made.buffer->readByPlan) load(made);
 }

@@ -31,8 +31,10 @@ bool Frame::Has(FrameEffect effect) const {
       return reflections;
     case FrameEffect::kSky:
       return sky;
+    case FrameEffect::kBounce:
+      return bounce;
     case FrameEffect::kIndirect:
-      return reflections || sky;
+      return reflections || sky || bounce;
   }
   return false;
 }
@@ -71,6 +73,7 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       frame.shadows = frame.plan.shadows.run && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
       frame.reflections = frame.plan.reflections.run;
       frame.sky = frame.plan.sky.run;
+      frame.bounce = frame.plan.bounce.run;
     }
     if (observer) observer(steps[index], frame);
     release(index);

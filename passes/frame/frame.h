@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "core/plane.h"
 #include "core/scene.h"
+#include "passes/bounce.h"
 #include "passes/color_pyramid.h"
 #include "passes/composite.h"
 #include "passes/direct_light.h"
@@ -37,6 +38,7 @@ struct FrameStats {
   std::optional<DirectLightStats> directLight;
   std::optional<SkyLightStats> skyLight;
   std::optional<double> skyVisibilityMs;  // made this frame (a kept frame keeps it for its scene)
+  std::optional<BounceStats> bounce;
   std::optional<HiZStats> hiz;
   std::optional<ColorPyramidStats> colorPyramid;
   std::optional<SsrTraceStats> ssrTrace;
@@ -53,10 +55,10 @@ struct FrameStats {
 std::vector<StageStats> StageRows(const FrameStats& stats);
 
 // Every pass, in pipeline order.
-inline constexpr FramePass kFramePasses[] = {FramePass::kGBuffer,     FramePass::kShadowMap, FramePass::kShadowFilter,
-                                             FramePass::kDirectLight, FramePass::kHiZ,       FramePass::kColorPyramid,
-                                             FramePass::kSsrTrace,    FramePass::kSsrCone,   FramePass::kComposite,
-                                             FramePass::kTonemap};
+inline constexpr FramePass kFramePasses[] = {
+    FramePass::kGBuffer,  FramePass::kShadowMap, FramePass::kShadowFilter, FramePass::kDirectLight,
+    FramePass::kSkyLight, FramePass::kBounce,    FramePass::kHiZ,          FramePass::kColorPyramid,
+    FramePass::kSsrTrace, FramePass::kSsrCone,   FramePass::kComposite,    FramePass::kTonemap};
 // The pass's registry name: "gbuffer", "shadow_map", ..., "tonemap".
 std::string_view FramePassName(FramePass pass);
 // The pass of that name; throws InputError listing the names for any other.
@@ -81,6 +83,9 @@ struct Frame {
   EnvironmentLighting environment;               // the frame's environment, as the passes read it
   std::optional<SkyVisibilityVolume> skyVolume;  // the scene's, kept while its geometry is the same
   SkyLightOutputs skyLight;
+  // Whether the diffuse bounce belongs to this frame (something on screen is lit), and its outputs.
+  bool bounce = false;
+  BounceOutputs diffuseBounce;
   // Present when the scene has a surface smooth enough to reflect and reflections are not off.
   bool reflections = false;
   HiZ hiz;
@@ -96,9 +101,9 @@ struct Frame {
   // The image the colour pyramid and the composite read: lit = direct + the sky's diffuse light, or
   // the direct light without the sky light.
   const Plane3<float>& Lit() const { return sky ? skyLight.lit : direct.radiance; }
-  // The final linear HDR image: result = lit + indirect (the direct light alone without reflections
-  // and sky light).
-  const Plane3<float>& Result() const { return reflections || sky ? composite.result : direct.radiance; }
+  // The final linear HDR image: result = lit + indirect (the direct light alone without reflections,
+  // sky light and bounce).
+  const Plane3<float>& Result() const { return Has(FrameEffect::kIndirect) ? composite.result : direct.radiance; }
 };
 
 // How long a frame keeps its buffers.

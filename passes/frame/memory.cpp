@@ -28,8 +28,11 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
         return config.reflections != EffectMode::kOff;
       case FrameEffect::kSky:
         return config.sky != EffectMode::kOff;
+      case FrameEffect::kBounce:
+        return config.bounce != EffectMode::kOff;
       case FrameEffect::kIndirect:
-        return config.reflections != EffectMode::kOff || config.sky != EffectMode::kOff;
+        return config.reflections != EffectMode::kOff || config.sky != EffectMode::kOff ||
+               config.bounce != EffectMode::kOff;
     }
     return false;
   };

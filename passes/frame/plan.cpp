@@ -181,20 +181,39 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
     plan.sky.run = plan.geometryPixels > 0;
     plan.sky.why = plan.sky.run ? "the environment lights the visible surfaces" : "no pixel has geometry";
   }
+  const bool lightReachesPixels =
+      std::find(plan.lightReaches.begin(), plan.lightReaches.end(), true) != plan.lightReaches.end();
+  if (config.bounce == EffectMode::kOff) {
+    plan.bounce.why = "switched off";
+  } else if (config.bounce == EffectMode::kOn) {
+    plan.bounce.run = true;
+    plan.bounce.why = "switched on";
+  } else if (plan.geometryPixels == 0) {
+    plan.bounce.why = "no pixel has geometry";
+  } else {
+    // Without light on screen the lit image is black on every surface, and there is no sky light to occlude.
+    plan.bounce.run = lightReachesPixels || plan.sky.run;
+    plan.bounce.why = lightReachesPixels && plan.sky.run ? "lights and the sky light the visible surfaces"
+                      : lightReachesPixels               ? "lights reach visible surfaces"
+                      : plan.sky.run                     ? "the sky lights the visible surfaces"
+                                                         : "nothing on screen is lit (no light reaches a visible "
+                                                           "pixel and the sky light does not run)";
+  }
   return plan;
 }
 
 std::string ExplainPlan(const FramePlan& plan) {
   std::string text = "frame plan: " + std::to_string(plan.geometryPixels) + " of " + std::to_string(plan.pixels) +
                      " pixels have geometry (" + Share(plan.geometryPixels, plan.pixels) + ")\n";
-  // `running`: what runs, and where, when the effect runs.
-  const auto line = [&](const char* name, const char* passes, const std::string& running, const EffectPlan& effect) {
+  // `running`: what runs, and where, when the effect runs; `skipped`: what does not run when it does not.
+  const auto line = [&](const char* name, const std::string& skipped, const std::string& running,
+                        const EffectPlan& effect) {
     text += std::string("  ") + name + ": " + (effect.run ? "run" : "skipped") + ", " + effect.why;
     if (effect.counted)
       text += "; needed in " + std::to_string(effect.tiles) + " of " + std::to_string(plan.tiles) + " tiles (" +
               Share(effect.tiles, plan.tiles) + "), " + std::to_string(effect.pixels) + " pixels (" +
               Share(effect.pixels, plan.pixels) + ")";
-    text += "\n    " + (effect.run ? running : std::string(passes) + " do not run") + "\n";
+    text += "\n    " + (effect.run ? running : skipped) + "\n";
   };
   const size_t lights = plan.lightReaches.size();
   const size_t shaded = size_t(std::count(plan.lightReaches.begin(), plan.lightReaches.end(), true));
@@ -208,16 +227,23 @@ std::string ExplainPlan(const FramePlan& plan) {
               std::to_string((spot ? i - plan.directionalLights : i) + 1);
   }
   text += (unseen.empty() ? std::string() : "; not shaded (no visible pixel faces it): " + unseen) + "\n";
-  line("shadows", "shadow map, blocker search, shadow filter", "shadow map, blocker search, shadow filter run",
-       plan.shadows);
-  line("reflections", "hi-z, colour pyramid, ssr trace, cone trace, composite",
-       plan.reflections.tiles == plan.tiles
-           ? std::string("hi-z, colour pyramid, ssr trace, cone trace, composite run on the whole image")
-           : "hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
-                 std::to_string(plan.reflections.tiles) + " tiles only",
+  line("shadows", "shadow map, blocker search, shadow filter do not run",
+       "shadow map, blocker search, shadow filter run", plan.shadows);
+  // The sky light and the bounce light every pixel with geometry: the composite then runs on the whole image.
+  const bool composesEverywhere = plan.sky.run || plan.bounce.run;
+  const std::string tracePasses = composesEverywhere ? "ssr trace, cone trace" : "ssr trace, cone trace, composite";
+  line("reflections", "hi-z, colour pyramid, " + tracePasses + " do not run",
+       plan.reflections.tiles == plan.tiles ? "hi-z, colour pyramid, " + tracePasses + " run on the whole image"
+                                            : "hi-z, colour pyramid run; " + tracePasses + " run on those " +
+                                                  std::to_string(plan.reflections.tiles) + " tiles only",
        plan.reflections);
-  line("sky", "sky light", "sky light runs on every pixel with geometry; the composite adds its specular part",
-       plan.sky);
+  line("sky", "sky light does not run",
+       "sky light runs on every pixel with geometry; the composite adds its specular part", plan.sky);
+  line("bounce", "bounce does not run",
+       std::string("bounce runs at half resolution on every pixel with geometry; the composite adds its light on "
+                   "the diffuse albedo") +
+           (plan.sky.run ? " and darkens the sky's diffuse light by its visibility" : ""),
+       plan.bounce);
   return text;
 }
 

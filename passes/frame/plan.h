@@ -2,8 +2,10 @@
 // which effects the pixels on screen need. Shadows run only if some visible pixel faces the
 // shadow-casting light (elsewhere its term is 0 whatever the visibility); reflections only if some
 // visible pixel is smoother than the trace's cut-off (elsewhere the composite adds nothing); the
-// sky light only if the environment is not black and some pixel has geometry. A
-// skipped effect therefore leaves the image's bytes as they would be with it. `ssgi render
+// sky light only if the environment is not black and some pixel has geometry; the diffuse bounce
+// only if something on screen is lit (a light reaches a visible pixel, or the sky light runs):
+// otherwise the lit image is black on every surface, so there is nothing to bounce, and no sky
+// light to occlude. A skipped effect therefore leaves the image's bytes as they would be with it. `ssgi render
 // --explain` prints the plan.
 #pragma once
 
@@ -36,6 +38,7 @@ struct FramePlan {
   EffectPlan shadows;
   EffectPlan reflections;
   EffectPlan sky;
+  EffectPlan bounce;
   // Per light, in PrepareLights order: whether some visible pixel faces it (the direct light's
   // conditions for a non-zero term). The direct light shades only these; the others add exactly 0.
   std::vector<bool> lightReaches;

@@ -1,8 +1,9 @@
 // The pass registry: the frame's passes in pipeline order, each with its buffers, stats rows and
 // step. Read top to bottom, it is the frame: scene -> G-buffer -> shadow map and blocker search ->
-// shadow filter -> direct light -> Hi-Z -> colour pyramid -> SSR trace -> cone trace -> composite ->
-// tonemap (docs/design.md §1). A buffer handed on to another is left empty (std::exchange), never
-// moved-from with its old size, which a later reader would take for a filled buffer.
+// shadow filter -> direct light -> sky light -> diffuse bounce -> Hi-Z -> colour pyramid -> SSR
+// trace -> cone trace -> composite -> tonemap (docs/design.md §1). A buffer handed on to another is
+// left empty (std::exchange), never moved-from with its old size, which a later reader would take
+// for a filled buffer.
 #include "passes/frame/registry.h"
 
 #include <algorithm>
@@ -429,6 +430,140 @@ PassDeclaration SkyLightPass() {
   return pass;
 }
 
+// ---- Diffuse bounce and ambient occlusion (passes/bounce.h) ----
+
+void BounceStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (s.Runs(P::kBounce))
+    f.stats.bounce = RunBounce({f.gbuffer.gbuffer, f.view, f.Lit()}, s.config.diffuseBounce, f.diffuseBounce);
+}
+
+// The bounce's half-resolution size: pixel (i, j) stands for full-resolution pixel (2i, 2j).
+size_t HalfSide(size_t side) { return (side + 1) / 2; }
+
+const char kBounceMeaning[] =
+    "the bounce: E / pi, the cosine-weighted mean radiance arriving from on-screen surfaces, linear RGB, [0, 65504]; "
+    "0 on background";
+const char kBounceHalfNormalMeaning[] = "decoded view-space unit normal of pixel (2i, 2j); 0 on background";
+const char kBounceHalfLitMeaning[] = "the lit image at pixel (2i, 2j), sanitised: linear RGB, [0, 65504]";
+const char kBounceMarchMeaning[] = "the march's bounce, E / pi, linear RGB, [0, 65504]; 0 on background";
+const char kBounceRowsMeaning[] = "the filter's pass along rows over the march's bounce; 0 on background";
+const char kBounceFilteredMeaning[] = "the filter's pass along columns over the rows' bounce; 0 on background";
+
+// The half-resolution planes with their layer names, in the catalogue's order.
+template <class Visit>
+void ForEachBounceHalfPlane(const BounceHalfRes& h, Visit visit) {
+  visit("depth", h.depth);
+  visit("normal.X", h.normal.c[0]);
+  visit("normal.Y", h.normal.c[1]);
+  visit("normal.Z", h.normal.c[2]);
+  visit("normalCode", h.normalCode);
+  visit("lit.R", h.lit.c[0]);
+  visit("lit.G", h.lit.c[1]);
+  visit("lit.B", h.lit.c[2]);
+  visit("march.visibility", h.visibility);
+  visit("march.R", h.bounce.c[0]);
+  visit("march.G", h.bounce.c[1]);
+  visit("march.B", h.bounce.c[2]);
+  visit("rows.visibility", h.horizontalVisibility);
+  visit("rows.R", h.horizontalBounce.c[0]);
+  visit("rows.G", h.horizontalBounce.c[1]);
+  visit("rows.B", h.horizontalBounce.c[2]);
+  visit("filtered.visibility", h.filteredVisibility);
+  visit("filtered.R", h.filteredBounce.c[0]);
+  visit("filtered.G", h.filteredBounce.c[1]);
+  visit("filtered.B", h.filteredBounce.c[2]);
+}
+
+PassDeclaration BouncePass() {
+  PassDeclaration pass{P::kBounce, "bounce",
+                       "diffuse bounce and ambient occlusion by the visibility bitmask, at half resolution, "
+                       "filtered and upsampled"};
+  pass.effect = FrameEffect::kBounce;
+  const auto half = [](std::string_view name, bool isUint, std::string_view meaning) {
+    return DumpLayer{name, P::kBounce, isUint, DumpPart::kBounceHalf, false, meaning};
+  };
+  pass.makes = {
+      {.id = B::kBounceHalf,
+       .name = "bounce half-resolution steps",
+       // 19 float planes and the normal codes' uint32 plane.
+       .bytes =
+           [](const FrameShape& s) {
+             const size_t width = HalfSide(s.width), height = HalfSide(s.height);
+             return 19 * PlaneBytes(width, height) + PlaneBytes<uint32_t>(width, height);
+           },
+       .layers = {half("depth", false, "view depth of pixel (2i, 2j), metres; +inf background"),
+                  half("normal.X", false, kBounceHalfNormalMeaning),
+                  half("normal.Y", false, kBounceHalfNormalMeaning),
+                  half("normal.Z", false, kBounceHalfNormalMeaning),
+                  half("normalCode", true,
+                       "G-buffer word 1's normal code (bits 0-23) of pixel (2i, 2j); 0 on background"),
+                  half("lit.R", false, kBounceHalfLitMeaning),
+                  half("lit.G", false, kBounceHalfLitMeaning),
+                  half("lit.B", false, kBounceHalfLitMeaning),
+                  half("march.visibility", false, "the march's ambient visibility, [0, 1]; 1 on background"),
+                  half("march.R", false, kBounceMarchMeaning),
+                  half("march.G", false, kBounceMarchMeaning),
+                  half("march.B", false, kBounceMarchMeaning),
+                  half("rows.visibility", false, "the filter's pass along rows over the march's visibility"),
+                  half("rows.R", false, kBounceRowsMeaning),
+                  half("rows.G", false, kBounceRowsMeaning),
+                  half("rows.B", false, kBounceRowsMeaning),
+                  half("filtered.visibility", false, "the filter's pass along columns over the rows' visibility"),
+                  half("filtered.R", false, kBounceFilteredMeaning),
+                  half("filtered.G", false, kBounceFilteredMeaning),
+                  half("filtered.B", false, kBounceFilteredMeaning)},
+       .heldBytes =
+           [](const Frame& f) {
+             size_t bytes = 0;
+             ForEachBounceHalfPlane(f.diffuseBounce.half,
+                                    [&](std::string_view, const auto& plane) { bytes += Held(plane); });
+             return bytes;
+           },
+       .release = [](Frame& f) { f.diffuseBounce.half = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             const BounceHalfRes& h = f.diffuseBounce.half;
+             if (!f.bounce || h.depth.xsize() != HalfSide(size_t(f.gbuffer.gbuffer.width()))) return;
+             ForEachBounceHalfPlane(
+                 h, [&](std::string_view name, const auto& plane) { sink.Add(DumpPart::kBounceHalf, 0, name, plane); });
+           }},
+      {.id = B::kBounce,
+       .name = "bounce",
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 4); },
+       .layers = {{"bounce.R", P::kBounce, false, DumpPart::kImage, false, kBounceMeaning},
+                  {"bounce.G", P::kBounce, false, DumpPart::kImage, false, kBounceMeaning},
+                  {"bounce.B", P::kBounce, false, DumpPart::kImage, false, kBounceMeaning},
+                  {"bounce.visibility", P::kBounce, false, DumpPart::kImage, false,
+                   "ambient visibility: the cosine-weighted share of the hemisphere no on-screen surface within "
+                   "the radius covers, [0, 1]; 1 on background"}},
+       .heldBytes = [](const Frame& f) { return Held(f.diffuseBounce.bounce) + Held(f.diffuseBounce.visibility); },
+       .release =
+           [](Frame& f) {
+             f.diffuseBounce.bounce = {};
+             f.diffuseBounce.visibility = {};
+           },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (!f.bounce || !ImageSized(f, f.diffuseBounce.visibility)) return;
+             sink.Add3(DumpPart::kImage, 0, "bounce.", f.diffuseBounce.bounce);
+             sink.Add(DumpPart::kImage, 0, "bounce.visibility", f.diffuseBounce.visibility);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             source.Load3(DumpPart::kImage, 0, "bounce.", f.diffuseBounce.bounce);
+             source.Load(DumpPart::kImage, 0, "bounce.visibility", f.diffuseBounce.visibility);
+           }},
+  };
+  pass.reads = {B::kGBufferWords, B::kLit};
+  pass.stats = {{"bounce", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.bounce) return std::nullopt;
+                   return Row(s.bounce->ms, double(s.bounce->pixels), "pixels");
+                 }}};
+  pass.step = BounceStep;
+  return pass;
+}
+
 // ---- Hi-Z (passes/hiz.h) ----
 
 void HiZStep(FrameStep& s) {
@@ -667,8 +802,9 @@ void CompositeStep(FrameStep& s) {
   const Plane3<float>* reflected = !f.reflections        ? nullptr
                                    : s.ComposesInPlace() ? &f.composite.indirect
                                                          : &f.ssrCone.reflected;
-  // Only the traced tiles have indirect light, unless the sky lights every pixel.
-  const TileMask* tracedTiles = f.reflections && !f.sky && s.Runs(P::kSsrTrace) ? &f.plan.reflectionTiles : nullptr;
+  // Only the traced tiles have indirect light, unless the sky or the bounce lights every pixel.
+  const TileMask* tracedTiles =
+      f.reflections && !f.sky && !f.bounce && s.Runs(P::kSsrTrace) ? &f.plan.reflectionTiles : nullptr;
   CompositeInputs inputs{f.gbuffer.gbuffer,
                          f.view,
                          base,
@@ -678,15 +814,27 @@ void CompositeStep(FrameStep& s) {
                          tracedTiles,
                          f.sky ? &f.environment : nullptr,
                          f.sky ? &f.skyLight.visibility : nullptr};
+  if (f.bounce) {
+    inputs.bounce = &f.diffuseBounce.bounce;
+    // The bounce's visibility occludes the sky's diffuse light, which lit holds unoccluded.
+    if (f.sky) {
+      inputs.skyDiffuse = &f.skyLight.diffuse;
+      inputs.ambientVisibility = &f.diffuseBounce.visibility;
+    }
+  }
   // Freeing early without reflections, nothing reads the indirect term alone.
   inputs.keepIndirect = !(s.Releases() && !f.reflections);
   f.stats.composite = RunComposite(inputs, f.composite);
 }
 
+const char kResultMeaning[] =
+    "lit (its sky light darkened by the bounce's visibility) + indirect radiance, linear, >= 0";
+
 PassDeclaration CompositePass() {
   PassDeclaration pass{P::kComposite, "composite",
-                       "indirect = (reflection, or the sky where the trace did not see) x specular weight; "
-                       "result = lit + indirect"};
+                       "indirect = (reflection, or the sky where the trace did not see) x specular weight + "
+                       "bounce x diffuse albedo; result = lit (its sky light darkened by the bounce's visibility) + "
+                       "indirect"};
   pass.effect = FrameEffect::kIndirect;
   pass.makes = {
       {.id = B::kIndirect,
@@ -700,7 +848,8 @@ PassDeclaration CompositePass() {
        .release = [](Frame& f) { f.composite.indirect = {}; },
        .dump =
            [](const Frame& f, DumpSink& sink) {
-             if (f.reflections && ImageSized(f, f.composite.result.c[0]) && ImageSized(f, f.composite.indirect.c[0]))
+             if (f.Has(FrameEffect::kIndirect) && ImageSized(f, f.composite.result.c[0]) &&
+                 ImageSized(f, f.composite.indirect.c[0]))
                sink.Add3(DumpPart::kImage, 0, "indirect.", f.composite.indirect);
            },
        .load = [](const DumpSource& source,
@@ -711,15 +860,14 @@ PassDeclaration CompositePass() {
        .frameOutput = true,
        .storageOf = B::kLit,
        .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
-       .layers =
-           {{"result.R", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-            {"result.G", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"},
-            {"result.B", P::kComposite, false, DumpPart::kImage, false, "direct + indirect radiance, linear, >= 0"}},
+       .layers = {{"result.R", P::kComposite, false, DumpPart::kImage, false, kResultMeaning},
+                  {"result.G", P::kComposite, false, DumpPart::kImage, false, kResultMeaning},
+                  {"result.B", P::kComposite, false, DumpPart::kImage, false, kResultMeaning}},
        .heldBytes = [](const Frame& f) { return Held(f.composite.result); },
        .release = nullptr,  // a frame output
        .dump =
            [](const Frame& f, DumpSink& sink) {
-             if (f.reflections && ImageSized(f, f.composite.result.c[0]))
+             if (f.Has(FrameEffect::kIndirect) && ImageSized(f, f.composite.result.c[0]))
                sink.Add3(DumpPart::kImage, 0, "result.", f.composite.result);
            },
        .load = [](const DumpSource& source,
@@ -727,7 +875,7 @@ PassDeclaration CompositePass() {
        // Without the composite the final image is the lit (the direct) image.
        .absentAs = B::kLit},
   };
-  pass.reads = {B::kGBufferWords, B::kLit, B::kReflected, B::kSsrTrace, B::kSkyDiffuse};
+  pass.reads = {B::kGBufferWords, B::kLit, B::kReflected, B::kSsrTrace, B::kSkyDiffuse, B::kBounce};
   pass.stats = {{"composite", [](const FrameStats& s) -> std::optional<StageStats> {
                    if (!s.composite) return std::nullopt;
                    return Row(s.composite->ms, double(s.composite->pixels), "pixels");
@@ -771,8 +919,8 @@ PassDeclaration TonemapPass() {
 
 std::vector<PassDeclaration> MakeRegistry() {
   std::vector<PassDeclaration> passes = {GBufferPass(),  ShadowMapPass(), ShadowFilterPass(), DirectLightPass(),
-                                         SkyLightPass(), HiZPass(),       ColorPyramidPass(), SsrTracePass(),
-                                         SsrConePass(),  CompositePass(), TonemapPass()};
+                                         SkyLightPass(), BouncePass(),    HiZPass(),          ColorPyramidPass(),
+                                         SsrTracePass(), SsrConePass(),   CompositePass(),    TonemapPass()};
   for (size_t i = 0; i < passes.size(); ++i) SSGI_CHECK(size_t(passes[i].pass) == i);
   return passes;
 }
@@ -802,9 +950,9 @@ const std::vector<MadeBuffer>& FrameBuffers() {
 const MadeBuffer& FrameBufferDeclaration(FrameBuffer buffer) { return FrameBuffers()[size_t(buffer)]; }
 
 const std::vector<FramePass>& FrameSteps() {
-  static const std::vector<FramePass> steps = {P::kGBuffer,  P::kShadowMap, P::kShadowFilter, P::kDirectLight,
-                                               P::kSkyLight, P::kHiZ,       P::kSsrTrace,     P::kColorPyramid,
-                                               P::kSsrCone,  P::kComposite, P::kTonemap};
+  static const std::vector<FramePass> steps = {P::kGBuffer,      P::kShadowMap, P::kShadowFilter, P::kDirectLight,
+                                               P::kSkyLight,     P::kBounce,    P::kHiZ,          P::kSsrTrace,
+                                               P::kColorPyramid, P::kSsrCone,   P::kComposite,    P::kTonemap};
   return steps;
 }
 

@@ -36,6 +36,7 @@ enum class FramePass {
   kShadowFilter,
   kDirectLight,
   kSkyLight,
+  kBounce,
   kHiZ,
   kColorPyramid,
   kSsrTrace,
@@ -50,7 +51,8 @@ enum class FrameEffect {
   kShadows,      // the first shadow-casting light's shadow map, blocker search and filter
   kReflections,  // screen-space reflections: Hi-Z, colour pyramid, trace, cone trace
   kSky,          // the environment's light: the sky light
-  kIndirect,     // any light beyond the direct light (reflections or sky): the composite
+  kBounce,       // the diffuse bounce and its ambient occlusion
+  kIndirect,     // any light beyond the direct light (reflections, sky or bounce): the composite
 };
 
 // Every buffer of a frame, by what it holds.
@@ -64,6 +66,8 @@ enum class FrameBuffer {
   kSkyVolume,   // the world-space sky visibility, kept while the scene's geometry is the same
   kSkyDiffuse,  // the sky's diffuse light and its visibility
   kLit,         // direct + the sky's diffuse light
+  kBounceHalf,  // the bounce's half-resolution steps: its inputs, the march, the filter's two passes
+  kBounce,      // the bounce's light and its ambient visibility, at full resolution
   kHiZ,
   kColorPyramid,
   kSsrTrace,   // the trace's hits, confidence and steps
@@ -80,6 +84,7 @@ enum class DumpPart {
   kHiZLevels,      // parts "hiz.L", one per level, PyramidLevelSizes of the image
   kPyramidLevels,  // parts "pyramid.L", likewise
   kSkyVolume,      // part "skyvolume": the sky visibility volume's coefficients as rows
+  kBounceHalf,     // part "bounce.half": the bounce's half resolution, (W + 1) / 2 x (H + 1) / 2
 };
 
 struct DumpLayer {

@@ -1,5 +1,6 @@
 // End-to-end tests of `ssgi render`: exit codes and messages for bad input, no output left behind
 // on failure, byte-identical output at any thread count, and the golden image of the default scene.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +37,14 @@ TEST_CASE("render: bad command-line values fail with one clear line", "[cli]") {
   CHECK(knob.exitCode == 2);
   CHECK(knob.output.find("--ssr-iterations") != std::string::npos);
   CHECK(RunCli("render " + DefaultSceneArg() + " --quality extreme -o " + out).exitCode == 2);
+  for (const char* bad :
+       {"--bounce maybe", "--bounce-slices 0", "--bounce-steps 40", "--bounce-radius -1", "--bounce-thickness nan"}) {
+    const CommandResult bounce = RunCli("render " + DefaultSceneArg() + " " + bad + " -o " + out);
+    CAPTURE(bad, bounce.output);
+    CHECK(bounce.exitCode == 2);
+    CHECK(bounce.output.find(std::string(bad).substr(0, std::string(bad).find(' '))) != std::string::npos);
+    CHECK(std::count(bounce.output.begin(), bounce.output.end(), '\n') == 1);
+  }
   RequireOnlyFiles(dir, {});
 }
 
@@ -74,6 +83,9 @@ TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 thre
   }
   REQUIRE(images[0].width == 150);
   REQUIRE(buffers[0].layers.size() > 60);  // every part: the image's layers, the shadow map, the pyramids
+  // The bounce ran: its full-resolution layers and its half-resolution part.
+  REQUIRE(buffers[0].Find("frame", "bounce.visibility") != nullptr);
+  REQUIRE(buffers[0].Find("bounce.half", "march.R") != nullptr);
   for (int i = 1; i < 3; ++i) {
     CHECK(images[i].bytes == images[0].bytes);
     REQUIRE(buffers[i].layers.size() == buffers[0].layers.size());
@@ -85,22 +97,30 @@ TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 thre
   }
 }
 
-TEST_CASE("render: the default scene matches its golden image byte for byte", "[cli][golden]") {
+// The default frame, and the same without the bounce: the image the frame gave before the bounce was
+// part of it, so with the bounce off every other pass and the composite keep their bytes.
+TEST_CASE("render: the default scene matches its golden images byte for byte", "[cli][golden]") {
   ScratchDir dir("cli-golden");
-  const fs::path golden = SourceDir() / "tests" / "golden" / "default_160x120.png";
-  const fs::path rendered = dir / "default.png";
-  const CommandResult result = RunCli("render " + DefaultSceneArg() + " --size 160x120 -o " + Quote(rendered));
-  CAPTURE(result.output);
-  REQUIRE(result.exitCode == 0);
-  if (std::getenv("SSGI_UPDATE_GOLDEN")) fs::copy_file(rendered, golden, fs::copy_options::overwrite_existing);
-  const StoredImage expected = ReadStoredImage(golden);
-  const StoredImage actual = ReadStoredImage(rendered);
-  REQUIRE(actual.width == expected.width);
-  REQUIRE(actual.height == expected.height);
-  size_t differing = 0;
-  for (size_t i = 0; i < actual.bytes.size(); ++i) differing += actual.bytes[i] != expected.bytes[i];
-  INFO("bytes differing from the golden image: " << differing << " (SSGI_UPDATE_GOLDEN=1 rewrites it after an intended change)");
-  CHECK(differing == 0);
+  for (const auto& [name, options] : {std::pair<std::string, std::string>{"default_160x120.png", ""},
+                                      {"default_160x120_bounce_off.png", " --bounce off"}}) {
+    CAPTURE(name);
+    const fs::path golden = SourceDir() / "tests" / "golden" / name;
+    const fs::path rendered = dir / name;
+    const CommandResult result =
+        RunCli("render " + DefaultSceneArg() + " --size 160x120" + options + " -o " + Quote(rendered));
+    CAPTURE(result.output);
+    REQUIRE(result.exitCode == 0);
+    if (std::getenv("SSGI_UPDATE_GOLDEN")) fs::copy_file(rendered, golden, fs::copy_options::overwrite_existing);
+    const StoredImage expected = ReadStoredImage(golden);
+    const StoredImage actual = ReadStoredImage(rendered);
+    REQUIRE(actual.width == expected.width);
+    REQUIRE(actual.height == expected.height);
+    size_t differing = 0;
+    for (size_t i = 0; i < actual.bytes.size(); ++i) differing += actual.bytes[i] != expected.bytes[i];
+    INFO("bytes differing from the golden image: " << differing
+                                                   << " (SSGI_UPDATE_GOLDEN=1 rewrites it after an intended change)");
+    CHECK(differing == 0);
+  }
 }
 
 TEST_CASE("figures: one command writes the paper's image sequence", "[cli]") {

@@ -118,6 +118,43 @@ TEST_CASE("settings from text: every kind parsed and range-checked with the prob
   CHECK(error("no_such_knob", "1") == "no_such_knob: no such setting");
 }
 
+TEST_CASE("the bounce's settings: each set, and a bad value refused with one line", "[frame_config]") {
+  FrameConfig config;
+  CHECK(config.bounce == EffectMode::kAuto);
+  ApplySetting(config, "effects.bounce", "off");
+  CHECK(config.bounce == EffectMode::kOff);
+  ApplySetting(config, "bounce_slices", "3");
+  ApplySetting(config, "bounce_steps", "8");
+  ApplySetting(config, "bounce_radius", "0.5");
+  ApplySetting(config, "bounce_max_radius", "64");
+  ApplySetting(config, "bounce_thickness", "0.1");
+  CHECK(config.diffuseBounce.slices == 3);
+  CHECK(config.diffuseBounce.steps == 8);
+  CHECK(config.diffuseBounce.radius == 0.5f);
+  CHECK(config.diffuseBounce.maxRadiusPixels == 64.0f);
+  CHECK(config.diffuseBounce.thickness == 0.1f);
+  auto error = [](std::string_view name, std::string_view text) {
+    FrameConfig c;
+    return test::InputErrorOf([&] { ApplySetting(c, name, text); });
+  };
+  CHECK(error("effects.bounce", "maybe") == "--bounce: must be one of auto, on, off, got 'maybe'");
+  CHECK(error("bounce_slices", "0") == "--bounce-slices: must be in [1, 16], got 0");
+  CHECK(error("bounce_slices", "17") == "--bounce-slices: must be in [1, 16], got 17");
+  CHECK(error("bounce_steps", "33") == "--bounce-steps: must be in [1, 32], got 33");
+  CHECK(error("bounce_steps", "2.5") == "--bounce-steps: must be an integer, got 2.5");
+  CHECK(error("bounce_radius", "-1") == "--bounce-radius: must be >= 0, got -1");
+  CHECK(error("bounce_radius", "inf") == "--bounce-radius: must be a finite number, got inf");
+  CHECK(error("bounce_max_radius", "-0.5") == "--bounce-max-radius: must be >= 0, got -0.5");
+  CHECK(error("bounce_thickness", "thick") == "--bounce-thickness: must be a number, got 'thick'");
+  // In a scene file: "effects": {"bounce": false}, and the knobs by name.
+  test::ScratchDir dir("frame-config-bounce");
+  const FrameConfig file = ConfigFor(dir, R"({ "effects": { "bounce": false }, "bounce_steps": 16 })");
+  CHECK(file.bounce == EffectMode::kOff);
+  CHECK(file.diffuseBounce.steps == 16);
+  CHECK_THAT(test::InputErrorOf([&] { ConfigFor(dir, R"({ "bounce_slices": 0 })"); }),
+             Catch::Contains("render.bounce_slices must be in [1, 16], got 0"));
+}
+
 TEST_CASE("a scene file's render block sets the frame configuration", "[frame_config]") {
   test::ScratchDir dir("frame-config-render");
   const FrameConfig config = ConfigFor(dir, R"({ "width": 320, "height": 200, "exposure_ev": -1.5, "tonemap": "clamp",

@@ -197,6 +197,7 @@ TEST_CASE("frame dump: docs/pipeline.md's table names every layer of the catalog
     if (dot != std::string::npos && name.size() - dot == 2) name = name.substr(0, dot + 1);
     if (layer.part == DumpPart::kShadowMap) name = "shadowmap:" + name;
     if (layer.part == DumpPart::kSkyVolume) name = "skyvolume:" + name;
+    if (layer.part == DumpPart::kBounceHalf) name = "bounce.half:" + name;
     if (layer.part == DumpPart::kHiZLevels) name = "hiz.L:";
     if (layer.part == DumpPart::kPyramidLevels) name = "pyramid.L:";
     CAPTURE(layer.name, name);

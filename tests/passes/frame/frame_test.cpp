@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "passes/frame/memory.h"
 #include "tests/passes/test_scenes.h"
@@ -34,9 +35,9 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
   FrameConfig config = test::ConfigOf(scene);
   const Frame all = RenderFrame(scene, config);
   CHECK(StageNames(all) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "shadow map",
-                                                    "blocker search", "shadow filter", "direct light", "hi-z",
-                                                    "colour pyramid", "ssr trace", "cone trace", "composite",
-                                                    "tonemap", "frame total"});
+                                                    "blocker search", "shadow filter", "direct light", "bounce", "hi-z",
+                                                    "colour pyramid", "ssr trace", "cone trace", "composite", "tonemap",
+                                                    "frame total"});
   REQUIRE(all.stats.tonemap);
   CHECK(all.stats.tonemap->pixels == 48 * 32);
   REQUIRE(all.stats.gbuffer);
@@ -46,6 +47,7 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
 
   config.shadows = EffectMode::kOff;
   config.reflections = EffectMode::kOff;
+  config.bounce = EffectMode::kOff;
   const Frame direct = RenderFrame(scene, config);
   CHECK(StageNames(direct) ==
         std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "direct light", "tonemap",
@@ -98,6 +100,44 @@ TEST_CASE("a frame that frees each buffer after its last reader gives the same i
   CHECK(freed.composite.indirect.c[0].xsize() == 0);
   CHECK_FALSE(freed.shadowMap);
   CHECK(freed.gbuffer.visibility.triangle.xsize() == 0);
+}
+
+TEST_CASE("a frame with the bounce and the sky light gives the same bytes at 1, 2 and 3 threads, freed or kept",
+          "[frame][determinism]") {
+  test::TestScene scene = BoxOnGlossyGround(67, 45);
+  scene.background = glm::vec3(0.2f, 0.3f, 0.4f);
+  const FrameConfig config = test::ConfigOf(scene);
+  std::optional<Frame> first;
+  for (int threads : {1, 2, 3}) {
+    CAPTURE(threads);
+    const ThreadLimit limit(threads);
+    Frame kept = RenderFrame(scene, config, BufferLifetime::kKeepAll);
+    REQUIRE(kept.bounce);
+    REQUIRE(kept.sky);
+    REQUIRE(kept.reflections);
+    const Frame freed = RenderFrame(scene, config, BufferLifetime::kUntilLastReader);
+    CHECK(freed.display.rgb == kept.display.rgb);
+    Frame reused;
+    for (int i = 0; i < 2; ++i)
+      RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, reused, BufferLifetime::kKeepForReuse);
+    CHECK(reused.display.rgb == kept.display.rgb);
+    for (int c = 0; c < 3; ++c) {
+      CHECK(test::SameBytes(freed.Result().c[c], kept.Result().c[c]));
+      CHECK(test::SameBytes(reused.Result().c[c], kept.Result().c[c]));
+    }
+    if (!first) {
+      first = std::move(kept);
+      continue;
+    }
+    CHECK(kept.display.rgb == first->display.rgb);
+    CHECK(test::SameBytes(kept.diffuseBounce.visibility, first->diffuseBounce.visibility));
+    CHECK(test::SameBytes(kept.diffuseBounce.half.visibility, first->diffuseBounce.half.visibility));
+    for (int c = 0; c < 3; ++c) {
+      CHECK(test::SameBytes(kept.diffuseBounce.bounce.c[c], first->diffuseBounce.bounce.c[c]));
+      CHECK(test::SameBytes(kept.composite.indirect.c[c], first->composite.indirect.c[c]));
+      CHECK(test::SameBytes(kept.Result().c[c], first->Result().c[c]));
+    }
+  }
 }
 
 // A rough box on rough ground, and a glossy strip in front of the box that reflects it: a small

@@ -45,6 +45,8 @@ TEST_CASE("the memory estimate and the frame's release schedule agree, step by s
       // Every effect runs on this scene, so the estimate's "may run" is what ran.
       REQUIRE(frame.shadows);
       REQUIRE(frame.reflections);
+      REQUIRE(frame.sky);
+      REQUIRE(frame.bounce);
       const std::vector<size_t> estimated = EstimatedFrameBytes(estimate);
       REQUIRE(held.size() == FrameSteps().size());
       for (size_t step = 0; step < held.size(); ++step) {

@@ -154,8 +154,84 @@ TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]
   const std::string text = ExplainPlan(counted);
   CHECK(text.find("shadows: run, visible pixels face the shadow-casting light; needed in") != std::string::npos);
   CHECK(text.find("reflections: run") != std::string::npos);
-  CHECK(text.find("hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
+  // The sun lights the floor, so the bounce runs, and with it the composite on the whole image.
+  CHECK(text.find("hi-z, colour pyramid run; ssr trace, cone trace run on those " +
                   std::to_string(counted.reflections.tiles) + " tiles only") != std::string::npos);
+  CHECK(text.find("sky: skipped, the environment is black\n    sky light does not run\n") != std::string::npos);
+  CHECK(text.find("bounce: run, lights reach visible surfaces\n    bounce runs at half resolution on every pixel "
+                  "with geometry; the composite adds its light on the diffuse albedo\n") != std::string::npos);
+  // Without the bounce, the composite works on the traced tiles alone.
+  FrameConfig config = test::ConfigOf(scene);
+  config.bounce = EffectMode::kOff;
+  const std::string withoutBounce = ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.view));
+  CHECK(withoutBounce.find("hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
+                           std::to_string(counted.reflections.tiles) + " tiles only") != std::string::npos);
+  CHECK(withoutBounce.find("bounce: skipped, switched off\n    bounce does not run\n") != std::string::npos);
+}
+
+TEST_CASE("frame plan: the bounce runs where something on screen is lit, and costs nothing where nothing is",
+          "[plan]") {
+  test::TestScene scene = RoughFloor();
+  AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.9f);
+  const auto render = [&](EffectMode bounce) {
+    FrameConfig config = test::ConfigOf(scene);
+    config.bounce = bounce;
+    return RenderFrame(scene, config);
+  };
+  SECTION("a light reaches visible surfaces") {
+    const Frame frame = render(EffectMode::kAuto);
+    CHECK(frame.plan.bounce.run);
+    CHECK(frame.plan.bounce.why == "lights reach visible surfaces");
+    REQUIRE(frame.stats.bounce);
+    CHECK(frame.stats.bounce->pixels == size_t(kWidth) * kHeight);
+    REQUIRE(frame.stats.composite);  // the bounce's light reaches the image through the composite
+    // The box's light bounces onto the floor beside it, and the floor's onto the box.
+    CHECK_FALSE(test::SameBytes(frame.Result().c[0], frame.direct.radiance.c[0]));
+    const Frame off = render(EffectMode::kOff);
+    CHECK_FALSE(off.plan.bounce.run);
+    CHECK(off.plan.bounce.why == "switched off");
+    CHECK_FALSE(off.stats.bounce);
+    CHECK_FALSE(off.stats.composite);
+  }
+  SECTION("the sky alone lights them") {
+    scene.directionalLights.clear();
+    scene.background = glm::vec3(0.2f, 0.3f, 0.4f);
+    const Frame frame = render(EffectMode::kAuto);
+    CHECK(frame.plan.sky.run);
+    CHECK(frame.plan.bounce.run);
+    CHECK(frame.plan.bounce.why == "the sky lights the visible surfaces");
+    CHECK(ExplainPlan(frame.plan).find("and darkens the sky's diffuse light by its visibility") != std::string::npos);
+    // The box and the floor occlude each other's sky and light each other.
+    const Frame off = render(EffectMode::kOff);
+    CHECK_FALSE(test::SameBytes(frame.Result().c[2], off.Result().c[2]));
+  }
+  SECTION("nothing is lit") {
+    // The sun shines from below the floor, and the environment is black.
+    scene.directionalLights[0].direction = glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f));
+    const Frame frame = render(EffectMode::kAuto);
+    CHECK_FALSE(frame.plan.bounce.run);
+    CHECK(frame.plan.bounce.why ==
+          "nothing on screen is lit (no light reaches a visible pixel and the sky light does not run)");
+    CHECK(ExplainPlan(frame.plan).find("bounce: skipped, nothing on screen is lit") != std::string::npos);
+    // It costs nothing: the pass does not run and holds no memory, and neither does the composite.
+    CHECK_FALSE(frame.stats.bounce);
+    CHECK_FALSE(frame.stats.composite);
+    CHECK(frame.diffuseBounce.bounce.c[0].xsize() == 0);
+    CHECK(frame.diffuseBounce.visibility.xsize() == 0);
+    CHECK(frame.diffuseBounce.half.depth.xsize() == 0);
+    // Forced on, it would have added nothing.
+    const Frame forced = render(EffectMode::kOn);
+    CHECK(forced.plan.bounce.why == "switched on");
+    REQUIRE(forced.stats.bounce);
+    CHECK(forced.display.rgb == frame.display.rgb);
+    for (int c = 0; c < 3; ++c) CHECK(test::SameBytes(forced.Result().c[c], frame.Result().c[c]));
+  }
+  SECTION("no pixel has geometry") {
+    scene.mesh = {};
+    const Frame frame = render(EffectMode::kAuto);
+    CHECK_FALSE(frame.plan.bounce.run);
+    CHECK(frame.plan.bounce.why == "no pixel has geometry");
+  }
 }
 
 TEST_CASE("frame plan: the tile counts' twin gives the scalar counts on every target", "[plan][simd]") {
@@ -222,7 +298,9 @@ TEST_CASE("frame plan: the trace, cone and composite skipping tiles give the byt
   const auto [width, height] = GENERATE(std::pair{kWidth, kHeight}, std::pair{101, 70});
   test::TestScene scene = RoughFloor(width, height);
   AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
-  const FrameConfig config = test::ConfigOf(scene);
+  // Without the bounce (and the sky), whose light reaches every pixel, the composite skips tiles too.
+  FrameConfig config = test::ConfigOf(scene);
+  config.bounce = EffectMode::kOff;
   const Frame frame = RenderFrame(scene, config);  // every buffer kept, the passes given the tiles
   REQUIRE(frame.reflections);
   REQUIRE(frame.plan.reflections.tiles < frame.plan.tiles);
