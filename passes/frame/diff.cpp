@@ -495,7 +495,8 @@ LayerTolerance DiffThresholds::For(const std::string& layerId) const {
   return exact;
 }
 
-DiffThresholds LoadDiffThresholds(const std::filesystem::path& file) {
+DiffThresholds LoadDiffThresholds(const std::filesystem::path& file, int extendsDepth) {
+  constexpr int kMaxExtends = 8;  // a chain this long is a loop
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the thresholds file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -520,6 +521,15 @@ DiffThresholds LoadDiffThresholds(const std::filesystem::path& file) {
       throw InputError(file, line, "layers[" + std::to_string(index) + "]: must be an object with a string \"match\"");
     thresholds.rules.emplace_back(rule["match"].get<std::string>(), ParseTolerance(rule, file, line, index));
     ++index;
+  }
+  // A file that loosens or tightens a few layers of another: that file's rules after its own.
+  if (json.contains("extends")) {
+    if (!json["extends"].is_string()) throw InputError(file, "\"extends\" must be a thresholds file's path");
+    const std::filesystem::path base = file.parent_path() / json["extends"].get<std::string>();
+    if (extendsDepth >= kMaxExtends)
+      throw InputError(file, "extends more than " + std::to_string(kMaxExtends) + " files");
+    const DiffThresholds extended = LoadDiffThresholds(base, extendsDepth + 1);
+    thresholds.rules.insert(thresholds.rules.end(), extended.rules.begin(), extended.rules.end());
   }
   return thresholds;
 }

@@ -46,7 +46,9 @@ struct DiffThresholds {
 };
 // Reads a thresholds file (JSON, the format of data/diff_thresholds.json). Throws InputError
 // naming the file and the key for anything malformed.
-DiffThresholds LoadDiffThresholds(const std::filesystem::path& file);
+// "extends": "OTHER.json" (relative to the file) appends OTHER's rules after the file's own, so a
+// file can change a few layers of another; `extendsDepth` counts the files extended so far.
+DiffThresholds LoadDiffThresholds(const std::filesystem::path& file, int extendsDepth = 0);
 
 // How far from an edge (the exact one, through the unsnapped vertices) a pixel centre may be and
 // still be covered differently by two rasterizers: two steps of an 8-bit sub-pixel grid. A

@@ -174,6 +174,27 @@ TEST_CASE("diff: coverage differences within rounding distance of an edge are al
   CHECK_FALSE(DiffDumps(oracle, port, thresholds, geometry).ok);
 }
 
+TEST_CASE("diff: a thresholds file extends another: its own rules first, then the other's", "[diff]") {
+  const test::ScratchDir scratch("diff-extends");
+  test::WriteText(scratch / "base.json",
+                  R"({"layers": [{"match": "direct.*", "relative": 0.5}, {"match": "hiz.*", "ulp": 4}]})");
+  test::WriteText(scratch / "mine.json",
+                  R"({"extends": "base.json", "layers": [{"match": "direct.R", "absolute": 2}]})");
+  const DiffThresholds rules = LoadDiffThresholds(scratch / "mine.json");
+  REQUIRE(rules.rules.size() == 3);
+  CHECK(rules.For("direct.R").absolute == 2.0);
+  CHECK(rules.For("direct.G").relative == 0.5);
+  CHECK(rules.For("hiz.0:Y").ulp == 4);
+  // The shipped file for conventional G-buffers extends the shipped rules.
+  const DiffThresholds conventional =
+      LoadDiffThresholds(test::SourceDir() / "data" / "diff_thresholds_conventional.json");
+  CHECK(conventional.rules.size() > ShippedThresholds().rules.size());
+  test::WriteText(scratch / "loop.json", R"({"extends": "loop.json", "layers": []})");
+  CHECK_THROWS_AS(LoadDiffThresholds(scratch / "loop.json"), InputError);
+  test::WriteText(scratch / "bad.json", R"({"extends": 3, "layers": []})");
+  CHECK_THROWS_AS(LoadDiffThresholds(scratch / "bad.json"), InputError);
+}
+
 // The rule's distance follows the rasterizer's sub-pixel precision: an edge 0.03 px beside the
 // centres of column 10 is beyond two 8-bit steps (1/128 px), within two 4-bit ones (1/8 px).
 TEST_CASE("diff: the coverage distance is two steps of the port's sub-pixel grid", "[diff][coverage]") {
