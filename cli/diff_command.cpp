@@ -26,6 +26,7 @@ struct DiffOptions {
   std::string scene;
   std::string maxMemory;
   int threads = 0;
+  int subpixelBits = 8;
   bool verbose = false;
 };
 
@@ -153,8 +154,12 @@ int Diff(const DiffOptions& options) {
     scene = LoadDumpScene(oracle, options.oracle, options.scene);
     view = MakePerspective(scene->scene.camera, scene->config.width, scene->config.height);
   }
+  const std::optional<ViewProjection> shadowView =
+      scene ? DiffShadowView(oracle, port, scene->scene, scene->config) : std::nullopt;
   std::optional<CoverageGeometry> geometry;
-  if (scene) geometry.emplace(CoverageGeometry{scene->scene.mesh, *view});
+  if (scene)
+    geometry.emplace(CoverageGeometry{scene->scene.mesh, *view, CoverageRounding(options.subpixelBits),
+                                      shadowView ? &*shadowView : nullptr});
   const DiffReport report = DiffDumps(oracle, port, thresholds, geometry);
 
   std::printf("%s (port) against %s (oracle), thresholds %s\n", options.port.c_str(), options.oracle.c_str(),
@@ -223,6 +228,11 @@ Command AddDiffCommand(CLI::App& app) {
   command->add_option("--scene", options->scene,
                       "Scene whose geometry judges coverage differences at triangle edges. Default: the scene the "
                       "oracle's dump names.");
+  command
+      ->add_option("--subpixel-bits", options->subpixelBits,
+                   "The port's rasterizer's sub-pixel precision (GL_SUBPIXEL_BITS): a pixel whose centre lies "
+                   "within two of its sub-pixel steps of a triangle edge may be covered differently. Default: 8.")
+      ->check(CLI::Range(1, 16));
   command->add_flag("-v,--verbose", options->verbose,
                     "Print every layer; by default only those that fail or are close to their tolerance (over half "
                     "of it used).");

@@ -307,6 +307,24 @@ std::vector<size_t> ShadowCastingLights(const Scene& scene) {
   return lights;
 }
 
+ViewProjection FitShadowMapView(const Scene& scene, const ViewProjection& camera, const GBuffer& gbuffer,
+                                size_t lightIndex, const ShadowMapParams& params, KernelPath kernels,
+                                size_t& receiverCount) {
+  const PreparedLight light = PrepareLights(scene, glm::mat4(1.0f))[lightIndex];  // world space
+  const size_t directionalCount = scene.directionalLights.size();
+  // One sweep counts the receivers and bounds them in the directional light's view (a spot's view is
+  // fitted to its cone instead, and its bounds go unused).
+  const glm::mat4 rotation = light.isSpot ? glm::mat4(1.0f) : DirectionalRotation(light);
+  const Receivers receivers =
+      ScanReceivers(gbuffer, ReceiverPositions(camera, rotation * glm::inverse(camera.view)), kernels);
+  receiverCount = receivers.count;
+  if (light.isSpot) return FitSpot(light, scene.spotLights[lightIndex - directionalCount], scene, params);
+  if (receivers.count > 0) return FitDirectional(light, scene, receivers.bounds, params);
+  // Nothing receives a shadow: a unit window at the origin, only so the output is a valid view.
+  return MakeOrthographic(glm::vec3(0.0f), light.direction, UpHint(light.direction), 1.0f, 1.0f, 0.0f, 1.0f,
+                          params.resolution, params.resolution);
+}
+
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
                             Plane<uint32_t>& shadowTerm, KernelPath kernels) {
   const Scene& scene = in.scene;
@@ -331,22 +349,7 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   ShadowMapStats stats;
   Stopwatch stopwatch;
 
-  // One sweep counts the receivers and bounds them in the directional light's view (a spot's view is
-  // fitted to its cone instead, and its bounds go unused).
-  const glm::mat4 rotation = light.isSpot ? glm::mat4(1.0f) : DirectionalRotation(light);
-  const Receivers receivers =
-      ScanReceivers(gbuffer, ReceiverPositions(in.camera, rotation * glm::inverse(in.camera.view)), kernels);
-  stats.pixels = receivers.count;
-
-  if (light.isSpot) {
-    out.lightView = FitSpot(light, scene.spotLights[in.light - directionalCount], scene, params);
-  } else if (stats.pixels > 0) {
-    out.lightView = FitDirectional(light, scene, receivers.bounds, params);
-  } else {
-    // Nothing receives a shadow: a unit window at the origin, only so the output is a valid view.
-    out.lightView = MakeOrthographic(glm::vec3(0.0f), light.direction, UpHint(light.direction), 1.0f, 1.0f, 0.0f,
-                                     1.0f, params.resolution, params.resolution);
-  }
+  out.lightView = FitShadowMapView(scene, in.camera, gbuffer, in.light, params, kernels, stats.pixels);
   stats.fitMs = stopwatch.Lap();
 
   // The rasterizer overwrites every texel, so a map of the right size from an earlier frame is

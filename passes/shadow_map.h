@@ -71,6 +71,12 @@ struct ShadowMapStats {
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
                             Plane<uint32_t>& shadowTerm, KernelPath kernels = KernelPath::kSimd);
 
+// §Light camera alone: the view RunShadowMap rasterizes light `light` (PrepareLights order) from,
+// fitted to the receivers of the G-buffer's word 2 (seen through `camera`), whose count goes to
+// `receivers`; `kernels` picks the receivers' row kernel (both give the same view).
+ViewProjection FitShadowMapView(const Scene& scene, const ViewProjection& camera, const GBuffer& gbuffer, size_t light,
+                                const ShadowMapParams& params, KernelPath kernels, size_t& receivers);
+
 // Indices (PrepareLights order) of the lights that cast shadows, in that order. The first one is the
 // light whose shadow term the G-buffer's word 3 holds.
 std::vector<size_t> ShadowCastingLights(const Scene& scene);

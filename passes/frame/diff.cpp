@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -16,6 +18,7 @@
 #include "core/parallel.h"
 #include "core/raster/raster.h"
 #include "passes/frame/dump.h"
+#include "passes/shadow_map.h"
 
 namespace ssgi {
 namespace {
@@ -51,30 +54,79 @@ double SegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   return glm::length(p - (a + t * ab));
 }
 
-// Which pixels lie within kCoverageRounding of an edge of a triangle the oracle draws there or next
-// to them, or the port draws there: computed on first asking, per pixel. Bands of several layers
-// may ask about one pixel at once; each computes the same answer, so the memo is relaxed atomics.
-class EdgePixels {
+// The part of triangle `t` in front of the near plane and behind the far plane (clip w - z >= 0,
+// z >= 0, as the oracle clips it), in pixels on the view's y-down screen; returns its vertex count
+// (0 to 5).
+int ScreenPolygon(const Mesh& mesh, const ViewProjection& view, uint32_t t, glm::dvec2* out) {
+  glm::dvec4 polygon[2][5];
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3 p = mesh.positions[mesh.indices[size_t(t) * 3 + size_t(k)]];
+    polygon[0][k] = glm::dvec4(view.viewProjection * glm::vec4(p, 1.0f));
+  }
+  int count = 3, current = 0;
+  for (int plane = 0; plane < 2 && count > 0; ++plane) {
+    const auto distance = [plane](const glm::dvec4& v) { return plane == 0 ? v.w - v.z : v.z; };
+    int written = 0;
+    for (int i = 0; i < count; ++i) {
+      const glm::dvec4& a = polygon[current][i];
+      const glm::dvec4& b = polygon[current][(i + 1) % count];
+      const double da = distance(a), db = distance(b);
+      if (da >= 0.0) polygon[current ^ 1][written++] = a;
+      if ((da >= 0.0) != (db >= 0.0)) polygon[current ^ 1][written++] = a + (b - a) * (da / (da - db));
+    }
+    count = written;
+    current ^= 1;
+  }
+  for (int k = 0; k < count; ++k) {
+    const glm::dvec4& v = polygon[current][k];
+    out[k] = {(v.x / v.w * 0.5 + 0.5) * view.width, (0.5 - v.y / v.w * 0.5) * view.height};
+  }
+  return count;
+}
+
+// How far a pixel's centre lies from the nearest edge of a triangle that may cover it, in pixels,
+// and how far is within rounding.
+class EdgeDistances {
+ public:
+  explicit EdgeDistances(double rounding) : rounding_(rounding) {}
+  virtual ~EdgeDistances() = default;
+  double Rounding() const { return rounding_; }
+  virtual double Distance(int x, int y) const = 0;
+
+ private:
+  double rounding_;
+};
+
+// How far each pixel's centre lies from the nearest edge of a triangle the oracle draws there or
+// next to it, or the port draws there (the drawn part of it: clipped at the near plane), in pixels:
+// computed on first asking, per pixel. Bands of several layers may ask about one pixel at once; each
+// computes the same answer, so the memo is relaxed atomics.
+class EdgePixels : public EdgeDistances {
  public:
   EdgePixels(const CoverageGeometry& geometry, const ExrLayer& oracleTriangles, const ExrLayer* portTriangles)
-      : geometry_(geometry), oracle_(oracleTriangles), port_(portTriangles), known_(oracleTriangles.samples.size()) {
+      : EdgeDistances(geometry.rounding),
+        geometry_(geometry),
+        oracle_(oracleTriangles),
+        port_(portTriangles),
+        known_(oracleTriangles.samples.size()) {
     SSGI_CHECK_EQ(oracle_.samples.size(), size_t(oracle_.width) * size_t(oracle_.height));
+    for (std::atomic<uint32_t>& distance : known_) distance.store(kUnknown, std::memory_order_relaxed);
   }
 
-  bool At(int x, int y) const {
-    std::atomic<int8_t>& known = known_[size_t(y) * size_t(oracle_.width) + size_t(x)];
-    int8_t state = known.load(std::memory_order_relaxed);
-    if (state == kUnknown) {
-      state = Classify(x, y) ? kEdge : kInterior;
-      known.store(state, std::memory_order_relaxed);
+  double Distance(int x, int y) const override {
+    std::atomic<uint32_t>& known = known_[size_t(y) * size_t(oracle_.width) + size_t(x)];
+    uint32_t bits = known.load(std::memory_order_relaxed);
+    if (bits == kUnknown) {
+      bits = std::bit_cast<uint32_t>(float(Measure(x, y)));
+      known.store(bits, std::memory_order_relaxed);
     }
-    return state == kEdge;
+    return double(std::bit_cast<float>(bits));
   }
 
  private:
-  static constexpr int8_t kUnknown = 0, kInterior = 1, kEdge = 2;
+  static constexpr uint32_t kUnknown = 0xFFFFFFFFu;  // a NaN no distance is
 
-  bool Classify(int x, int y) const {
+  double Measure(int x, int y) const {
     // The triangles of the 3x3 neighbourhood and the port's, each once.
     uint32_t triangles[10];
     size_t count = 0;
@@ -89,29 +141,89 @@ class EdgePixels {
       }
     if (port_ != nullptr) add(port_->samples[size_t(y) * size_t(oracle_.width) + size_t(x)]);
     const glm::dvec2 centre(x + 0.5, y + 0.5);
+    double nearest = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < count; ++i) {
       const uint32_t t = triangles[i];
       if (t == kNoTriangle || size_t(t) >= geometry_.mesh.TriangleCount()) continue;
-      glm::dvec2 corners[3];
-      for (int k = 0; k < 3; ++k) {
-        const glm::vec3 p = geometry_.mesh.positions[geometry_.mesh.indices[size_t(t) * 3 + size_t(k)]];
-        const glm::dvec4 clip = glm::dvec4(geometry_.view.viewProjection * glm::vec4(p, 1.0f));
-        // A vertex behind the camera: the drawn triangle is clipped, its edges are not these; its
-        // pixels are not judged.
-        if (!(clip.w > 0.0)) return true;
-        corners[k] = {(clip.x / clip.w * 0.5 + 0.5) * geometry_.view.width,
-                      (0.5 - clip.y / clip.w * 0.5) * geometry_.view.height};
-      }
-      for (int k = 0; k < 3; ++k)
-        if (SegmentDistance(centre, corners[k], corners[(k + 1) % 3]) <= kCoverageRounding) return true;
+      glm::dvec2 corners[5];
+      const int n = ScreenPolygon(geometry_.mesh, geometry_.view, t, corners);
+      for (int k = 0; k < n; ++k)
+        nearest = std::min(nearest, SegmentDistance(centre, corners[k], corners[(k + 1) % n]));
     }
-    return false;
+    return nearest;
   }
 
   const CoverageGeometry& geometry_;
   const ExrLayer& oracle_;
   const ExrLayer* port_;
-  mutable std::vector<std::atomic<int8_t>> known_;
+  mutable std::vector<std::atomic<uint32_t>> known_;
+};
+
+// How far each texel's centre lies from the nearest edge of any triangle of the mesh seen from
+// `view` (its part between the near and far planes): for a target with no triangle index, such as
+// the shadow map, where every triangle is drawn with both faces. The triangles are binned into
+// cells of kCell texels on the first question, which comes only where two maps differ.
+class MeshEdges : public EdgeDistances {
+ public:
+  MeshEdges(const Mesh& mesh, const ViewProjection& view, double rounding)
+      : EdgeDistances(rounding),
+        mesh_(mesh),
+        view_(view),
+        cellsX_((view.width + kCell - 1) / kCell),
+        cellsY_((view.height + kCell - 1) / kCell) {}
+
+  double Distance(int x, int y) const override {
+    std::call_once(binned_, [this] { Bin(); });
+    const glm::dvec2 centre(x + 0.5, y + 0.5);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const uint32_t p : cells_[size_t(y / kCell) * size_t(cellsX_) + size_t(x / kCell)]) {
+      const Polygon& polygon = polygons_[p];
+      for (int k = 0; k < polygon.count; ++k)
+        nearest =
+            std::min(nearest, SegmentDistance(centre, polygon.corners[k], polygon.corners[(k + 1) % polygon.count]));
+    }
+    return nearest;
+  }
+
+ private:
+  static constexpr int kCell = 32;
+  struct Polygon {
+    glm::dvec2 corners[5];
+    int count;
+  };
+
+  // Each drawn polygon into the cells its bounds, widened by the rounding, overlap.
+  void Bin() const {
+    cells_.resize(size_t(cellsX_) * size_t(cellsY_));
+    for (uint32_t t = 0; t < mesh_.TriangleCount(); ++t) {
+      Polygon polygon;
+      polygon.count = ScreenPolygon(mesh_, view_, t, polygon.corners);
+      if (polygon.count < 3) continue;
+      glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+      for (int k = 0; k < polygon.count; ++k) {
+        lo = glm::min(lo, polygon.corners[k]);
+        hi = glm::max(hi, polygon.corners[k]);
+      }
+      const auto cell = [&](double v, int cells) {
+        return int(std::clamp(std::floor(v / kCell), 0.0, double(cells - 1)));
+      };
+      if (!(hi.x >= -Rounding() && hi.y >= -Rounding() && lo.x <= view_.width + Rounding() &&
+            lo.y <= view_.height + Rounding()))
+        continue;
+      const uint32_t index = uint32_t(polygons_.size());
+      polygons_.push_back(polygon);
+      for (int cy = cell(lo.y - Rounding(), cellsY_); cy <= cell(hi.y + Rounding(), cellsY_); ++cy)
+        for (int cx = cell(lo.x - Rounding(), cellsX_); cx <= cell(hi.x + Rounding(), cellsX_); ++cx)
+          cells_[size_t(cy) * size_t(cellsX_) + size_t(cx)].push_back(index);
+    }
+  }
+
+  const Mesh& mesh_;
+  const ViewProjection& view_;
+  int cellsX_, cellsY_;
+  mutable std::once_flag binned_;
+  mutable std::vector<Polygon> polygons_;
+  mutable std::vector<std::vector<uint32_t>> cells_;
 };
 
 // Whether sample a (port) is within tolerance of b (oracle), and the differences measured.
@@ -168,11 +280,12 @@ struct BandDiff {
   uint64_t maxUlp = 0;
   bool ulpMeasured = false, hardFailed = false;
   size_t samples = 0, overTolerance = 0, edgePixels = 0;
+  double maxEdgeDistance = 0.0;
   int worstX = -1, worstY = -1;
 };
 
 BandDiff CompareBand(const ExrLayer& oracle, const ExrLayer& port, const LayerTolerance& tolerance,
-                     const EdgePixels* edges, int yBegin, int yEnd) {
+                     const EdgeDistances* edges, int yBegin, int yEnd) {
   BandDiff band;
   for (int y = yBegin; y < yEnd; ++y) {
     for (int x = 0; x < oracle.width; ++x) {
@@ -186,9 +299,13 @@ BandDiff CompareBand(const ExrLayer& oracle, const ExrLayer& port, const LayerTo
         ++band.samples;
         continue;
       }
-      if (tolerance.coverage && edges != nullptr && edges->At(x, y)) {
-        ++band.edgePixels;
-        continue;
+      if (tolerance.coverage && edges != nullptr) {
+        const double distance = edges->Distance(x, y);
+        if (distance <= edges->Rounding()) {
+          ++band.edgePixels;
+          band.maxEdgeDistance = std::max(band.maxEdgeDistance, distance);
+          continue;
+        }
       }
       ++band.samples;
       band.maxAbsolute = std::max(band.maxAbsolute, d.absolute);
@@ -252,6 +369,7 @@ void CombineBands(const std::vector<BandDiff>& bands, const LayerTolerance& tole
     diff.samples += band.samples;
     diff.overTolerance += band.overTolerance;
     diff.edgePixels += band.edgePixels;
+    diff.maxEdgeDistance = std::max(diff.maxEdgeDistance, band.maxEdgeDistance);
     diff.maxAbsolute = std::max(diff.maxAbsolute, band.maxAbsolute);
     diff.maxUlp = std::max(diff.maxUlp, band.maxUlp);
     diff.toleranceUsed = std::max(diff.toleranceUsed, band.toleranceUsed);
@@ -377,7 +495,8 @@ LayerTolerance DiffThresholds::For(const std::string& layerId) const {
   return exact;
 }
 
-DiffThresholds LoadDiffThresholds(const std::filesystem::path& file) {
+DiffThresholds LoadDiffThresholds(const std::filesystem::path& file, int extendsDepth) {
+  constexpr int kMaxExtends = 8;  // a chain this long is a loop
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(file, "cannot open the thresholds file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -403,6 +522,15 @@ DiffThresholds LoadDiffThresholds(const std::filesystem::path& file) {
     thresholds.rules.emplace_back(rule["match"].get<std::string>(), ParseTolerance(rule, file, line, index));
     ++index;
   }
+  // A file that loosens or tightens a few layers of another: that file's rules after its own.
+  if (json.contains("extends")) {
+    if (!json["extends"].is_string()) throw InputError(file, "\"extends\" must be a thresholds file's path");
+    const std::filesystem::path base = file.parent_path() / json["extends"].get<std::string>();
+    if (extendsDepth >= kMaxExtends)
+      throw InputError(file, "extends more than " + std::to_string(kMaxExtends) + " files");
+    const DiffThresholds extended = LoadDiffThresholds(base, extendsDepth + 1);
+    thresholds.rules.insert(thresholds.rules.end(), extended.rules.begin(), extended.rules.end());
+  }
   return thresholds;
 }
 
@@ -411,6 +539,9 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   DiffReport report;
   const std::string image = DumpPartName(DumpPart::kImage, 0);
   std::optional<EdgePixels> edges;
+  std::optional<MeshEdges> shadowEdges;
+  if (geometry && geometry->shadowView != nullptr)
+    shadowEdges.emplace(geometry->mesh, *geometry->shadowView, geometry->rounding);
   if (geometry) {
     if (const ExrLayer* triangles = FindDumpLayer(oracle, image, "raster.triangle")) {
       // The port's triangles only where they can be indexed like the oracle's.
@@ -426,6 +557,7 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
     const ExrLayer* oracle = nullptr;
     const ExrLayer* port = nullptr;
     LayerTolerance tolerance;
+    const EdgeDistances* edges = nullptr;  // where coverage is judged
   };
   std::vector<Pair> pairs;
   std::set<std::pair<std::string, std::string>> seen;
@@ -436,7 +568,13 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
     const std::string id = LayerId(part, name);
     const ExrLayer* b = FindDumpLayer(port, part, name);
     report.layers.push_back(CheckLayerPair(id, pass, *a, b));
-    pairs.push_back({a, b, thresholds.For(id)});
+    const EdgeDistances* layerEdges = nullptr;
+    if (part == DumpPartName(DumpPart::kShadowMap, 0)) {
+      if (shadowEdges) layerEdges = &*shadowEdges;
+    } else if (edges) {
+      layerEdges = &*edges;
+    }
+    pairs.push_back({a, b, thresholds.For(id), layerEdges});
     return true;
   };
   const std::vector<DumpLayer>& catalogue = DumpLayers();
@@ -477,8 +615,7 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   std::vector<BandDiff> results(bands.size());
   ParallelFor("diff layers", bands.size(), [&](size_t i) {
     const Pair& pair = pairs[bands[i].layer];
-    results[i] = CompareBand(*pair.oracle, *pair.port, pair.tolerance, edges ? &*edges : nullptr, bands[i].yBegin,
-                             bands[i].yEnd);
+    results[i] = CompareBand(*pair.oracle, *pair.port, pair.tolerance, pair.edges, bands[i].yBegin, bands[i].yEnd);
   });
   for (size_t l = 0; l < report.layers.size(); ++l) {
     if (!report.layers[l].compared) continue;
@@ -506,11 +643,33 @@ DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThres
   return report;
 }
 
+std::optional<ViewProjection> DiffShadowView(const ExrFile& oracle, const ExrFile& port, const Scene& scene,
+                                             const FrameConfig& config) {
+  const std::string image = DumpPartName(DumpPart::kImage, 0), shadowMap = DumpPartName(DumpPart::kShadowMap, 0);
+  if (FindDumpLayer(oracle, shadowMap, "depthKey") == nullptr || FindDumpLayer(port, shadowMap, "depthKey") == nullptr)
+    return std::nullopt;
+  const std::vector<size_t> lights = ShadowCastingLights(scene);
+  const ExrLayer* word2 = FindDumpLayer(oracle, image, "gbuffer.word2");
+  if (word2 == nullptr || word2->samples.empty()) word2 = FindDumpLayer(port, image, "gbuffer.word2");
+  if (lights.empty() || word2 == nullptr || word2->samples.empty() || word2->isUint == false) return std::nullopt;
+  GBuffer gbuffer = MakeGBuffer(word2->width, word2->height, config.normalEncoding);
+  for (size_t y = 0; y < size_t(word2->height); ++y)
+    std::copy_n(word2->samples.begin() + std::ptrdiff_t(y * size_t(word2->width)), word2->width,
+                gbuffer.word[GBufferWord::kDepth].MutableRow(y));
+  const ViewProjection camera = MakePerspective(scene.camera, word2->width, word2->height);
+  size_t receivers = 0;
+  return FitShadowMapView(scene, camera, gbuffer, lights.front(), config.shadowMap, KernelPath::kSimd, receivers);
+}
+
 ExrChannelFilter OracleLayersToRead(const ExrFile& port) {
   return [&port](const std::string& part, const std::string& name) {
     const std::string image = DumpPartName(DumpPart::kImage, 0);
     const std::string dumpPart = part.empty() ? image : part;
-    return FindDumpLayer(port, dumpPart, name) != nullptr || (dumpPart == image && name == "raster.triangle");
+    // The visibility buffer's triangles judge the image's coverage; word 2 fits the light's view that
+    // judges the shadow map's.
+    const bool portHasShadowMap = FindDumpLayer(port, DumpPartName(DumpPart::kShadowMap, 0), "depthKey") != nullptr;
+    return FindDumpLayer(port, dumpPart, name) != nullptr || (dumpPart == image && name == "raster.triangle") ||
+           (dumpPart == image && name == "gbuffer.word2" && portHasShadowMap);
   };
 }
 
@@ -565,6 +724,7 @@ std::string DiffReportJson(const DiffReport& report) {
       entry["samples"] = layer.samples;
       entry["overTolerance"] = layer.overTolerance;
       entry["edgePixels"] = layer.edgePixels;
+      entry["maxEdgeDistance"] = layer.maxEdgeDistance;
       if (layer.worstX >= 0) entry["worst"] = {layer.worstX, layer.worstY};
     }
     json["layers"].push_back(entry);

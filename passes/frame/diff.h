@@ -6,6 +6,7 @@
 // distance of a triangle edge may differ, any other may not.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -16,6 +17,7 @@
 #include "core/camera.h"
 #include "core/image_io.h"
 #include "core/mesh.h"
+#include "passes/frame/config.h"
 #include "passes/frame/frame.h"
 
 namespace ssgi {
@@ -31,7 +33,8 @@ struct LayerTolerance {
   double percent = 0.0;   // share of samples allowed beyond the tolerance, in percent
   double hardFail = std::numeric_limits<double>::infinity();  // a sample off by more fails the layer
   // A rasterizer output: samples that differ at pixels whose centre lies within kCoverageRounding
-  // of an edge of a triangle either side covers there are allowed (needs the scene's geometry).
+  // of an edge of a triangle either side covers there (its part in front of the near plane) are
+  // allowed (needs the scene's geometry).
   bool coverage = false;
 };
 
@@ -43,17 +46,27 @@ struct DiffThresholds {
 };
 // Reads a thresholds file (JSON, the format of data/diff_thresholds.json). Throws InputError
 // naming the file and the key for anything malformed.
-DiffThresholds LoadDiffThresholds(const std::filesystem::path& file);
+// "extends": "OTHER.json" (relative to the file) appends OTHER's rules after the file's own, so a
+// file can change a few layers of another; `extendsDepth` counts the files extended so far.
+DiffThresholds LoadDiffThresholds(const std::filesystem::path& file, int extendsDepth = 0);
 
-// How far from an edge a pixel centre may be and still be covered differently by two
-// rasterizers: a GPU's 8 sub-pixel bits snap each vertex by up to 1/512 pixel on each axis, as the
-// oracle's do, so an edge may move by up to about 1/256 pixel between the two; twice that.
+// How far from an edge (the exact one, through the unsnapped vertices) a pixel centre may be and
+// still be covered differently by two rasterizers: two steps of an 8-bit sub-pixel grid. A
+// rasterizer with GL_SUBPIXEL_BITS >= 8 moves a vertex by at most half a step per axis (0.0028
+// pixel), its float32 viewport transform by a few ULP more; measured with llvmpipe, 0.0019 pixel at
+// most (docs/pipeline.md, Matching rules). Fewer bits need 2^(1 - bits).
 inline constexpr double kCoverageRounding = 1.0 / 128.0;
+// The same distance for a rasterizer of `subpixelBits` bits: two of its sub-pixel steps.
+inline double CoverageRounding(int subpixelBits) { return std::ldexp(1.0, 1 - subpixelBits); }
 
-// The geometry behind the oracle's visibility buffer, for the coverage classification.
+// The geometry behind the oracle's visibility buffer, for the coverage classification, and the
+// distance from an edge within which a pixel may be covered differently; with `shadowView`, the
+// shadow map's texels are judged too, against every triangle seen from the light.
 struct CoverageGeometry {
   const Mesh& mesh;
   const ViewProjection& view;
+  double rounding = kCoverageRounding;
+  const ViewProjection* shadowView = nullptr;
 };
 
 // Where a layer is: in both files (compared when of one size and type), or in one only (listed,
@@ -84,6 +97,7 @@ struct LayerDiff {
   size_t samples = 0;
   size_t overTolerance = 0;  // samples beyond the tolerance, edge pixels excluded
   size_t edgePixels = 0;     // samples that differ at an edge pixel (coverage layers), allowed
+  double maxEdgeDistance = 0.0;  // the farthest of those from its edge, in pixels (at most the rounding)
   int worstX = -1, worstY = -1;  // where the largest difference beyond tolerance is
   double toleranceUsed = 0.0;    // the largest share of its tolerance a sample within it uses, 0 to 1
   double percentOver = 0.0;      // overTolerance as a percentage of samples
@@ -107,8 +121,17 @@ struct DiffReport {
 DiffReport DiffDumps(const ExrFile& oracle, const ExrFile& port, const DiffThresholds& thresholds,
                      const std::optional<CoverageGeometry>& geometry);
 
+// The light's view the two files' shadow maps were rasterized from, which judges their coverage
+// (CoverageGeometry::shadowView): fitted as the shadow pass fits it to the oracle's G-buffer word 2,
+// or to the port's where the oracle's file has none (`ssgi passes` on the port's buffers writes
+// none: it ran on the port's); nothing where either file lacks a shadow map or no light casts
+// shadows.
+std::optional<ViewProjection> DiffShadowView(const ExrFile& oracle, const ExrFile& port, const Scene& scene,
+                                             const FrameConfig& config);
+
 // The channels of the oracle's dump DiffDumps reads against `port`: those the port also holds,
-// and the visibility buffer's triangle index, from which coverage differences are judged.
+// the visibility buffer's triangle index, from which coverage differences are judged, and word 2
+// where the port holds a shadow map (the light's view is fitted to it).
 ExrChannelFilter OracleLayersToRead(const ExrFile& port);
 
 // The per-pixel difference of one layer of both files as an 8-bit RGB heat map (black = equal,

@@ -1,14 +1,17 @@
-// ssgi_gl_port: the passes of docs/pipeline.md from direct light on (direct light, Hi-Z, colour
-// pyramid, SSR trace, cone trace, composite) as GLSL 4.50 compute shaders (tests/port/*.comp,
-// written from the spec), run by OpenGL 4.5 core on an EGL surfaceless display (Mesa llvmpipe) on
-// the G-buffer and shadow visibility of an ssgi dump, writing its buffers under the dump's layer
-// names so the two files compare layer by layer (tests/port/README.md).
+// ssgi_gl_port: the passes of docs/pipeline.md (the G-buffer and the shadow map on GL's own
+// rasterizer, the blocker search, the shadow filter, direct light, sky light, diffuse bounce, Hi-Z,
+// colour pyramid, SSR trace, cone trace, composite) as GLSL 4.50 shaders (tests/port/*.comp,
+// *.vert, *.frag, written from the spec), run by OpenGL 4.5 core on an EGL surfaceless display
+// (Mesa llvmpipe) on an ssgi dump's scene, writing its buffers under the dump's layer names so the
+// two files compare layer by layer (tests/port/README.md).
 //
-//   ssgi_gl_port --scene SCENE IN.exr -o OUT.exr [--oracle-inputs]
+//   ssgi_gl_port --scene SCENE IN.exr -o OUT.exr [--oracle-inputs] [--raster oracle|visibility|conventional]
 //
 // SCENE is the scene the dump was rendered from: its camera, and the pass parameters of its render
-// block. The image size is the dump's. Each pass reads the port's own earlier buffers, or with
-// --oracle-inputs the oracle's from the dump where it holds them, so each pass is checked alone.
+// block. The image size is the dump's. The rasterized buffers (G-buffer words 0-2, the shadow map)
+// are the dump's unless --raster says GL's rasterizer makes them. Each pass reads the port's own
+// earlier buffers, or with --oracle-inputs the oracle's from the dump where it holds them, so each
+// pass is checked alone.
 // Exit codes: 0 written, 1 bad input, 2 usage, 3 a GL error, 77 no EGL display or OpenGL 4.5
 // context here (the test then skips).
 #include <GL/glcorearb.h>
@@ -39,127 +42,17 @@
 #include "passes/frame/config.h"
 #include "passes/frame/dump.h"
 #include "passes/sky_light.h"
-#include "tests/port/port_shaders.h"
+#include "tests/port/gl_objects.h"
+#include "tests/port/gl_raster.h"
+#include "tests/port/gl_shadows.h"
 
 namespace ssgi::port {
 namespace {
 
 constexpr int kExitNoGl = 77;
-constexpr int kGroupSize = 8;    // every shader's local_size_x and local_size_y
 constexpr int kMaxLevels = 16;   // the shaders' uniform arrays of pyramid levels
 constexpr GLuint kSrgbDecodeBinding = 15;  // common.glsl's sRGB table
 constexpr GLuint kEnvironmentBinding = 14;  // common.glsl's environment levels
-
-// A GL buffer object of 4-byte words; deleted with the object.
-class Buffer {
- public:
-  explicit Buffer(size_t words, const void* data = nullptr) : words_(words) {
-    glCreateBuffers(1, &id_);
-    // At least one word: a zero-size store is an error in GL.
-    glNamedBufferData(id_, GLsizeiptr(std::max<size_t>(words, 1) * 4), data, GL_DYNAMIC_COPY);
-  }
-  ~Buffer() { glDeleteBuffers(1, &id_); }
-  Buffer(const Buffer&) = delete;
-  Buffer& operator=(const Buffer&) = delete;
-  Buffer(Buffer&& other) noexcept : id_(other.id_), words_(other.words_) { other.id_ = 0; }
-  Buffer& operator=(Buffer&& other) noexcept {
-    std::swap(id_, other.id_);
-    std::swap(words_, other.words_);
-    return *this;
-  }
-
-  GLuint id() const { return id_; }
-  size_t words() const { return words_; }
-  std::vector<uint32_t> Download() const {
-    std::vector<uint32_t> words(words_);
-    glGetNamedBufferSubData(id_, 0, GLsizeiptr(words_ * 4), words.data());
-    return words;
-  }
-  void Bind(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
-
- private:
-  GLuint id_ = 0;
-  size_t words_ = 0;
-};
-
-std::string_view ShaderSource(std::string_view file) {
-  for (const EmbeddedShader& shader : kEmbeddedShaders)
-    if (shader.file == file) return shader.source;
-  throw std::logic_error("no embedded shader " + std::string(file));
-}
-
-class GlError : public std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// A compute program of `file` with common.glsl before it; deleted with the object.
-class Program {
- public:
-  explicit Program(std::string_view file) {
-    const std::string version = "#version 450 core\n";
-    const std::string_view common = ShaderSource("common.glsl"), pass = ShaderSource(file);
-    const char* sources[] = {version.data(), common.data(), pass.data()};
-    const GLint lengths[] = {GLint(version.size()), GLint(common.size()), GLint(pass.size())};
-    const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-    glShaderSource(shader, 3, sources, lengths);
-    glCompileShader(shader);
-    GLint ok = 0;
-    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      const std::string log = InfoLog(shader, glGetShaderInfoLog);
-      glDeleteShader(shader);
-      throw GlError(std::string(file) + " does not compile: " + log);
-    }
-    id_ = glCreateProgram();
-    glAttachShader(id_, shader);
-    glLinkProgram(id_);
-    glDeleteShader(shader);
-    glGetProgramiv(id_, GL_LINK_STATUS, &ok);
-    if (!ok) throw GlError(std::string(file) + " does not link: " + InfoLog(id_, glGetProgramInfoLog));
-  }
-  ~Program() { glDeleteProgram(id_); }
-  Program(const Program&) = delete;
-  Program& operator=(const Program&) = delete;
-
-  // Uniforms by name; one the compiler removed as unused is ignored (location -1), as GL does.
-  void Set(const char* name, int v) const { glProgramUniform1i(id_, Location(name), v); }
-  void Set(const char* name, float v) const { glProgramUniform1f(id_, Location(name), v); }
-  void Set(const char* name, int x, int y) const { glProgramUniform2i(id_, Location(name), x, y); }
-  void Set(const char* name, float x, float y) const { glProgramUniform2f(id_, Location(name), x, y); }
-  void Set(const char* name, float x, float y, float z) const { glProgramUniform3f(id_, Location(name), x, y, z); }
-  void Set(const char* name, int x, int y, int z) const { glProgramUniform3i(id_, Location(name), x, y, z); }
-  void SetArray3(const char* name, const std::vector<float>& xyz) const {
-    glProgramUniform3fv(id_, Location(name), GLsizei(xyz.size() / 3), xyz.data());
-  }
-  void SetArray(const char* name, const std::vector<float>& v) const {
-    glProgramUniform1fv(id_, Location(name), GLsizei(v.size()), v.data());
-  }
-  void SetArray(const char* name, const std::vector<int>& v) const {
-    glProgramUniform1iv(id_, Location(name), GLsizei(v.size()), v.data());
-  }
-  void SetArray2(const char* name, const std::vector<int>& xy) const {
-    glProgramUniform2iv(id_, Location(name), GLsizei(xy.size() / 2), xy.data());
-  }
-
-  // One invocation per (x, y, z) of width x height x depth; the writes are visible to the next
-  // dispatch and to downloads when it returns.
-  void Dispatch(int width, int height, int depth = 1) const {
-    glUseProgram(id_);
-    glDispatchCompute(GLuint((width + kGroupSize - 1) / kGroupSize), GLuint((height + kGroupSize - 1) / kGroupSize),
-                      GLuint(depth));
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  }
-
- private:
-  template <class GetLog>
-  static std::string InfoLog(GLuint object, GetLog getLog) {
-    std::vector<char> log(8192, '\0');
-    getLog(object, GLsizei(log.size()), nullptr, log.data());
-    return log.data();
-  }
-  GLint Location(const char* name) const { return glGetUniformLocation(id_, name); }
-  GLuint id_ = 0;
-};
 
 // What every pass reads of the frame: the image size, the camera and the normal encoding.
 struct FrameConstants {
@@ -698,8 +591,27 @@ void AddBounceHalfLayers(const BounceBuffers& bounce, int halfWidth, int halfHei
   add(bounce.filtered, {"filtered.R", "filtered.G", "filtered.B"});
 }
 
-int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input,
-        const std::filesystem::path& output, bool oracleInputs) {
+// Where the rasterized buffers (G-buffer words 0-2 and the shadow map) come from: the oracle's dump,
+// so every pass after them can be held to the oracle's bits, or GL's rasterizer, with the G-buffer
+// in one of its two forms (tests/port/gl_raster.h).
+enum class RasterSource { kOracle, kVisibility, kConventional };
+
+// The layers `sink` holds, appended to `out`.
+void AppendDumpLayers(const DumpSink& sink, ExrFile& out) {
+  for (const ExrPart& part : sink.Parts()) {
+    for (const ExrChannel& channel : part.channels) {
+      ExrLayer layer{part.name, channel.name, part.width, part.height, channel.isUint, {}};
+      const auto* samples = static_cast<const uint32_t*>(channel.data);
+      for (size_t y = 0; y < size_t(part.height); ++y)
+        layer.samples.insert(layer.samples.end(), samples + y * channel.rowStride,
+                             samples + y * channel.rowStride + size_t(part.width));
+      out.layers.push_back(std::move(layer));
+    }
+  }
+}
+
+int Run(const std::filesystem::path& scenePath, const std::filesystem::path& input, const std::filesystem::path& output,
+        bool oracleInputs, RasterSource raster, int subpixelBits) {
   const ExrFile dump = ReadExrFile(input);
   // The image part: "frame" in ssgi's dumps.
   const std::string main = "frame";
@@ -718,29 +630,64 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const size_t pixels = size_t(frame.width) * size_t(frame.height);
 
   std::string error;
-  // llvmpipe rasterizes nothing here, but its compute dispatches use LP_NUM_THREADS threads too.
+  // llvmpipe rasterizes and runs its compute dispatches on LP_NUM_THREADS threads.
   const auto context = LlvmpipeContext::Open(HardwareThreads(), error);
   if (!context) {
     std::fprintf(stderr, "ssgi_gl_port: skipped: %s\n", error.c_str());
     return kExitNoGl;
   }
-  std::printf("ssgi_gl_port: %s\n", context->renderer().c_str());
+  // The rasterizer's sub-pixel precision, which the coverage rule assumes is at least 8 bits.
+  GLint glSubpixelBits = 0;
+  glGetIntegerv(GL_SUBPIXEL_BITS, &glSubpixelBits);
+  std::printf("ssgi_gl_port: %s, GL_SUBPIXEL_BITS %d\n", context->renderer().c_str(), int(glSubpixelBits));
 
-  std::vector<Buffer> words;
-  const size_t width = size_t(frame.width), height = size_t(frame.height);
-  for (int w = 0; w < 4; ++w) {
-    const std::string name = "gbuffer.word" + std::to_string(w);
-    const ExrLayer* layer = FindLayer(dump, main, name, true, width, height, input);
-    // Word 3 is the shadow pass's: a frame without shadows leaves it lit (0).
-    if (layer == nullptr && w < 3) throw InputError(input, "has no layer " + name);
-    const std::vector<uint32_t> lit(pixels, kShadowLit);
-    words.emplace_back(pixels, layer ? layer->samples.data() : lit.data());
-  }
-  // The G-buffer's albedo codes decode through core's sRGB table (core/color.h).
+  // The G-buffer's albedo codes and sRGB textures decode through core's sRGB table (core/color.h).
   const Buffer srgbDecode(256, SrgbDecodeTableForKernels());
   srgbDecode.Bind(kSrgbDecodeBinding);
-  // The shadow filter's output, present in the dump when the frame ran shadows.
-  std::optional<Buffer> visibility = UploadPlanes(dump, main, {"shadow.visibility"}, width, height, input);
+  std::optional<SceneBuffers> sceneBuffers;
+  std::optional<PortGBuffer> gbuffer;
+  if (raster != RasterSource::kOracle) {
+    sceneBuffers.emplace(scene.scene);
+    gbuffer = RunGBufferPass(
+        *sceneBuffers, frame.view, frame.normalEncoding,
+        raster == RasterSource::kVisibility ? GBufferForm::kVisibility : GBufferForm::kConventional, subpixelBits);
+  }
+  std::vector<Buffer> words;
+  const size_t width = size_t(frame.width), height = size_t(frame.height);
+  for (int w = 0; w < 3; ++w) {
+    if (gbuffer) {
+      words.push_back(std::move(gbuffer->words[size_t(w)]));
+      continue;
+    }
+    const std::string name = "gbuffer.word" + std::to_string(w);
+    const ExrLayer* layer = FindLayer(dump, main, name, true, width, height, input);
+    if (layer == nullptr) throw InputError(input, "has no layer " + name);
+    words.emplace_back(pixels, layer->samples.data());
+  }
+  // The shadow passes, where the frame ran them (the dump has the filter's output): the map (the
+  // oracle's with the oracle's G-buffer, else GL's), word 3 and the visibility, each on the port's
+  // own earlier buffers or, with --oracle-inputs, on the oracle's word 3.
+  const bool shadows = dump.Find(main, "shadow.visibility") != nullptr;
+  std::optional<ShadowMapResult> shadowMap;
+  std::optional<Buffer> word3, visibility, oracleShadowMap, oracleWord3, oracleVisibility;
+  if (shadows) {
+    if (!sceneBuffers) sceneBuffers.emplace(scene.scene);
+    const ShadowInputs in{scene.scene, *sceneBuffers, frame.view, frame.normalEncoding, words[1], words[2]};
+    const size_t resolution = size_t(config.shadowMap.resolution);
+    shadowMap = RunPortShadowMap(in, config.shadowMap, raster != RasterSource::kOracle);
+    if (raster == RasterSource::kOracle) {
+      oracleShadowMap = UploadPlanes(dump, "shadowmap", {"depthKey"}, resolution, resolution, input);
+      if (!oracleShadowMap) throw InputError(input, "has no layer depthKey in a part 'shadowmap'");
+    }
+    if (oracleInputs) {
+      if (const ExrLayer* layer = FindLayer(dump, main, "gbuffer.word3", true, width, height, input))
+        oracleWord3.emplace(pixels, layer->samples.data());
+      oracleVisibility = UploadPlanes(dump, main, {"shadow.visibility"}, width, height, input);
+    }
+    word3 = RunPortBlockerSearch(in, config.shadowMap, shadowMap->lightView,
+                                 oracleShadowMap ? *oracleShadowMap : shadowMap->depthKey);
+    visibility = RunPortShadowFilter(in, config.shadowFilter, oracleWord3 ? *oracleWord3 : *word3);
+  }
 
   // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
   std::optional<Buffer> oracleDirect, oracleLit, oracleSkyVisibility, oracleSkyDiffuse, oracleHitX, oracleHitY,
@@ -763,6 +710,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels, input);
     std::string taken;
     const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
+    note(oracleWord3.has_value(), "word3");
+    note(oracleVisibility.has_value(), "shadow.visibility");
     note(oracleDirect.has_value(), "direct");
     note(oracleLit.has_value(), "lit");
     note(oracleBounce.depth && oracleBounce.normal && oracleBounce.normalCode && oracleBounce.lit,
@@ -779,8 +728,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   }
   const auto pick = [](const auto& oracle, const auto& own) -> const auto& { return oracle ? *oracle : own; };
 
-  const Buffer direct =
-      RunDirectLight(frame, scene.scene, config.environment.MeanRadiance(), words, visibility ? &*visibility : nullptr);
+  const Buffer* lightVisibility = oracleVisibility ? &*oracleVisibility : visibility ? &*visibility : nullptr;
+  const Buffer direct = RunDirectLight(frame, scene.scene, config.environment.MeanRadiance(), words, lightVisibility);
   // The sky light, where the frame ran it (its volume in the dump): then the passes after it read `lit`.
   std::optional<SkyLightOutput> sky;
   const EnvironmentTables environment(config.environment);
@@ -820,9 +769,35 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   }
 
   ExrFile out;
-  const auto addLayer = [&](const std::string& name, const Buffer& buffer) {
-    out.layers.push_back(ExrLayer{main, name, frame.width, frame.height, false, buffer.Download()});
+  // The dump's scene and settings, so that `ssgi passes` runs the oracle on the port's buffers.
+  out.metadata = dump.metadata;
+  const auto addLayer = [&](const std::string& name, const Buffer& buffer, bool isUint = false) {
+    out.layers.push_back(ExrLayer{main, name, frame.width, frame.height, isUint, buffer.Download()});
   };
+  if (gbuffer) {
+    // The words and the oracle's decodes of them, as its dump has them.
+    GBuffer planes = MakeGBuffer(frame.width, frame.height, frame.normalEncoding);
+    for (int w = 0; w < 3; ++w) {
+      const std::vector<uint32_t> values = words[size_t(w)].Download();
+      for (size_t y = 0; y < height; ++y)
+        std::copy_n(values.begin() + std::ptrdiff_t(y * width), width, planes.word[size_t(w)].MutableRow(y));
+    }
+    DumpSink sink;
+    sink.AddGBufferWords(planes);
+    AppendDumpLayers(sink, out);
+    if (gbuffer->visibility.triangle.words() > 0) addLayer("raster.triangle", gbuffer->visibility.triangle, true);
+    if (gbuffer->visibility.depthKey.words() > 0) addLayer("raster.depthKey", gbuffer->visibility.depthKey);
+  }
+  if (shadows) {
+    Plane<uint32_t> term = MakePlane<uint32_t>(width, height, kShadowLit);
+    const std::vector<uint32_t> values = word3->Download();
+    for (size_t y = 0; y < height; ++y)
+      std::copy_n(values.begin() + std::ptrdiff_t(y * width), width, term.MutableRow(y));
+    DumpSink sink;
+    sink.AddShadowTerm(term);
+    AppendDumpLayers(sink, out);
+    addLayer("shadow.visibility", *visibility);
+  }
   addLayer("ssr.hitX", trace.hitX);
   addLayer("ssr.hitY", trace.hitY);
   addLayer("ssr.confidence", trace.confidence);
@@ -846,6 +821,12 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   addRgb(main, "ssr.reflected.", reflected, frame.width, frame.height);
   addRgb(main, "indirect.", composite.indirect, frame.width, frame.height);
   addRgb(main, "result.", composite.result, frame.width, frame.height);
+  // The other parts after the image's, in the dump's order.
+  if (shadows && !oracleShadowMap) {
+    const int resolution = config.shadowMap.resolution;
+    out.layers.push_back(
+        ExrLayer{"shadowmap", "depthKey", resolution, resolution, false, shadowMap->depthKey.Download()});
+  }
   if (bounce) AddBounceHalfLayers(*bounce, (frame.width + 1) / 2, (frame.height + 1) / 2, out);
   for (size_t k = 0; k < frame.levels.size(); ++k) {
     const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
@@ -861,12 +842,24 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
 }  // namespace ssgi::port
 
 int main(int argc, char** argv) {
-  CLI::App app{"Runs the GLSL port of ssgi's passes from direct light on, on an ssgi dump (tests/port/README.md)."};
+  CLI::App app{"Runs the GLSL port of ssgi's passes on an ssgi dump's scene (tests/port/README.md)."};
   std::string scene, input, output;
   app.add_option("--scene", scene, "The scene the dump was rendered from. Default: the one the dump names.");
   app.add_option("input", input, "The oracle's dump (ssgi render --dump IN.exr).")->required();
   app.add_option("-o,--output", output, "The port's buffers, as an EXR with the dump's layer names.")->required();
   bool oracleInputs = false;
+  std::string raster = "oracle";
+  app.add_option("--raster", raster,
+                 "Where the rasterized buffers (G-buffer words 0-2, the shadow map) come from: the dump (oracle), "
+                 "or GL's rasterizer, with the G-buffer from a visibility pass and the oracle's resolve "
+                 "(visibility) or from a conventional pass writing the words from interpolated varyings "
+                 "(conventional). Default: oracle.")
+      ->check(CLI::IsMember({"oracle", "visibility", "conventional"}));
+  int subpixelBits = 8;
+  app.add_option("--subpixel-bits", subpixelBits,
+                 "With --raster visibility or conventional: the G-buffer's vertices snapped to this many sub-pixel "
+                 "bits before GL's rasterizer snaps them to its 8, to emulate a coarser one. Default: 8.")
+      ->check(CLI::Range(1, 8));
   app.add_flag("--oracle-inputs", oracleInputs,
                "Each pass reads the oracle's buffers of the passes before it where the dump holds them "
                "(direct.*, lit.*, the bounce's steps, hiz.L, pyramid.L, ssr.hitX/hitY/confidence, ssr.reflected.*), so "
@@ -877,7 +870,11 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    return ssgi::port::Run(scene, input, output, oracleInputs);
+    using ssgi::port::RasterSource;
+    const RasterSource source = raster == "visibility"     ? RasterSource::kVisibility
+                                : raster == "conventional" ? RasterSource::kConventional
+                                                           : RasterSource::kOracle;
+    return ssgi::port::Run(scene, input, output, oracleInputs, source, subpixelBits);
   } catch (const ssgi::InputError& e) {
     std::fprintf(stderr, "ssgi_gl_port: error: %s\n", e.what());
     return 1;

@@ -174,6 +174,105 @@ TEST_CASE("diff: coverage differences within rounding distance of an edge are al
   CHECK_FALSE(DiffDumps(oracle, port, thresholds, geometry).ok);
 }
 
+TEST_CASE("diff: a thresholds file extends another: its own rules first, then the other's", "[diff]") {
+  const test::ScratchDir scratch("diff-extends");
+  test::WriteText(scratch / "base.json",
+                  R"({"layers": [{"match": "direct.*", "relative": 0.5}, {"match": "hiz.*", "ulp": 4}]})");
+  test::WriteText(scratch / "mine.json",
+                  R"({"extends": "base.json", "layers": [{"match": "direct.R", "absolute": 2}]})");
+  const DiffThresholds rules = LoadDiffThresholds(scratch / "mine.json");
+  REQUIRE(rules.rules.size() == 3);
+  CHECK(rules.For("direct.R").absolute == 2.0);
+  CHECK(rules.For("direct.G").relative == 0.5);
+  CHECK(rules.For("hiz.0:Y").ulp == 4);
+  // The shipped file for conventional G-buffers extends the shipped rules.
+  const DiffThresholds conventional =
+      LoadDiffThresholds(test::SourceDir() / "data" / "diff_thresholds_conventional.json");
+  CHECK(conventional.rules.size() > ShippedThresholds().rules.size());
+  test::WriteText(scratch / "loop.json", R"({"extends": "loop.json", "layers": []})");
+  CHECK_THROWS_AS(LoadDiffThresholds(scratch / "loop.json"), InputError);
+  test::WriteText(scratch / "bad.json", R"({"extends": 3, "layers": []})");
+  CHECK_THROWS_AS(LoadDiffThresholds(scratch / "bad.json"), InputError);
+}
+
+// The rule's distance follows the rasterizer's sub-pixel precision: an edge 0.03 px beside the
+// centres of column 10 is beyond two 8-bit steps (1/128 px), within two 4-bit ones (1/8 px).
+TEST_CASE("diff: the coverage distance is two steps of the port's sub-pixel grid", "[diff][coverage]") {
+  constexpr int kWidth = 40, kHeight = 30;
+  Mesh mesh;
+  const auto ndcX = [](double px) { return float(px / kWidth * 2.0 - 1.0); };
+  mesh.positions = {{ndcX(10.53), 1.0f, 0.5f}, {ndcX(10.53), -1.0f, 0.5f}, {ndcX(39.0), -1.0f, 0.5f}};
+  mesh.indices = {0, 1, 2};
+  mesh.materials = {0};
+  ViewProjection view;
+  view.width = kWidth;
+  view.height = kHeight;
+  ExrFile oracle, port;
+  oracle.layers = {
+      ExrLayer{"frame", "raster.triangle", kWidth, kHeight, true, std::vector<uint32_t>(kWidth * kHeight, 0)}};
+  port.layers = oracle.layers;
+  port.layers[0].samples[15 * kWidth + 10] = 0xFFFFFFFFu;
+  CHECK(CoverageRounding(8) == kCoverageRounding);
+  CHECK(CoverageRounding(4) == 0.125);
+  CHECK_FALSE(DiffDumps(oracle, port, ShippedThresholds(), CoverageGeometry{mesh, view}).ok);
+  const DiffReport coarse =
+      DiffDumps(oracle, port, ShippedThresholds(), CoverageGeometry{mesh, view, CoverageRounding(4)});
+  CHECK(coarse.ok);
+  CHECK(Find(coarse, "raster.triangle").maxEdgeDistance == Approx(0.03).margin(1e-5));
+}
+
+// A triangle with a vertex behind the camera is judged by the edges of its part in front of the
+// near plane (it was once not judged at all): a pixel deep inside it may not differ.
+TEST_CASE("diff: pixels of a triangle clipped at the near plane are judged by its clipped edges", "[diff][coverage]") {
+  constexpr int kWidth = 40, kHeight = 30;
+  CameraDesc camera;
+  camera.position = {0.0f, 0.0f, 0.0f};
+  camera.target = {0.0f, 0.0f, -1.0f};
+  camera.nearPlane = 0.1f;
+  const ViewProjection view = MakePerspective(camera, kWidth, kHeight);
+  Mesh mesh;
+  // A floor below the eye reaching behind it: its far edge crosses the image, its near vertex is
+  // behind the camera.
+  mesh.positions = {{-50.0f, -1.0f, -20.0f}, {0.0f, -1.0f, 5.0f}, {50.0f, -1.0f, -20.0f}};
+  mesh.indices = {0, 1, 2};
+  mesh.materials = {0};
+  ExrFile oracle, port;
+  oracle.layers = {
+      ExrLayer{"frame", "raster.triangle", kWidth, kHeight, true, std::vector<uint32_t>(kWidth * kHeight, 0)}};
+  port.layers = oracle.layers;
+  port.layers[0].samples[(kHeight - 2) * kWidth + kWidth / 2] = 0xFFFFFFFFu;  // deep inside, near the bottom
+  const DiffReport report = DiffDumps(oracle, port, ShippedThresholds(), CoverageGeometry{mesh, view});
+  CHECK_FALSE(report.ok);
+  CHECK(Find(report, "raster.triangle").overTolerance == 1);
+}
+
+// The shadow map has no triangle index: its texels are judged against every triangle seen from the
+// light (CoverageGeometry::shadowView).
+TEST_CASE("diff: shadow-map texels differing at a triangle's edge are allowed, others fail", "[diff][coverage]") {
+  constexpr int kSize = 32;
+  Mesh mesh;
+  const auto ndc = [](double texel) { return float(texel / kSize * 2.0 - 1.0); };
+  // An edge through the centres of texel column 8; a vertex far off to the right.
+  mesh.positions = {{ndc(8.5), 1.0f, 0.5f}, {ndc(8.5), -1.0f, 0.5f}, {ndc(30.0), -1.0f, 0.5f}};
+  mesh.indices = {0, 1, 2};
+  mesh.materials = {0};
+  ViewProjection image, light;
+  image.width = image.height = light.width = light.height = kSize;
+  ExrFile oracle, port;
+  oracle.layers = {ExrLayer{"shadowmap", "depthKey", kSize, kSize, false, std::vector<uint32_t>(kSize * kSize, 0)}};
+  port.layers = oracle.layers;
+  const float key = 0.5f;
+  std::memcpy(&port.layers[0].samples[4 * kSize + 8], &key, sizeof(key));
+  CHECK_FALSE(DiffDumps(oracle, port, ShippedThresholds(), CoverageGeometry{mesh, image}).ok);
+  const DiffReport judged =
+      DiffDumps(oracle, port, ShippedThresholds(), CoverageGeometry{mesh, image, kCoverageRounding, &light});
+  CHECK(judged.ok);
+  CHECK(Find(judged, "shadowmap:depthKey").edgePixels == 1);
+  std::memcpy(&port.layers[0].samples[4 * kSize + 20], &key, sizeof(key));  // inside the triangle
+  CHECK_FALSE(
+      DiffDumps(oracle, port, ShippedThresholds(), CoverageGeometry{mesh, image, kCoverageRounding, &light}).ok);
+}
+
 TEST_CASE("diff: the thresholds file", "[diff][errors]") {
   const DiffThresholds shipped = ShippedThresholds();
   CHECK(shipped.For("gbuffer.word2").exact);
