@@ -2,11 +2,11 @@
 // (RGBA32UI), as a GPU port without a visibility buffer writes them, to measure how far that moves
 // them from the oracle's resolve (tests/port/README.md). GL's own depth test on its own depth
 // (gl_FragCoord.z, tested GREATER); the view depth, the normal and the UV perspective-correct
-// varyings (1 / gl_FragCoord.w and near / gl_FragCoord.z measured no closer to the oracle's depth); the texture level the spec's
-// formula gives for the UV footprint max(|dUV/dx|, |dUV/dy|) of GL's fine derivatives, read with
-// texel fetches (surface.glsl's sampler), not the hardware's level of detail; word 3 lit (the
-// shadow pass writes it). The triangle index goes to a second target, for `ssgi diff`'s coverage
-// classification.
+// varyings (1 / gl_FragCoord.w and near / gl_FragCoord.z measured no closer to the oracle's depth);
+// textures at the level the spec's formula gives for the UV footprint max(|dUV/dx|, |dUV/dy|) of
+// GL's fine derivatives, read with texel fetches (surface.glsl's sampler), not the hardware's level
+// of detail; the cut-out test the visibility pass's; word 3 lit (the shadow pass writes it). The
+// triangle index goes to a second target, for `ssgi diff`'s coverage classification.
 in vec3 viewNormal;
 in vec2 uv;
 in float viewDepth;
@@ -20,13 +20,10 @@ void main() {
   const ivec2 pixel = ivec2(gl_FragCoord.xy);
   const Material material = materials[triangleMaterial[triangle]];
   if (cullBackFaces != 0 && material.roughnessCutoffTwoSided.z == 0.0 && !gl_FrontFacing) discard;
+  // The cut-out test is the visibility pass's: the same surface point and level, so both forms cut
+  // the same holes.
   const float footprint = max(Length2(dFdxFine(uv)), Length2(dFdyFine(uv)));
-  const int alphaTexture = material.textures.w;
-  if (alphaTexture >= 0) {
-    const vec4 texel = SampleTexture(alphaTexture, uv, footprint);
-    const int channels = textures[alphaTexture].info.z;
-    if ((channels == 2 || channels == 4 ? texel.w : texel.x) < material.roughnessCutoffTwoSided.y) discard;
-  }
+  if (!PassesAlphaTest(triangle, pixel)) discard;
   const float length = sqrt(Dot3(viewNormal, viewNormal));
   precise vec3 normal = viewNormal / length;
   // A two-sided surface seen from behind shades with the side that faces the camera.

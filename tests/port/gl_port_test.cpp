@@ -230,12 +230,13 @@ TEST_CASE("the GLSL port matches the oracle on the default scene", "[port]") {
   CheckPort(test::SourceDir() / "data" / "default.json", 33, 2);
 }
 
-TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed spot and xyz8 normals", "[port]") {
+TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed spot, xyz8 normals and SSPCSS",
+          "[port]") {
   // What the default scene does not have: a spot light (and a second light), the paper's normal
   // encoding, a smooth metal that reflects the spot's highlight.
   const test::ScratchDir scratch("gl-port-scene");
   const std::string data = (test::SourceDir() / "data").string();
-  test::WriteText(scratch / "scene.json", R"({
+  const std::string scene = R"({
   "camera": { "position": [0, 2.2, 4.2], "target": [0, 0.3, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.05 },
   "lights": [
     { "type": "directional", "direction": [-0.5, -1, -0.3], "irradiance": [2.5, 2.4, 2.2],
@@ -250,9 +251,14 @@ TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed s
     { "obj": ")" + data + R"(/box.obj", "transform": { "translate": [-0.6, 0.3, -0.4], "scale": 0.6 },
       "materials": { "*": { "base_color": [0.3, 0.5, 0.8], "metallic": 0, "roughness": 0.35 } } }
   ],
-  "render": { "normal_encoding": "xyz8" }
-})");
+  "render": )";
+  test::WriteText(scratch / "scene.json", scene + R"({ "normal_encoding": "xyz8" } })");
   CheckPort(scratch / "scene.json", 96, 72);
+  // The other filters, tap counts and an odd map size of the shadow passes, on the same scene.
+  test::WriteText(
+      scratch / "sspcss.json",
+      scene + R"({ "shadow_filter": "sspcss", "blur_taps": 2, "blocker_taps": 16, "shadow_map_size": 517 } })");
+  CheckPort(scratch / "sspcss.json", 96, 72);
 }
 
 TEST_CASE("the GLSL port matches the oracle on Sponza and under Sibenik's shadowed spot", "[port][sponza]") {
