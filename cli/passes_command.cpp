@@ -1,6 +1,7 @@
 // `ssgi passes`: passes of the pipeline run on buffers from outside (a dump of the oracle's, or a GPU
 // port's in the dump's layer names).
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include "cli/commands.h"
@@ -10,6 +11,7 @@
 #include "core/parallel.h"
 #include "passes/frame/dump.h"
 #include "passes/frame/memory.h"
+#include "passes/sky_light.h"
 
 namespace ssgi::cli {
 namespace {
@@ -26,9 +28,11 @@ struct PassesOptions {
 };
 
 // The layers of a dump that passes before `from` write (the catalogue's), by part and channel name:
-// the only ones LoadFrameDump reads when the frame runs from `from`, so the others are not read.
+// the only ones LoadFrameDump reads when the frame runs from `from`, so the others are not read;
+// and the sky visibility volume (TakeSkyVolume).
 ExrChannelFilter LayersBefore(FramePass from) {
   return [from](const std::string& part, const std::string& name) {
+    if (part == DumpPartName(DumpPart::kSkyVolume, 0) && name == "k") return true;
     for (const DumpLayer& layer : DumpLayers()) {
       if (layer.pass >= from || layer.name != name) continue;
       switch (layer.part) {
@@ -51,6 +55,21 @@ ExrChannelFilter LayersBefore(FramePass from) {
     }
     return false;
   };
+}
+
+// The volume is made once per scene and kept while its geometry is the same (docs/pipeline.md §Sky
+// light): the dump's, where it holds one of the scene's grid, is the one kept, so that the passes
+// light the frame as the dump's maker did (the oracle's own dump: the volume it would build; a
+// port's: the port's maps).
+void TakeSkyVolume(const ExrFile& dump, const Scene& scene, const FrameConfig& config, Frame& frame) {
+  const ExrLayer* layer = dump.Find(DumpPartName(DumpPart::kSkyVolume, 0), "k");
+  if (layer == nullptr || config.skyVisibility.directions == 0) return;
+  SkyVisibilityVolume volume = SkyVisibilityGrid(scene, config.skyVisibility);
+  if (layer->width != volume.cellsX * 4 || layer->height != volume.cellsY * volume.cellsZ || layer->isUint) return;
+  volume.coefficients.resize(layer->samples.size());
+  std::memcpy(volume.coefficients.data(), layer->samples.data(), layer->samples.size() * sizeof(float));
+  volume.meshHash = SceneGeometryHash(scene);
+  frame.skyVolume = std::move(volume);
 }
 
 // Runs passes --from .. --to of the frame on the buffers of a dump and writes the frame's buffers as
@@ -79,6 +98,7 @@ int Passes(const PassesOptions& options) {
               dumpBytes + EstimateFrameMemory(scene, config, BufferLifetime::kKeepAll, true).bytes, budget, "");
   Frame frame;
   LoadFrameDump(dump, options.input, scene, config, from, to, frame);
+  TakeSkyVolume(dump, scene, config, frame);
   RunFramePasses(scene, config, from, to, frame);
   const std::string sceneName =
       options.scene.empty() ? dump.metadata.at("ssgi:scene") : fs::absolute(options.scene).string();

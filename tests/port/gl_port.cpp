@@ -45,6 +45,7 @@
 #include "tests/port/gl_objects.h"
 #include "tests/port/gl_raster.h"
 #include "tests/port/gl_shadows.h"
+#include "tests/port/gl_sky_volume.h"
 
 namespace ssgi::port {
 namespace {
@@ -732,12 +733,19 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const Buffer direct = RunDirectLight(frame, scene.scene, config.environment.MeanRadiance(), words, lightVisibility);
   // The sky light, where the frame ran it (its volume in the dump): then the passes after it read `lit`.
   std::optional<SkyLightOutput> sky;
+  std::optional<ExrLayer> skyVolume;  // the port's, where it built one
   const EnvironmentTables environment(config.environment);
   if (const ExrLayer* volume = dump.Find("skyvolume", "k")) {
     const SkyVisibilityVolume grid = SkyVisibilityGrid(scene.scene, config.skyVisibility);
     if (volume->width != grid.cellsX * 4 || volume->height != grid.cellsY * grid.cellsZ)
       throw InputError(input, "layer 'k' of part 'skyvolume' is not the scene's sky visibility grid");
-    const Buffer volumeBuffer(volume->samples.size(), volume->samples.data());
+    // Where the port rasterizes, its own volume (GL's maps); else the dump's, so that the later
+    // layers stay the oracle's bits.
+    const Buffer volumeBuffer = raster != RasterSource::kOracle
+                                    ? RunPortSkyVolume(*sceneBuffers, grid)
+                                    : Buffer(volume->samples.size(), volume->samples.data());
+    if (raster != RasterSource::kOracle)
+      skyVolume.emplace(ExrLayer{"skyvolume", "k", volume->width, volume->height, false, volumeBuffer.Download()});
     sky = RunSkyLight(frame, grid, volumeBuffer, environment, words, pick(oracleDirect, direct));
   }
   const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
@@ -827,6 +835,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     out.layers.push_back(
         ExrLayer{"shadowmap", "depthKey", resolution, resolution, false, shadowMap->depthKey.Download()});
   }
+  if (skyVolume) out.layers.push_back(std::move(*skyVolume));
   if (bounce) AddBounceHalfLayers(*bounce, (frame.width + 1) / 2, (frame.height + 1) / 2, out);
   for (size_t k = 0; k < frame.levels.size(); ++k) {
     const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
