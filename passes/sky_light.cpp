@@ -14,19 +14,6 @@
 namespace ssgi {
 namespace {
 
-// The directions of a Fibonacci spiral over the sphere: near-uniform for any count.
-std::vector<glm::vec3> SphereDirections(int count) {
-  constexpr double kGoldenAngle = 2.39996322972865332;
-  std::vector<glm::vec3> directions;
-  for (int i = 0; i < count; ++i) {
-    const double y = 1.0 - 2.0 * (double(i) + 0.5) / double(count);
-    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
-    const double phi = kGoldenAngle * double(i);
-    directions.emplace_back(float(r * std::cos(phi)), float(y), float(r * std::sin(phi)));
-  }
-  return directions;
-}
-
 // Whether each cell centre sees the sky along `toSky`: the scene rasterized along -toSky over its
 // bounding sphere, a cell visible when nothing drawn lies nearer the sky than it (by more than half
 // a cell, so the surface a cell centre lies on does not hide it).
@@ -80,6 +67,18 @@ SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityPar
   return volume;
 }
 
+std::vector<glm::vec3> SkyVisibilityDirections(int count) {
+  constexpr double kGoldenAngle = 2.39996322972865332;
+  std::vector<glm::vec3> directions;
+  for (int i = 0; i < count; ++i) {
+    const double y = 1.0 - 2.0 * (double(i) + 0.5) / double(count);
+    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
+    const double phi = kGoldenAngle * double(i);
+    directions.emplace_back(float(r * std::cos(phi)), float(y), float(r * std::sin(phi)));
+  }
+  return directions;
+}
+
 size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params) {
   if (params.directions == 0) return 0;
   const SkyVisibilityVolume grid = SkyVisibilityGrid(scene, params);
@@ -125,7 +124,7 @@ SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityPa
   const glm::vec3 extent = volume.extent;
   const glm::vec3 centre = (lo + hi) * 0.5f;
   const float radius = std::max(0.5f * glm::length(extent), 1e-3f) + volume.cellSize;
-  const std::vector<glm::vec3> directions = SphereDirections(params.directions);
+  const std::vector<glm::vec3> directions = SkyVisibilityDirections(params.directions);
   std::vector<std::vector<uint8_t>> visible(directions.size());
   ParallelFor("sky_visibility.maps", directions.size(), [&](size_t i) {
     visible[i] = CellsSeeingSky(scene, volume, directions[i], centre, radius);

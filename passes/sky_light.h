@@ -50,6 +50,9 @@ struct SkyVisibilityVolume {
 // cells of the scene's longest side over cellsOnLongestAxis, a cell of margin on every side, so the
 // grid's outer cells lie outside the scene.
 SkyVisibilityVolume SkyVisibilityGrid(const Scene& scene, const SkyVisibilityParams& params);
+// The volume's map directions, towards the sky: a Fibonacci spiral over the sphere, y = 1 - 2 (i +
+// 0.5) / count, phi = 2.39996322972865332 i, in double, each component rounded once.
+std::vector<glm::vec3> SkyVisibilityDirections(int count);
 // What the volume for `scene` takes (its coefficients), and what making it holds besides: each
 // thread's map and rasterizer set-up, and every map's cell visibility; 0 for 0 directions, where the
 // frame makes no volume.

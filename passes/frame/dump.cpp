@@ -302,23 +302,7 @@ namespace {
 // Which effects belong to the frame a dump is loaded into: all of them until the plan has decided.
 struct EffectSet {
   bool shadows = true, reflections = true, sky = true, bounce = true;
-  bool Has(FrameEffect effect) const {
-    switch (effect) {
-      case FrameEffect::kAlways:
-        return true;
-      case FrameEffect::kShadows:
-        return shadows;
-      case FrameEffect::kReflections:
-        return reflections;
-      case FrameEffect::kSky:
-        return sky;
-      case FrameEffect::kBounce:
-        return bounce;
-      case FrameEffect::kIndirect:
-        return reflections || sky || bounce;
-    }
-    return false;
-  }
+  bool Has(FrameEffect effect) const { return EffectBelongs(effect, shadows, reflections, sky, bounce); }
 };
 
 }  // namespace

@@ -21,7 +21,7 @@ FramePass ParseFramePass(std::string_view name) {
   throw InputError("'" + std::string(name) + "' is not a pass; the passes: " + FramePassNames());
 }
 
-bool Frame::Has(FrameEffect effect) const {
+bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky, bool bounce) {
   switch (effect) {
     case FrameEffect::kAlways:
       return true;

@@ -66,6 +66,10 @@ FramePass ParseFramePass(std::string_view name);
 // The pass names in pipeline order, comma separated: for help texts and messages.
 std::string FramePassNames();
 
+// Whether `effect`'s passes belong to a frame with these effects on (kIndirect: any of the three
+// that feed the composite).
+bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky, bool bounce);
+
 struct Frame {
   ViewProjection view;
   GBufferOutputs gbuffer;
@@ -97,7 +101,7 @@ struct Frame {
   FrameStats stats;
 
   // Whether the effect's passes belong to this frame.
-  bool Has(FrameEffect effect) const;
+  bool Has(FrameEffect effect) const { return EffectBelongs(effect, shadows, reflections, sky, bounce); }
   // The image the colour pyramid and the composite read: lit = direct + the sky's diffuse light, or
   // the direct light without the sky light.
   const Plane3<float>& Lit() const { return sky ? skyLight.lit : direct.radiance; }

@@ -7,23 +7,6 @@
 #include "core/camera.h"
 
 namespace ssgi::port {
-namespace {
-
-// The Fibonacci spiral's directions: y = 1 - 2 (i + 0.5) / N, phi = 2.39996322972865332 i, in
-// double, each component rounded once.
-std::vector<glm::vec3> SphereDirections(int count) {
-  constexpr double kGoldenAngle = 2.39996322972865332;
-  std::vector<glm::vec3> directions;
-  for (int i = 0; i < count; ++i) {
-    const double y = 1.0 - 2.0 * (double(i) + 0.5) / double(count);
-    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
-    const double phi = kGoldenAngle * double(i);
-    directions.emplace_back(float(r * std::cos(phi)), float(y), float(r * std::sin(phi)));
-  }
-  return directions;
-}
-
-}  // namespace
 
 Buffer RunPortSkyVolume(const SceneBuffers& scene, const SkyVisibilityVolume& grid) {
   const size_t cells = size_t(grid.cellsX) * size_t(grid.cellsY) * size_t(grid.cellsZ);
@@ -41,7 +24,7 @@ Buffer RunPortSkyVolume(const SceneBuffers& scene, const SkyVisibilityVolume& gr
   program.Set("cellSize", grid.cellSize);
   program.Set("mapSize", size);
   program.Set("share", 1.0f / float(directions));
-  for (const glm::vec3& toSky : SphereDirections(directions)) {
+  for (const glm::vec3& toSky : SkyVisibilityDirections(directions)) {
     const glm::vec3 forward = -toSky;
     const ViewProjection map = MakeOrthographic(centre - forward * (radius * 1.01f), forward, UpHint(forward), radius,
                                                 radius, 0.0f, 2.02f * radius, size, size);
