@@ -446,21 +446,31 @@ struct Counters {
   size_t paths = 0;
 };
 
+// How far a secondary ray starts off its surface: in proportion to the scene's extent, so float
+// positions a long way from the origin do not hit their own triangle.
+float RayOffset(const Scene& scene) {
+  float extent = 0.0f;
+  for (const glm::vec3& p : scene.mesh.positions)
+    extent = std::max(extent, std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
+  return kRayOffsetScale * std::max(extent, 1.0f);
+}
+
+// The light whose visibility the reference reports (the frame's shadowed light), or none.
+size_t FirstShadowLight(const std::vector<SampledLight>& lights) {
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (lights[i].castShadows) return i;
+  return std::numeric_limits<size_t>::max();
+}
+
 class Shader {
  public:
   Shader(const Scene& scene, const RayTracer& tracer, const ReferenceParams& params)
-      : scene_(scene), tracer_(tracer), params_(params), lights_(SampleableLights(scene)) {
-    float extent = 0.0f;
-    for (const glm::vec3& p : scene.mesh.positions)
-      extent = std::max(extent, std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
-    rayOffset_ = kRayOffsetScale * std::max(extent, 1.0f);
-    for (size_t i = 0; i < lights_.size(); ++i) {
-      if (lights_[i].castShadows) {
-        firstShadowLight_ = i;
-        break;
-      }
-    }
-  }
+      : scene_(scene),
+        tracer_(tracer),
+        params_(params),
+        lights_(SampleableLights(scene)),
+        firstShadowLight_(FirstShadowLight(lights_)),
+        rayOffset_(RayOffset(scene)) {}
 
   // Direct light leaving `s` towards `toViewer` (unit), each light sampled `samples` times. When
   // `visibleSamples` is given, it receives how many samples of the first shadow-casting light are
@@ -564,8 +574,8 @@ class Shader {
   const RayTracer& tracer_;
   const ReferenceParams& params_;
   std::vector<SampledLight> lights_;
-  size_t firstShadowLight_ = std::numeric_limits<size_t>::max();
-  float rayOffset_ = 0.0f;
+  size_t firstShadowLight_;
+  float rayOffset_;
 };
 
 // The full transport: one path per call, from the camera through the scene (Pharr et al., PBR
@@ -585,18 +595,12 @@ struct BsdfSample {
 class PathTracer {
  public:
   PathTracer(const Scene& scene, const RayTracer& tracer, const ReferenceParams& params)
-      : scene_(scene), tracer_(tracer), params_(params), lights_(SampleableLights(scene)) {
-    float extent = 0.0f;
-    for (const glm::vec3& p : scene.mesh.positions)
-      extent = std::max(extent, std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
-    rayOffset_ = kRayOffsetScale * std::max(extent, 1.0f);
-    for (size_t i = 0; i < lights_.size(); ++i) {
-      if (lights_[i].castShadows) {
-        firstShadowLight_ = i;
-        break;
-      }
-    }
-  }
+      : scene_(scene),
+        tracer_(tracer),
+        params_(params),
+        lights_(SampleableLights(scene)),
+        firstShadowLight_(FirstShadowLight(lights_)),
+        rayOffset_(RayOffset(scene)) {}
 
   bool HasShadowLight() const { return firstShadowLight_ < lights_.size(); }
 
@@ -779,8 +783,8 @@ class PathTracer {
   const RayTracer& tracer_;
   const ReferenceParams& params_;
   std::vector<SampledLight> lights_;
-  size_t firstShadowLight_ = std::numeric_limits<size_t>::max();
-  float rayOffset_ = 0.0f;
+  size_t firstShadowLight_;
+  float rayOffset_;
 };
 
 }  // namespace
