@@ -98,6 +98,28 @@ ssgi::FloatImage RegionLayers(const ssgi::Frame& frame) {
   return image;
 }
 
+// Edges of the roughness bins of the reflective region's error.
+constexpr double kRoughnessBins[] = {0.0, 0.1, 0.2, 0.35, 0.5, 0.7};
+
+// The display RMSE of `image` against `reference` over the reflective pixels of `classes` in each
+// roughness bin (layers' channel 1, RegionLayers); NaN-free: 0 for an empty bin.
+std::vector<double> ReflectiveErrorByRoughness(const ssgi::FloatImage& image, const ssgi::FloatImage& reference,
+                                               const std::vector<uint8_t>& classes, const ssgi::FloatImage& layers) {
+  std::vector<double> errors;
+  const size_t channels = layers.Channels();
+  for (size_t b = 0; b + 1 < std::size(kRoughnessBins); ++b) {
+    std::vector<uint8_t> bin(classes.size(), 0);
+    for (size_t i = 0; i < classes.size(); ++i) {
+      const double roughness = layers.pixels[i * channels + 1];
+      if ((classes[i] & ssgi::kRegionReflective) && roughness >= kRoughnessBins[b] && roughness < kRoughnessBins[b + 1])
+        bin[i] = ssgi::kRegionReflective;
+    }
+    for (const ssgi::RegionDifference& d : ssgi::CompareRegions(image, reference, bin))
+      if (d.region == ssgi::kRegionReflective) errors.push_back(d.rmseDisplay);
+  }
+  return errors;
+}
+
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values[values.size() / 2];
@@ -139,6 +161,9 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
   csv << "knob,value,frame_ms,rmse,rmse_display,psnr_db,ssim,max_error,rmse_visibility,rmse_display_indirect";
   const char* regionColumns[] = {"lit", "shadow", "reflective", "background"};
   for (const char* region : regionColumns) csv << ",rmse_display_" << region << ",ratio_" << region;
+  // The reflective region by the pixels' roughness: where sharing rays or fewer steps cost accuracy.
+  for (size_t b = 0; b + 1 < std::size(kRoughnessBins); ++b)
+    csv << ",rmse_display_reflective_r" << kRoughnessBins[b] << "-" << kRoughnessBins[b + 1];
   std::vector<std::string> stages;
   // Every frame is rendered into this one's buffers, as a running renderer renders: what a scene
   // makes once (the sky visibility volume, the environment's tables) is kept while it holds, and
@@ -155,6 +180,7 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
     ssgi::ImageDifference difference;
     std::string visibilityError, indirectError;
     std::vector<ssgi::RegionDifference> regions;
+    std::vector<double> reflectiveByRoughness;
     for (int r = 0; r < repeats; ++r) {
       render(config);
       const std::vector<ssgi::StageStats> rows = ssgi::StageRows(frame.stats);
@@ -169,8 +195,11 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
               std::to_string(ErrorAgainst(ToFloatImage(frame.composite.indirect), *referenceIndirect).rmseDisplay);
         if (setting.scale == 1.0) {
           const ssgi::FloatImage layers = RegionLayers(frame);
-          regions = ssgi::CompareRegions(ToFloatImage(frame.Result()), reference,
-                                         ssgi::ClassifyRegions(layers, config.ssrTrace.roughnessCutoff, scenePath));
+          const std::vector<uint8_t> classes =
+              ssgi::ClassifyRegions(layers, config.ssrTrace.roughnessCutoff, scenePath);
+          const ssgi::FloatImage result = ToFloatImage(frame.Result());
+          regions = ssgi::CompareRegions(result, reference, classes);
+          reflectiveByRoughness = ReflectiveErrorByRoughness(result, reference, classes, layers);
         }
       }
       if (stages.empty()) {
@@ -187,6 +216,10 @@ int Run(const std::string& scenePath, const std::string& referencePath, int widt
         csv << ",,";
       else
         csv << "," << regions[r].rmseDisplay << "," << regions[r].meanRatio;
+    }
+    for (size_t b = 0; b + 1 < std::size(kRoughnessBins); ++b) {
+      csv << ",";
+      if (!reflectiveByRoughness.empty()) csv << reflectiveByRoughness[b];
     }
     for (const std::string& name : stages) csv << "," << (times.count(name) ? Median(times[name]) : 0.0);
     csv << "\n";

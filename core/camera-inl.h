@@ -38,6 +38,17 @@ RayV<D> PixelRayV(D d, const ViewProjection& view, hn::Vec<D> px, float py) {
   return {{zero, zero, zero}, {sx, sy, hn::Set(d, -1.0f)}};
 }
 
+// PixelRayV with a row per lane.
+template <class D>
+RayV<D> PixelRayV(D d, const ViewProjection& view, hn::Vec<D> px, hn::Vec<D> py) {
+  RayV<D> ray = PixelRayV(d, view, px, 0.0f);
+  const auto sy =
+      hn::Mul(hn::Sub(hn::Set(d, 1.0f), hn::Div(hn::Mul(hn::Set(d, 2.0f), py), hn::Set(d, float(view.height)))),
+              hn::Set(d, view.halfY));
+  (view.orthographic ? ray.origin.y : ray.direction.y) = sy;
+  return ray;
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();

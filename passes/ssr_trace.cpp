@@ -122,6 +122,18 @@ void ShapeOutput(Plane<float>& plane, size_t width, size_t height) {
   if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane<float>(width, height, 0.0f);
 }
 
+bool NormalCodesClose(uint32_t a, uint32_t b, NormalEncoding encoding) {
+  const bool xyz8 = encoding == NormalEncoding::kXyz8;
+  const int fields = xyz8 ? 3 : 2, bits = xyz8 ? 8 : 12;
+  const uint32_t mask = (1u << bits) - 1u;
+  const int32_t steps = xyz8 ? kSharedRayOctStepsXyz8 : kSharedRayOctStepsOct24;
+  for (int k = 0; k < fields; ++k) {
+    const int32_t difference = int32_t((a >> (k * bits)) & mask) - int32_t((b >> (k * bits)) & mask);
+    if (std::abs(difference) > steps) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int startLevel) {
@@ -208,15 +220,70 @@ HiZMarch MarchHiZ(const HiZ& hiz, const HiZRay& ray, int maxIterations, int star
   return result;
 }
 
-void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                       float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts) {
+SsrRaySource SsrRaySourceOf(const SsrTraceInputs& in, const SsrTraceParams& params, int x, int y) {
+  const GBuffer& g = in.gbuffer;
+  const auto word1 = [&](int px, int py) { return g.word[GBufferWord::kNormalRoughness].ConstRow(size_t(py))[px]; };
+  const auto depth = [&](int px, int py) { return UnpackDepth(g.word[GBufferWord::kDepth].ConstRow(size_t(py))[px]); };
+  const auto traces = [&](uint32_t w1, float d) {
+    return d < kBackgroundDepth && d > 0.0f && UnpackRoughness(w1) < params.roughnessCutoff;
+  };
+  const uint32_t ownWord = word1(x, y);
+  const float ownDepth = depth(x, y);
+  if (!traces(ownWord, ownDepth)) return SsrRaySource::kOwn;
+  const auto shares = [&](int mask, float threshold) {
+    const int sx = x & mask, sy = y & mask;
+    if (sx == x && sy == y) return false;
+    const uint32_t sourceWord = word1(sx, sy);
+    const float sourceDepth = depth(sx, sy);
+    return traces(sourceWord, sourceDepth) && UnpackRoughness(ownWord) >= threshold &&
+           UnpackRoughness(sourceWord) >= threshold &&
+           std::fabs(ownDepth - sourceDepth) <= kSharedRayDepthTolerance * sourceDepth &&
+           NormalCodesClose(ownWord, sourceWord, g.normalEncoding);
+  };
+  if (shares(~3, params.blockRoughness)) return SsrRaySource::kBlock;
+  if (shares(~1, params.quadRoughness)) return SsrRaySource::kQuad;
+  return SsrRaySource::kOwn;
+}
+
+void SsrTraceTileScalar(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
+                        SsrTraceOutputs& out, SsrTraceCounts& counts) {
+  SSGI_CHECK(tile.x0 % 4 == 0 && tile.y0 % 4 == 0);
   const PixelTracer tracer(in, params);
-  for (int x = xBegin; x < xEnd; ++x) {
-    const PixelHit hit = tracer.Trace(x, y, counts);
-    hitX[x] = hit.x;
-    hitY[x] = hit.y;
-    confidence[x] = hit.confidence;
-    if (iterations) iterations[x] = hit.iterations;
+  const int width = tile.x1 - tile.x0;
+  std::vector<SsrRaySource> sources(size_t(width) * size_t(tile.y1 - tile.y0));
+  const auto source = [&](int x, int y) -> SsrRaySource& {
+    return sources[size_t(y - tile.y0) * size_t(width) + size_t(x - tile.x0)];
+  };
+  for (int y = tile.y0; y < tile.y1; ++y) {
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      source(x, y) = SsrRaySourceOf(in, params, x, y);
+      if (source(x, y) != SsrRaySource::kOwn) continue;
+      const PixelHit hit = tracer.Trace(x, y, counts);
+      out.hitX.MutableRow(size_t(y))[x] = hit.x;
+      out.hitY.MutableRow(size_t(y))[x] = hit.y;
+      out.confidence.MutableRow(size_t(y))[x] = hit.confidence;
+      if (float* iterations = IterationsRow(out, y)) iterations[x] = hit.iterations;
+    }
+  }
+  CopySharedHits(tile, sources.data(), out);
+}
+
+void CopySharedHits(const SsrTraceTile& tile, const SsrRaySource* sources, SsrTraceOutputs& out) {
+  const int width = tile.x1 - tile.x0;
+  // Blocks first: a quad's top-left pixel may itself take its block's ray.
+  for (const SsrRaySource shared : {SsrRaySource::kBlock, SsrRaySource::kQuad}) {
+    const int mask = shared == SsrRaySource::kBlock ? ~3 : ~1;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      float* iterations = IterationsRow(out, y);
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        if (sources[size_t(y - tile.y0) * size_t(width) + size_t(x - tile.x0)] != shared) continue;
+        const size_t sx = size_t(x & mask), sy = size_t(y & mask);
+        out.hitX.MutableRow(size_t(y))[x] = out.hitX.ConstRow(sy)[sx];
+        out.hitY.MutableRow(size_t(y))[x] = out.hitY.ConstRow(sy)[sx];
+        out.confidence.MutableRow(size_t(y))[x] = out.confidence.ConstRow(sy)[sx];
+        if (iterations) iterations[x] = 0.0f;
+      }
+    }
   }
 }
 
@@ -270,11 +337,8 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
     const int y0 = int(tile / size_t(tilesX)) * kTileSize;
     const int x1 = std::min(x0 + kTileSize, width);
     const int y1 = std::min(y0 + kTileSize, height);
-    if (kernels == KernelPath::kSimd) return SsrTraceRowsSimd(in, params, y0, y1, x0, x1, out, counts[tile]);
-    for (int y = y0; y < y1; ++y) {
-      SsrTraceRowScalar(in, params, y, x0, x1, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-                        out.confidence.MutableRow(size_t(y)), IterationsRow(out, y), counts[tile]);
-    }
+    const auto kernel = kernels == KernelPath::kSimd ? SsrTraceTileSimd : SsrTraceTileScalar;
+    kernel(in, params, {x0, y0, x1, y1}, out, counts[tile]);
   });
 
   SsrTraceStats stats;

@@ -39,6 +39,12 @@ struct SsrTraceParams {
   // at r.z = 0 to 0 at r.z = towardCameraFade (continuous at r.z = 0: no seam). Rays with r.z >=
   // towardCameraFade are not traced. > 0.
   float towardCameraFade = 0.3f;
+  // Shared rays: a pixel at least this rough takes the ray of its 2x2 quad's top-left pixel, when
+  // that pixel is as rough and lies on the same surface (SsrRaySource); the cone trace then widens
+  // the shared hit by each pixel's own roughness. At or above roughnessCutoff: every pixel traces.
+  float quadRoughness = 1.0f;
+  // The same over the 4x4 block's top-left pixel, for rougher pixels still.
+  float blockRoughness = 1.0f;
 };
 
 struct SsrTraceInputs {
@@ -128,18 +134,40 @@ struct SsrTraceCounts {
   uint64_t iterations = 0;  // Hi-Z steps over those rays
 };
 
-// The trace's scalar row kernel, the definition a SIMD twin (passes/ssr_trace_simd.cpp) must equal
-// bit for bit: traces pixels [xBegin, xEnd) of row y into hitX[x], hitY[x], confidence[x],
-// iterations[x] (each pointer at the row's pixel 0, iterations nullptr to skip it; SsrTraceOutputs
-// gives the values) and adds its rays and steps to `counts`.
-void SsrTraceRowScalar(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                       float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts);
-// Its Highway twin, dispatched to the machine's best target: lanes are the row's rays.
-void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                     float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts);
-// The twin over rows [yBegin, yEnd) of out's planes (already of the G-buffer's size; iterations
-// skipped when empty), reading the inputs' layout once for all of them.
-void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,
-                      int xEnd, SsrTraceOutputs& out, SsrTraceCounts& counts);
+// Whose ray a pixel takes: its own (also every pixel that traces none), its 2x2 quad's top-left
+// pixel's or its 4x4 block's top-left pixel's.
+enum class SsrRaySource : uint8_t { kOwn, kQuad, kBlock };
+
+// A shared ray goes only between pixels on one surface: view depths within this fraction of the
+// source pixel's, ...
+inline constexpr float kSharedRayDepthTolerance = 1.0f / 16.0f;
+// ... and packed normal codes within these steps on each axis (about 3 degrees either way).
+inline constexpr int32_t kSharedRayOctStepsOct24 = 96;
+inline constexpr int32_t kSharedRayOctStepsXyz8 = 6;
+
+// Pixel (x, y)'s source (docs/pipeline.md §SSR: Hi-Z trace, "Shared rays"): kBlock when the pixel
+// and its block's top-left pixel both trace (geometry, roughness below the cut-off), are both at
+// least blockRoughness rough and lie on one surface; else kQuad by the same test with the quad's
+// top-left pixel and quadRoughness; else kOwn. A top-left pixel is its own source.
+SsrRaySource SsrRaySourceOf(const SsrTraceInputs& in, const SsrTraceParams& params, int x, int y);
+
+// A rectangle of pixels [x0, x1) x [y0, y1) whose corner (x0, y0) lies on the 4x4 block grid, so
+// that every pixel's quad and block sources are inside it.
+struct SsrTraceTile {
+  int x0, y0, x1, y1;
+};
+
+// The trace's scalar tile kernel, the definition a SIMD twin (passes/ssr_trace_simd.cpp) must equal
+// bit for bit: traces the tile's pixels whose source is their own, then gives each other pixel its
+// source's hit and confidence (and 0 steps) in out's planes (of the G-buffer's size, iterations
+// skipped when empty), and adds the rays and steps to `counts`.
+void SsrTraceTileScalar(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
+                        SsrTraceOutputs& out, SsrTraceCounts& counts);
+// The kernels' last step: each pixel whose source (sources[] row by row over the tile) is not its
+// own gets its source's hit and confidence, and 0 steps.
+void CopySharedHits(const SsrTraceTile& tile, const SsrRaySource* sources, SsrTraceOutputs& out);
+// Its Highway twin, dispatched to the machine's best target: lanes are the tile's rays.
+void SsrTraceTileSimd(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
+                      SsrTraceOutputs& out, SsrTraceCounts& counts);
 
 }  // namespace ssgi

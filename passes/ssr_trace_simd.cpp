@@ -1,9 +1,9 @@
-// The Highway twin of SsrTraceRowScalar (ssr_trace.cpp): lanes are neighbouring pixels of a row,
-// each lane one ray, and the lanes march through the Hi-Z together. A lane stops where MarchHiZ
-// returns and keeps its state while the others go on: neighbouring rays are coherent, so the lanes
-// mostly finish within a few steps of each other. The same operations in the same order as the
-// scalar tracer and MarchHiZ, no fused multiply-add, no approximate division, std::min / std::clamp
-// semantics, so every target gives the scalar bytes (tests/passes/ssr_trace_test.cpp).
+// The Highway twin of SsrTraceTileScalar (ssr_trace.cpp): the tile's pixels that trace their own ray
+// are listed in row order, each lane one of them, and the lanes march through the Hi-Z together. A lane stops where
+// MarchHiZ returns and keeps its state while the others go on: neighbouring rays are coherent, so the lanes mostly
+// finish within a few steps of each other. The same operations in the same order as the scalar tracer and MarchHiZ, no
+// fused multiply-add, no approximate division, std::min / std::clamp semantics, so every target gives the scalar bytes
+// (tests/passes/ssr_trace_test.cpp).
 #ifndef SSGI_PASSES_SSR_TRACE_SIMD_FRAME_
 #define SSGI_PASSES_SSR_TRACE_SIMD_FRAME_
 #include <algorithm>
@@ -43,7 +43,7 @@ struct SsrTraceFrame {
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/ssr_trace_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
-#include "hwy/cache_control.h"
+
 #include "hwy/highway.h"
 
 #include "core/camera-inl.h"
@@ -250,23 +250,24 @@ VF EdgeFadeV(VF p, float size, float edgeFade) {
 // PixelTracer::Trace's rays for a vector of pixels, up to the march.
 struct RayLanes {
   MF traced;
-  VF originX, originZ;  // the origin's y is the row's
-  Vec3V<DF> end;        // (x, y, 1/d)
-  Vec3V<DF> r;          // the view-space reflected direction
+  VF originX, originY, originZ;
+  Vec3V<DF> end;  // (x, y, 1/d)
+  Vec3V<DF> r;    // the view-space reflected direction
   VF towardCamera;
 };
 
-// The rays of the pixels at image positions px of row y, whose G-buffer words 1 and 2 are word1 and
-// d: `candidates` are the lanes with geometry below the roughness cut-off. Other lanes compute along,
+// The rays of the pixels at image positions (px, py), whose G-buffer words 1 and 2 are word1 and d:
+// `candidates` are the lanes with geometry below the roughness cut-off. Other lanes compute along,
 // unused.
-RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, VF px, float py, hn::Vec<DU> word1,
-                   VF d, MF candidates) {
+RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, VF px, VF py, hn::Vec<DU> word1, VF d,
+                   MF candidates) {
   const DF df;
   const VF zero = hn::Zero(df);
   const VF one = hn::Set(df, 1.0f);
   const ViewProjection& view = *frame.view;
   RayLanes rays;
   rays.originX = px;
+  rays.originY = py;
   const Vec3V<DF> p = Scale3(PixelRayV(df, view, px, py).direction, d);
   const Vec3V<DF> v = Div3(p, Length3(p));
   const Vec3V<DF> n = UnpackNormalV(df, word1, frame.encoding);
@@ -293,29 +294,25 @@ RayLanes SetUpRays(const SsrTraceFrame& frame, const SsrTraceParams& params, VF 
   return rays;
 }
 
-// Stores "no hit" after `steps` Hi-Z steps at x0, x0 + 1, ... of a row segment ending at xEnd.
-void StoreNoHits(VI steps, size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence, float* iterations) {
-  const DF df;
-  StoreRow(hn::Set(df, -1.0f), df, hitX, x0, xEnd);
-  StoreRow(hn::Set(df, -1.0f), df, hitY, x0, xEnd);
-  StoreRow(hn::Zero(df), df, confidence, x0, xEnd);
-  if (iterations) StoreRow(hn::ConvertTo(df, steps), df, iterations, x0, xEnd);
-}
+// One vector of rays' outputs, SsrTraceOutputs' values.
+struct RayResults {
+  VF hitX, hitY, confidence, steps;
+};
 
 // The rest of PixelTracer::Trace after the march: the surface at the hit must be in front of the
-// background and face the ray; the confidence fades. Stores at x0, x0 + 1, ... of a row segment
-// ending at xEnd.
-void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const RayLanes& rays, const MarchLanes& m,
-                size_t x0, size_t xEnd, float* hitX, float* hitY, float* confidence, float* iterations) {
+// background and face the ray; the confidence fades.
+RayResults FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const RayLanes& rays,
+                      const MarchLanes& m) {
   const DF df;
   const DI di;
   const DU du;
   const VF zero = hn::Zero(df);
   const VF one = hn::Set(df, 1.0f);
   const VF none = hn::Set(df, -1.0f);
+  const VF steps = hn::ConvertTo(df, m.steps);
   MF found = hn::And(m.hit, hn::And(InsideImageV(m.posX, m.posY, float(frame.width), float(frame.height)),
                                     hn::Gt(m.posZ, zero)));
-  if (hn::AllFalse(df, found)) return StoreNoHits(m.steps, x0, xEnd, hitX, hitY, confidence, iterations);
+  if (hn::AllFalse(df, found)) return {none, none, zero, steps};
   const auto foundI = hn::RebindMask(di, found);
   const VI hx = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posX)), hn::Set(di, frame.width - 1));
   const VI hy = hn::Min(hn::ConvertTo(di, hn::IfThenElseZero(found, m.posY)), hn::Set(di, frame.height - 1));
@@ -331,87 +328,166 @@ void FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, const 
   const VF fadeY = EdgeFadeV(m.posY, float(frame.height), params.edgeFade);
   const VF fade = hn::Mul(hn::Mul(hn::Mul(thickness, rays.towardCamera), fadeX), fadeY);
   found = hn::And(found, hn::Gt(fade, zero));
-  StoreRow(hn::IfThenElse(found, m.posX, none), df, hitX, x0, xEnd);
-  StoreRow(hn::IfThenElse(found, m.posY, none), df, hitY, x0, xEnd);
-  StoreRow(hn::IfThenElseZero(found, MinStd(fade, one)), df, confidence, x0, xEnd);
-  if (iterations) StoreRow(hn::ConvertTo(df, m.steps), df, iterations, x0, xEnd);
+  return {hn::IfThenElse(found, m.posX, none), hn::IfThenElse(found, m.posY, none),
+          hn::IfThenElseZero(found, MinStd(fade, one)), steps};
 }
 
-void TraceRow(const SsrTraceFrame& frame, const SsrTraceParams& params, int y, int xBegin, int xEnd, float* hitX,
-              float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts) {
+constexpr int kMaxTilePixels = 32 * 32;
+
+// SsrRaySourceOf's test against the source pixels (x & mask, sourceY) of the lanes at xs in row y,
+// whose G-buffer words are word1 and d: whether each lane takes that source's ray.
+MF SharesRay(const SsrTraceFrame& frame, const SsrTraceParams& params, VI xs, int y, int mask, int lastX,
+             hn::Vec<DU> word1, VF d, float threshold) {
   const DF df;
+  const DI di;
+  const DU du;
+  const int sourceY = y & mask;
+  const VI sourceX = hn::Min(hn::And(xs, hn::Set(di, mask)), hn::Set(di, lastX));
+  const size_t row = size_t(sourceY) * size_t(frame.gbufferStride);
+  const auto sourceWord = hn::GatherIndex(du, frame.word1 + row, sourceX);
+  const VF sourceDepth = UnpackDepthV(df, hn::GatherIndex(du, frame.word2 + row, sourceX));
+  MF shares = sourceY == y ? hn::RebindMask(df, hn::Ne(sourceX, xs)) : hn::FirstN(df, hn::Lanes(df));
+  const VF cutoff = hn::Set(df, params.roughnessCutoff);
+  const VF least = hn::Set(df, threshold);
+  const VF sourceRoughness = UnpackRoughnessV(df, sourceWord);
+  shares =
+      hn::And(shares, hn::And(hn::Lt(sourceDepth, hn::Set(df, kBackgroundDepth)), hn::Gt(sourceDepth, hn::Zero(df))));
+  shares = hn::And(shares, hn::And(hn::Lt(sourceRoughness, cutoff), hn::Ge(sourceRoughness, least)));
+  shares = hn::And(shares, hn::Ge(UnpackRoughnessV(df, word1), least));
+  shares = hn::And(
+      shares, hn::Le(hn::Abs(hn::Sub(d, sourceDepth)), hn::Mul(hn::Set(df, kSharedRayDepthTolerance), sourceDepth)));
+  // NormalCodesClose: each packed axis code within the encoding's steps.
+  const auto codes = [&](auto v, int shift, uint32_t fieldMask) {
+    return hn::BitCast(di, hn::And(hn::ShiftRightSame(v, shift), hn::Set(du, fieldMask)));
+  };
+  const bool xyz8 = frame.encoding == NormalEncoding::kXyz8;
+  const int fields = xyz8 ? 3 : 2, bits = xyz8 ? 8 : 12;
+  const VI beyond = hn::Set(di, (xyz8 ? kSharedRayOctStepsXyz8 : kSharedRayOctStepsOct24) + 1);
+  for (int k = 0; k < fields; ++k) {
+    const uint32_t fieldMask = (1u << bits) - 1u;
+    const VI difference = hn::Sub(codes(word1, k * bits, fieldMask), codes(sourceWord, k * bits, fieldMask));
+    shares = hn::And(shares, hn::RebindMask(df, hn::Lt(hn::Abs(difference), beyond)));
+  }
+  return shares;
+}
+
+void TraceTile(const SsrTraceFrame& frame, const SsrTraceParams& params, const SsrTraceTile& tile, SsrTraceOutputs& out,
+               SsrTraceCounts& counts) {
+  const DF df;
+  const DI di;
   const DU du;
   const size_t lanes = hn::Lanes(df);
-  // The rows of a tile are pages apart, a stride the hardware prefetchers do not follow: fetch the
-  // outputs this row writes after the march, and the words the next row reads.
-  constexpr int kLineFloats = 64 / sizeof(float);
-  const size_t next = size_t(y + 1) * size_t(frame.gbufferStride);
-  for (int x = xBegin; x < xEnd; x += kLineFloats) {
-    hwy::Prefetch(hitX + x);
-    hwy::Prefetch(hitY + x);
-    hwy::Prefetch(confidence + x);
-    if (iterations) hwy::Prefetch(iterations + x);
-    if (y + 1 < frame.height) {
-      hwy::Prefetch(frame.word1 + next + size_t(x));
-      hwy::Prefetch(frame.word2 + next + size_t(x));
+  const int width = tile.x1 - tile.x0;
+  // The tile's pixels that trace their own ray, as (y - y0) << 8 | (x - x0), in row order (padded
+  // for CompressStore's whole-vector writes), and every pixel's source.
+  HWY_ALIGN int32_t traced[kMaxTilePixels + hn::MaxLanes(DI())];
+  size_t tracedCount = 0;
+  SsrRaySource sources[kMaxTilePixels];
+  bool anyShared = false;
+  const bool sharing = params.quadRoughness < params.roughnessCutoff || params.blockRoughness < params.roughnessCutoff;
+  const size_t end = size_t(tile.x1);
+  for (int y = tile.y0; y < tile.y1; ++y) {
+    const uint32_t* word1Row = frame.word1 + size_t(y) * size_t(frame.gbufferStride);
+    const uint32_t* word2Row = frame.word2 + size_t(y) * size_t(frame.gbufferStride);
+    float* iterations = IterationsRow(out, y);
+    for (size_t x0 = size_t(tile.x0); x0 < end; x0 += lanes) {
+      // "No hit" first; the traced pixels and the shared ones are overwritten below.
+      StoreRow(hn::Set(df, -1.0f), df, out.hitX.MutableRow(size_t(y)), x0, end);
+      StoreRow(hn::Set(df, -1.0f), df, out.hitY.MutableRow(size_t(y)), x0, end);
+      StoreRow(hn::Zero(df), df, out.confidence.MutableRow(size_t(y)), x0, end);
+      if (iterations) StoreRow(hn::Zero(df), df, iterations, x0, end);
+      SsrRaySource* source = sources + size_t(y - tile.y0) * size_t(width) + (x0 - size_t(tile.x0));
+      const size_t count = std::min(lanes, end - x0);
+      std::fill(source, source + count, SsrRaySource::kOwn);
+      const auto word1 = LoadRow(du, word1Row, x0, end, 0u);
+      const VF d = UnpackDepthV(df, LoadRow(du, word2Row, x0, end, PackDepth(kBackgroundDepth)));
+      // The scalar tracer's first two tests: geometry, and smooth enough.
+      MF own = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
+      own = hn::And(own, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
+      if (hn::AllFalse(df, own)) continue;
+      const VI xs = hn::Iota(di, int32_t(x0));
+      if (sharing) {
+        const MF block =
+            hn::And(own, SharesRay(frame, params, xs, y, ~3, tile.x1 - 1, word1, d, params.blockRoughness));
+        const MF quad = hn::AndNot(
+            block, hn::And(own, SharesRay(frame, params, xs, y, ~1, tile.x1 - 1, word1, d, params.quadRoughness)));
+        if (!hn::AllFalse(df, hn::Or(block, quad))) {
+          anyShared = true;
+          HWY_ALIGN int32_t code[hn::MaxLanes(DI())];
+          hn::Store(
+              hn::IfThenElse(hn::RebindMask(di, block), hn::Set(di, int32_t(SsrRaySource::kBlock)),
+                             hn::IfThenElseZero(hn::RebindMask(di, quad), hn::Set(di, int32_t(SsrRaySource::kQuad)))),
+              di, code);
+          for (size_t i = 0; i < count; ++i) source[i] = SsrRaySource(code[i]);
+          own = hn::AndNot(hn::Or(block, quad), own);
+        }
+      }
+      const VI packed = hn::Or(hn::ShiftLeft<8>(hn::Set(di, y - tile.y0)), hn::Sub(xs, hn::Set(di, tile.x0)));
+      tracedCount += hn::CompressStore(packed, hn::RebindMask(di, own), di, traced + tracedCount);
     }
   }
-  const float py = float(y) + 0.5f;
-  const uint32_t* word1Row = frame.word1 + size_t(y) * size_t(frame.gbufferStride);
-  const uint32_t* word2Row = frame.word2 + size_t(y) * size_t(frame.gbufferStride);
-  const size_t end = size_t(xEnd);
-  // The rays of the vector at x0, marching.
+
+  // The rays of the vector at traced[i], marching.
   struct VectorRays {
+    MF valid;
+    VI x, y;
     RayLanes rays;
     MarchLanes march;
   };
-  // Sets v up for the vector at x0; false (and its "no hit" stored) where it traces no ray.
-  const auto start = [&](size_t x0, VectorRays& v) {
-    const auto word1 = LoadRow(du, word1Row, x0, end, 0u);
-    const VF d = UnpackDepthV(df, LoadRow(du, word2Row, x0, end, PackDepth(kBackgroundDepth)));
-    // The scalar tracer's first two tests: geometry, and smooth enough.
-    MF candidates = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
-    candidates = hn::And(candidates, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
-    if (hn::AllFalse(df, candidates)) {
-      StoreNoHits(hn::Zero(DI()), x0, end, hitX, hitY, confidence, iterations);
-      return false;
-    }
-    const VF px = hn::Add(hn::Add(hn::Iota(df, 0.0f), hn::Set(df, float(x0))), hn::Set(df, 0.5f));
-    v.rays = SetUpRays(frame, params, px, py, word1, d, candidates);
-    v.march = StartMarch(frame, v.rays.traced, v.rays.originX, hn::Set(df, py), v.rays.originZ, v.rays.end);
+  const auto start = [&](size_t i, VectorRays& v) {
+    v.valid = hn::FirstN(df, std::min(lanes, tracedCount - i));
+    const VI packed = hn::IfThenElseZero(hn::RebindMask(di, v.valid), hn::LoadU(di, traced + i));
+    v.x = hn::Add(hn::And(packed, hn::Set(di, 255)), hn::Set(di, tile.x0));
+    v.y = hn::Add(hn::ShiftRight<8>(packed), hn::Set(di, tile.y0));
+    const VI index = hn::Add(hn::Mul(v.y, hn::Set(di, frame.gbufferStride)), v.x);
+    const auto word1 = hn::GatherIndex(du, frame.word1, index);
+    const VF d = UnpackDepthV(df, hn::GatherIndex(du, frame.word2, index));
+    const VF half = hn::Set(df, 0.5f);
+    const VF px = hn::Add(hn::ConvertTo(df, v.x), half);
+    const VF py = hn::Add(hn::ConvertTo(df, v.y), half);
+    v.rays = SetUpRays(frame, params, px, py, word1, d, v.valid);
+    v.march = StartMarch(frame, v.rays.traced, v.rays.originX, v.rays.originY, v.rays.originZ, v.rays.end);
     counts.rays += hn::CountTrue(df, v.rays.traced);
-    return true;
   };
-  const auto finish = [&](size_t x0, const VectorRays& v) {
-    counts.iterations += uint64_t(hn::GetLane(hn::SumOfLanes(DI(), v.march.steps)));
-    FinishRays(frame, params, v.rays, v.march, x0, end, hitX, hitY, confidence, iterations);
+  const auto finish = [&](const VectorRays& v) {
+    counts.iterations += uint64_t(hn::GetLane(hn::SumOfLanes(di, v.march.steps)));
+    const RayResults results = FinishRays(frame, params, v.rays, v.march);
+    HWY_ALIGN int32_t x[hn::MaxLanes(DI())], y[hn::MaxLanes(DI())];
+    HWY_ALIGN float hitX[hn::MaxLanes(DF())], hitY[hn::MaxLanes(DF())], confidence[hn::MaxLanes(DF())],
+        steps[hn::MaxLanes(DF())];
+    hn::Store(v.x, di, x);
+    hn::Store(v.y, di, y);
+    hn::Store(results.hitX, df, hitX);
+    hn::Store(results.hitY, df, hitY);
+    hn::Store(results.confidence, df, confidence);
+    hn::Store(results.steps, df, steps);
+    const size_t count = hn::CountTrue(df, v.valid);
+    for (size_t i = 0; i < count; ++i) {
+      out.hitX.MutableRow(size_t(y[i]))[x[i]] = hitX[i];
+      out.hitY.MutableRow(size_t(y[i]))[x[i]] = hitY[i];
+      out.confidence.MutableRow(size_t(y[i]))[x[i]] = confidence[i];
+      if (float* iterations = IterationsRow(out, y[i])) iterations[x[i]] = steps[i];
+    }
   };
-  // Two neighbouring vectors march side by side: each step waits on its Hi-Z gather, and the other
-  // vector's step fills that wait (a third, or refilling a finished vector's place from the row,
-  // measured no faster). Each vector steps exactly as it would alone.
-  for (size_t x0 = size_t(xBegin); x0 < end; x0 += 2 * lanes) {
+  // Two vectors march side by side: each step waits on its Hi-Z gather, and the other vector's step
+  // fills that wait (a third, or refilling a finished vector's place, measured no faster). Each
+  // vector steps exactly as it would alone.
+  for (size_t i = 0; i < tracedCount; i += 2 * lanes) {
     VectorRays a, b;
-    const bool tracesA = start(x0, a);
-    const bool tracesB = x0 + lanes < end && start(x0 + lanes, b);
+    start(i, a);
+    const bool hasB = i + lanes < tracedCount;
+    if (hasB) start(i + lanes, b);
     for (int step = 1; step <= params.maxIterations; ++step) {
-      const bool liveA = tracesA && !hn::AllFalse(df, a.march.live);
-      const bool liveB = tracesB && !hn::AllFalse(df, b.march.live);
+      const bool liveA = !hn::AllFalse(df, a.march.live);
+      const bool liveB = hasB && !hn::AllFalse(df, b.march.live);
       if (!liveA && !liveB) break;
       if (liveA) StepMarch(frame, params, step, a.march);
       if (liveB) StepMarch(frame, params, step, b.march);
     }
-    if (tracesA) finish(x0, a);
-    if (tracesB) finish(x0 + lanes, b);
+    finish(a);
+    if (hasB) finish(b);
   }
-}
-
-// TraceRow over rows [yBegin, yEnd): a tile, for one flattening of the inputs per tile.
-void TraceRows(const SsrTraceFrame& frame, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin, int xEnd,
-               SsrTraceOutputs& out, SsrTraceCounts& counts) {
-  for (int y = yBegin; y < yEnd; ++y) {
-    TraceRow(frame, params, y, xBegin, xEnd, out.hitX.MutableRow(size_t(y)), out.hitY.MutableRow(size_t(y)),
-             out.confidence.MutableRow(size_t(y)), IterationsRow(out, y), counts);
-  }
+  if (anyShared) CopySharedHits(tile, sources, out);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -423,8 +499,7 @@ HWY_AFTER_NAMESPACE();
 
 namespace ssgi {
 
-HWY_EXPORT(TraceRow);
-HWY_EXPORT(TraceRows);
+HWY_EXPORT(TraceTile);
 
 namespace {
 
@@ -465,15 +540,12 @@ SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
 
 }  // namespace
 
-void SsrTraceRowSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int y, int xBegin, int xEnd,
-                     float* hitX, float* hitY, float* confidence, float* iterations, SsrTraceCounts& counts) {
-  HWY_DYNAMIC_DISPATCH(TraceRow)(FlattenInputs(in), params, y, xBegin, xEnd, hitX, hitY, confidence, iterations,
-                                 counts);
-}
-
-void SsrTraceRowsSimd(const SsrTraceInputs& in, const SsrTraceParams& params, int yBegin, int yEnd, int xBegin,
-                      int xEnd, SsrTraceOutputs& out, SsrTraceCounts& counts) {
-  HWY_DYNAMIC_DISPATCH(TraceRows)(FlattenInputs(in), params, yBegin, yEnd, xBegin, xEnd, out, counts);
+void SsrTraceTileSimd(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
+                      SsrTraceOutputs& out, SsrTraceCounts& counts) {
+  SSGI_CHECK(tile.x0 % 4 == 0 && tile.y0 % 4 == 0);
+  SSGI_CHECK_LE(size_t(tile.x1 - tile.x0) * size_t(tile.y1 - tile.y0), size_t(32 * 32));
+  SSGI_CHECK_LE(tile.x1 - tile.x0, 256);
+  HWY_DYNAMIC_DISPATCH(TraceTile)(FlattenInputs(in), params, tile, out, counts);
 }
 
 }  // namespace ssgi

@@ -212,6 +212,16 @@ std::vector<FrameSetting> BuildFrameSettings() {
                                  "Hi-Z level a reflected ray continues at after leaving its own pixel (higher levels "
                                  "stride faster through open space; clamped to the top level).",
                                  0, 30, {"0", "2", "4"}, [](auto& c) -> auto& { return c.ssrTrace.startLevel; }));
+  table.push_back(NumberSetting(
+      "ssr_quad_roughness", "--ssr-quad-roughness",
+      "Reflections: from this roughness up, a pixel shares the reflected ray of its 2x2 quad's top-left pixel on "
+      "the same surface (its own cone widens the shared hit); at or above the trace's cut-off (0.7), every pixel "
+      "traces its own.",
+      0.0, 1.0, {"0", "0.1", "0.3", "1"}, [](auto& c) -> auto& { return c.ssrTrace.quadRoughness; }));
+  table.push_back(NumberSetting(
+      "ssr_block_roughness", "--ssr-block-roughness",
+      "Reflections: from this roughness up, a pixel shares the ray of its 4x4 block's top-left pixel instead.", 0.0,
+      1.0, {"0.1", "0.3", "0.5", "1"}, [](auto& c) -> auto& { return c.ssrTrace.blockRoughness; }));
   table.push_back(IntegerSetting("cone_samples", "--cone-samples", "Colour-pyramid samples per cone.", 1, 64,
                                  {"3", "7", "12"}, [](auto& c) -> auto& { return c.ssrCone.maxSamples; }));
   table.push_back(IntegerSetting(

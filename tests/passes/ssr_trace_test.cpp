@@ -213,6 +213,29 @@ GBuffer RandomGBuffer(int width, int height, NormalEncoding encoding, uint32_t s
   return g;
 }
 
+// Surfaces whose neighbouring pixels are near the shared-ray tolerances, either side: normals that
+// turn slowly with noise of about the normal tolerance, depths with jumps of about the depth
+// tolerance, random roughness, some background.
+GBuffer SmoothGBuffer(int width, int height, NormalEncoding encoding, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> gauss(0.0f, 0.04f);
+  std::uniform_real_distribution<float> jump(-0.08f, 0.08f);
+  std::uniform_int_distribution<int> background(0, 19);
+  std::uniform_int_distribution<int> roughness(0, 200);
+  GBuffer g = MakeGBuffer(width, height, encoding);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (background(rng) == 0) continue;
+      const glm::vec3 n{std::sin(float(x) * 0.1f) + gauss(rng), std::cos(float(y) * 0.13f) + gauss(rng), 1.5f};
+      g.word[GBufferWord::kNormalRoughness].MutableRow(size_t(y))[x] =
+          PackNormalRoughness(glm::normalize(n), float(roughness(rng)) / 255.0f, encoding);
+      const float d = (3.0f + 0.05f * float(x) + 0.03f * float(y)) * (1.0f + ((x + y) % 3 == 0 ? jump(rng) : 0.0f));
+      g.word[GBufferWord::kDepth].MutableRow(size_t(y))[x] = PackDepth(d);
+    }
+  }
+  return g;
+}
+
 TEST_CASE("SSR trace on random G-buffers terminates within the cap with well-formed outputs", "[ssr]") {
   for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
     for (const auto& [width, height] : {std::pair{67, 45}, std::pair{1, 1}, std::pair{1, 9}, std::pair{33, 2}}) {
@@ -286,52 +309,48 @@ GBuffer AxisAlignedGBuffer(int width, int height, uint32_t seed) {
   return g;
 }
 
-// SsrTraceRowSimd against SsrTraceRowScalar on every compiled and supported target: every row whole,
-// and on every fifth row segments of every length from 1 to 49 (three AVX-512 vectors and one lane)
-// at varying offsets. Same bits in the segment, nothing written outside it, same counts.
-void CheckRowTwins(const GBuffer& g, const ViewProjection& view, const HiZ& hiz, const SsrTraceParams& params) {
+SsrTraceOutputs UntouchedOutputs(int width, int height) {
+  constexpr float kUntouched = -7.0f;
+  SsrTraceOutputs out;
+  for (Plane<float>* plane : {&out.hitX, &out.hitY, &out.confidence, &out.iterations})
+    *plane = MakePlane<float>(size_t(width), size_t(height), kUntouched);
+  return out;
+}
+
+// SsrTraceTileSimd against SsrTraceTileScalar on every compiled and supported target: the 32x32
+// tiles of the image, and tiles of every width from 1 to 32 at corners on the 4x4 grid, with heights
+// from 1 to 32. Same bits in the tile, nothing written outside it, same counts.
+void CheckTileTwins(const GBuffer& g, const ViewProjection& view, const HiZ& hiz, const SsrTraceParams& params) {
   const SsrTraceInputs in{g, view, hiz};
   const int width = g.width(), height = g.height();
-  struct Segment {
-    int y, xBegin, xEnd;
-  };
-  std::vector<Segment> segments;
-  for (int y = 0; y < height; ++y) {
-    segments.push_back({y, 0, width});
-    if (y % 5 != 0) continue;
-    for (int length = 1; length <= std::min(width, 49); ++length) {
-      const int x0 = (length * 7 + y) % (width - length + 1);
-      segments.push_back({y, x0, x0 + length});
-    }
+  std::vector<SsrTraceTile> tiles;
+  for (int y = 0; y < height; y += 32)
+    for (int x = 0; x < width; x += 32) tiles.push_back({x, y, std::min(x + 32, width), std::min(y + 32, height)});
+  for (int w = 1; w <= std::min(width, 32); ++w) {
+    const int x0 = (w * 4) % width & ~3, y0 = (w * 8) % height & ~3;
+    const int h = 1 + (w * 7) % 32;
+    tiles.push_back({x0, y0, std::min(x0 + w, width), std::min(y0 + h, height)});
   }
-  constexpr float kUntouched = -7.0f;
-  const size_t row = size_t(width);
-  std::vector<float> expected(segments.size() * 4 * row, kUntouched);
-  std::vector<SsrTraceCounts> expectedCounts(segments.size());
-  for (size_t i = 0; i < segments.size(); ++i) {
-    const Segment& s = segments[i];
-    float* out = expected.data() + i * 4 * row;
-    SsrTraceRowScalar(in, params, s.y, s.xBegin, s.xEnd, out, out + row, out + 2 * row, out + 3 * row,
-                      expectedCounts[i]);
-  }
-  std::vector<float> actual(4 * row);
   const size_t targets = test::ForEachSimdTarget([&](const char* target) {
-    for (size_t i = 0; i < segments.size(); ++i) {
-      const Segment& s = segments[i];
-      std::fill(actual.begin(), actual.end(), kUntouched);
-      SsrTraceCounts counts;
-      SsrTraceRowSimd(in, params, s.y, s.xBegin, s.xEnd, actual.data(), actual.data() + row,
-                      actual.data() + 2 * row, actual.data() + 3 * row, counts);
-      CAPTURE(target, s.y, s.xBegin, s.xEnd, params.maxIterations, params.startLevel);
-      REQUIRE(test::FirstDifferentBits(actual.data(), expected.data() + i * 4 * row, 4 * row) == 4 * row);
-      REQUIRE(counts.rays == expectedCounts[i].rays);
-      REQUIRE(counts.iterations == expectedCounts[i].iterations);
+    for (const SsrTraceTile& tile : tiles) {
+      SsrTraceOutputs expected = UntouchedOutputs(width, height), actual = UntouchedOutputs(width, height);
+      SsrTraceCounts expectedCounts, counts;
+      SsrTraceTileScalar(in, params, tile, expected, expectedCounts);
+      SsrTraceTileSimd(in, params, tile, actual, counts);
+      CAPTURE(target, tile.x0, tile.y0, tile.x1, tile.y1, params.maxIterations, params.startLevel, params.quadRoughness,
+              params.blockRoughness);
+      REQUIRE(test::SameBytes(actual.hitX, expected.hitX));
+      REQUIRE(test::SameBytes(actual.hitY, expected.hitY));
+      REQUIRE(test::SameBytes(actual.confidence, expected.confidence));
+      REQUIRE(test::SameBytes(actual.iterations, expected.iterations));
+      REQUIRE(counts.rays == expectedCounts.rays);
+      REQUIRE(counts.iterations == expectedCounts.iterations);
     }
   });
   CHECK(targets >= 2);
 }
 
-TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target", "[ssr][simd]") {
+TEST_CASE("SSR trace: the SIMD tile kernel equals the scalar one on every target", "[ssr][simd]") {
   SECTION("mirror floor, every Hi-Z start level, iteration caps 1, 7 and 64") {
     const Traced t = TraceMirrorFloor(kMirrorWidth, kMirrorHeight, NormalEncoding::kOct24);
     const int levels = int(t.hiz.levels.size());
@@ -340,7 +359,24 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
         SsrTraceParams params;
         params.startLevel = startLevel;
         params.maxIterations = cap;
-        CheckRowTwins(t.gbuffer, t.view, t.hiz, params);
+        CheckTileTwins(t.gbuffer, t.view, t.hiz, params);
+      }
+    }
+  }
+  SECTION("mirror floor and random G-buffers with shared rays") {
+    const Traced t = TraceMirrorFloor(kMirrorWidth, kMirrorHeight, NormalEncoding::kOct24);
+    for (const auto& [quad, block] :
+         {std::pair{0.0f, 0.0f}, std::pair{0.0f, 1.0f}, std::pair{1.0f, 0.0f}, std::pair{0.3f, 0.5f}}) {
+      SsrTraceParams params;
+      params.quadRoughness = quad;
+      params.blockRoughness = block;
+      CheckTileTwins(t.gbuffer, t.view, t.hiz, params);
+      for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+        const GBuffer g = SmoothGBuffer(70, 45, encoding, 5);
+        const ViewProjection view = MakePerspective(CameraDesc{}, 70, 45);
+        HiZ hiz;
+        RunHiZ(g.word[GBufferWord::kDepth], hiz);
+        CheckTileTwins(g, view, hiz, params);
       }
     }
   }
@@ -356,7 +392,7 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
             SsrTraceParams params;
             params.startLevel = startLevel;
             params.maxIterations = cap;
-            CheckRowTwins(g, view, hiz, params);
+            CheckTileTwins(g, view, hiz, params);
           }
         }
         SsrTraceParams other;
@@ -364,7 +400,7 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
         other.thickness = 0.5f;
         other.towardCameraFade = 1.0f;
         other.roughnessCutoff = 1.0f;
-        CheckRowTwins(g, view, hiz, other);
+        CheckTileTwins(g, view, hiz, other);
       }
     }
   }
@@ -375,11 +411,10 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
     RunHiZ(g.word[GBufferWord::kDepth], hiz);
     // The centre column and row do march along an axis: some of their rays are traced.
     SsrTraceCounts column, row;
-    std::vector<float> scratch(4 * 65);
+    SsrTraceOutputs scratch = UntouchedOutputs(65, 49);
     const SsrTraceInputs in{g, view, hiz};
-    for (int y = 0; y < 49; ++y)
-      SsrTraceRowScalar(in, {}, y, 32, 33, &scratch[0], &scratch[65], &scratch[130], &scratch[195], column);
-    SsrTraceRowScalar(in, {}, 24, 0, 65, &scratch[0], &scratch[65], &scratch[130], &scratch[195], row);
+    SsrTraceTileScalar(in, {}, {32, 0, 33, 49}, scratch, column);
+    SsrTraceTileScalar(in, {}, {0, 24, 65, 25}, scratch, row);
     CHECK(column.rays > 5);
     CHECK(row.rays > 5);
     for (int startLevel : {0, 1, 3}) {
@@ -387,7 +422,7 @@ TEST_CASE("SSR trace: the SIMD row kernel equals the scalar one on every target"
         SsrTraceParams params;
         params.startLevel = startLevel;
         params.maxIterations = cap;
-        CheckRowTwins(g, view, hiz, params);
+        CheckTileTwins(g, view, hiz, params);
       }
     }
   }
