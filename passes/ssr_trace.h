@@ -42,9 +42,9 @@ struct SsrTraceParams {
   // Shared rays: a pixel at least this rough takes the ray of its 2x2 quad's top-left pixel, when
   // that pixel is as rough and lies on the same surface (SsrRaySource); the cone trace then widens
   // the shared hit by each pixel's own roughness. At or above roughnessCutoff: every pixel traces.
-  float quadRoughness = 1.0f;
+  float quadRoughness = 0.1f;
   // The same over the 4x4 block's top-left pixel, for rougher pixels still.
-  float blockRoughness = 1.0f;
+  float blockRoughness = 0.3f;
 };
 
 struct SsrTraceInputs {

@@ -282,10 +282,14 @@ std::vector<FrameSetting> BuildFrameSettings() {
 
 const std::vector<QualityPreset>& QualityPresets() {
   static const std::vector<QualityPreset> presets = {
-      {"low", {{"blocker_taps", "4"}, {"blur_taps", "2"}, {"ssr_iterations", "8"}}},
+      {"low", {{"blocker_taps", "4"}, {"blur_taps", "2"}, {"ssr_iterations", "8"}, {"ssr_block_roughness", "0.1"}}},
       {"medium", {{"blur_taps", "4"}, {"ssr_iterations", "32"}}},
       {"high", {}},
-      {"ultra", {{"shadow_map_size", "4096"}, {"ssr_iterations", "128"}}},
+      {"ultra",
+       {{"shadow_map_size", "4096"},
+        {"ssr_iterations", "128"},
+        {"ssr_quad_roughness", "1"},
+        {"ssr_block_roughness", "1"}}},
   };
   return presets;
 }

@@ -460,6 +460,8 @@ TraceOutput RunSsrTrace(const FrameConstants& frame, const SsrTraceParams& param
   program.Set("thickness", params.thickness);
   program.Set("edgeFade", params.edgeFade);
   program.Set("towardCameraFade", params.towardCameraFade);
+  program.Set("quadRoughness", params.quadRoughness);
+  program.Set("blockRoughness", params.blockRoughness);
   const size_t pixels = size_t(frame.width) * size_t(frame.height);
   TraceOutput out{Buffer(pixels), Buffer(pixels), Buffer(pixels), Buffer(pixels)};
   word1.Bind(0);

@@ -24,12 +24,19 @@ uniform float roughnessCutoff;
 uniform float thickness;
 uniform float edgeFade;
 uniform float towardCameraFade;
+uniform float quadRoughness;
+uniform float blockRoughness;
 
 const float kNever = 1e30;          // a "never" t that stays finite
 const float kTinyComponent = 1e-20; // direction components below this have no reciprocal
 const float kNudge = 1.0 / 64.0;    // px past a crossed cell boundary
 const float kMaxCoordinate = 32768.0;
 const float kMaxRayLengthInDepths = 1000.0;
+// Shared rays: one surface means depths within 1/16 of the source's and normal codes within these
+// steps per axis.
+const float kSharedRayDepthTolerance = 1.0 / 16.0;
+const int kSharedRayStepsOct24 = 96;
+const int kSharedRayStepsXyz8 = 6;
 
 float SafeReciprocal(float v) {
   precise float reciprocal = 1.0 / v;
@@ -140,20 +147,60 @@ float EdgeFade(float p, float size) {
   return fade;
 }
 
-void main() {
-  const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (pixel.x >= imageSize.x || pixel.y >= imageSize.y) return;
-  const int index = pixel.y * imageSize.x + pixel.x;
-  // Untraced pixels, misses and rejected hits.
-  hitX[index] = -1.0;
-  hitY[index] = -1.0;
-  confidence[index] = 0.0;
-  iterations[index] = 0.0;
-
+bool Traces(int index) {
   const float d = depth[index];
-  if (!(d < kBackgroundDepth) || !(d > 0.0)) return;
+  return d < kBackgroundDepth && d > 0.0 && UnpackRoughness(word1[index]) < roughnessCutoff;
+}
+
+bool NormalCodesClose(uint a, uint b) {
+  const bool xyz8 = normalEncoding == kNormalXyz8;
+  const int fields = xyz8 ? 3 : 2, bits = xyz8 ? 8 : 12;
+  const uint mask = (1u << bits) - 1u;
+  const int steps = xyz8 ? kSharedRayStepsXyz8 : kSharedRayStepsOct24;
+  for (int k = 0; k < fields; ++k) {
+    if (abs(int((a >> (k * bits)) & mask) - int((b >> (k * bits)) & mask)) > steps) return false;
+  }
+  return true;
+}
+
+// Whether `pixel` takes the ray of the top-left pixel of its cell (mask ~1: 2x2 quad, ~3: 4x4 block).
+bool SharesRay(ivec2 pixel, int mask, float threshold) {
+  const ivec2 source = pixel & ivec2(mask);
+  if (source == pixel) return false;
+  const int own = pixel.y * imageSize.x + pixel.x;
+  const int other = source.y * imageSize.x + source.x;
+  if (!Traces(own) || !Traces(other)) return false;
+  if (!(UnpackRoughness(word1[own]) >= threshold) || !(UnpackRoughness(word1[other]) >= threshold)) return false;
+  precise float gap = abs(depth[own] - depth[other]);
+  precise float tolerance = kSharedRayDepthTolerance * depth[other];
+  return gap <= tolerance && NormalCodesClose(word1[own], word1[other]);
+}
+
+// The pixel whose ray `pixel` takes (docs/pipeline.md §SSR: Hi-Z trace, "Shared rays").
+ivec2 RaySource(ivec2 pixel) {
+  if (SharesRay(pixel, ~3, blockRoughness)) return pixel & ivec2(~3);
+  if (SharesRay(pixel, ~1, quadRoughness)) return pixel & ivec2(~1);
+  return pixel;
+}
+
+void main() {
+  const ivec2 own = ivec2(gl_GlobalInvocationID.xy);
+  if (own.x >= imageSize.x || own.y >= imageSize.y) return;
+  const int ownIndex = own.y * imageSize.x + own.x;
+  // Untraced pixels, misses and rejected hits.
+  hitX[ownIndex] = -1.0;
+  hitY[ownIndex] = -1.0;
+  confidence[ownIndex] = 0.0;
+  iterations[ownIndex] = 0.0;
+  if (!Traces(ownIndex)) return;
+
+  // A quad's source may itself take its block's ray: two hops at most. The oracle traces the
+  // source once and copies; here each invocation traces its source's ray again, the same bits.
+  const ivec2 pixel = RaySource(RaySource(own));
+  const bool sharedRay = pixel != own;
+  const int index = pixel.y * imageSize.x + pixel.x;
+  const float d = depth[index];
   const uint w1 = word1[index];
-  if (!(UnpackRoughness(w1) < roughnessCutoff)) return;
 
   const vec2 centre = vec2(pixel) + 0.5;
   precise vec3 p = PixelRayDirection(centre) * d;
@@ -173,7 +220,7 @@ void main() {
 
   precise float inverseDepth = 1.0 / d;
   const March march = MarchHiZ(vec3(centre, inverseDepth), Project(q));
-  iterations[index] = float(march.iterations);
+  if (!sharedRay) iterations[ownIndex] = float(march.iterations);
   const vec3 at = march.position;
   if (!march.hit || !InsideImage(at) || !(at.z > 0.0)) return;
 
@@ -190,7 +237,7 @@ void main() {
   precise float thick = clamp(2.0 - excess / thickness, 0.0, 1.0);
   precise float trust = thick * towardCamera * EdgeFade(at.x, float(imageSize.x)) * EdgeFade(at.y, float(imageSize.y));
   if (!(trust > 0.0)) return;
-  hitX[index] = at.x;
-  hitY[index] = at.y;
-  confidence[index] = min(trust, 1.0);
+  hitX[ownIndex] = at.x;
+  hitY[ownIndex] = at.y;
+  confidence[ownIndex] = min(trust, 1.0);
 }
