@@ -54,6 +54,17 @@ void BM_SsrTrace(benchmark::State& state) {
   });
 }
 
+// The trace with every pixel tracing its own ray (shared rays off, as `--quality ultra`): what the
+// shared rays save, in the same run. Items: rays traced.
+void BM_SsrTraceEveryPixel(benchmark::State& state) {
+  SsrTraceOutputs out;
+  SsrTraceParams params;
+  params.quadRoughness = params.blockRoughness = 1.0f;
+  RunKernels(state, [&](const Frame& f, KernelPath kernels) {
+    return RunSsrTrace({f.gbuffer.gbuffer, f.view, f.hiz}, params, out, kernels).rays;
+  });
+}
+
 // Items: pixels with a hit.
 void BM_SsrCone(benchmark::State& state) {
   SsrConeOutputs out;
@@ -119,6 +130,7 @@ void BM_CompositeEveryTerm(benchmark::State& state) {
 BENCHMARK(BM_HiZ)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_ColorPyramid)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_SsrTrace)->Apply(KernelBenchArgs::Register);
+BENCHMARK(BM_SsrTraceEveryPixel)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_SsrCone)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_Composite)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_CompositeEveryTerm)->Apply(KernelBenchArgs::Register);
