@@ -27,19 +27,7 @@ constexpr float kMinDepthMargin = 1e-3f;  // metres between the outermost geomet
 constexpr double kCosGoldenAngle = -0.7373688780783197;
 constexpr double kSinGoldenAngle = 0.6754902942615238;
 
-struct Bounds {
-  glm::vec3 lo{std::numeric_limits<float>::infinity()};
-  glm::vec3 hi{-std::numeric_limits<float>::infinity()};
-  void Add(const glm::vec3& p) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  void Add(const Bounds& b) {
-    lo = glm::min(lo, b.lo);
-    hi = glm::max(hi, b.hi);
-  }
-  bool Empty() const { return !(lo.x <= hi.x); }
-};
+using Bounds = LightViewBounds;
 
 // (x, y, depth) of a point in a light view: depth = -z_view, the distance along the view axis.
 glm::vec3 LightCoordinates(const glm::mat4& view, const glm::vec3& world) {
@@ -85,19 +73,14 @@ Receivers ScanReceivers(const GBuffer& gbuffer, const ReceiverPositions& positio
   return all;
 }
 
-// The rotation of a directional light's view (before its window is fitted).
-glm::mat4 DirectionalRotation(const PreparedLight& light) {
-  return glm::lookAt(glm::vec3(0.0f), light.direction, UpHint(light.direction));
-}
-
 // Directional light: an orthographic view along the light, its (x, y) window the receivers' bounds
-// (in DirectionalRotation's view) padded by the widest search radius plus the normal offset, its
+// (in ShadowFitRotation's view) padded by the widest search radius plus the normal offset, its
 // near plane behind every caster of the scene (casters outside the camera's view still cast), its
 // far plane behind every receiver.
 ViewProjection FitDirectional(const PreparedLight& light, const Scene& scene, const Bounds& receivers,
                               const ShadowMapParams& params) {
   const glm::vec3 up = UpHint(light.direction);
-  const glm::mat4 rotation = DirectionalRotation(light);
+  const glm::mat4 rotation = ShadowFitRotation(light);
   const Bounds casters = CasterBounds(scene.mesh, rotation);
   const float nearDepth = std::min(receivers.lo.z, casters.lo.z);
   const float margin = std::max(kMinDepthMargin, 1e-3f * (receivers.hi.z - nearDepth));
@@ -307,22 +290,32 @@ std::vector<size_t> ShadowCastingLights(const Scene& scene) {
   return lights;
 }
 
+glm::mat4 ShadowFitRotation(const PreparedLight& light) {
+  if (light.isSpot) return glm::mat4(1.0f);
+  return glm::lookAt(glm::vec3(0.0f), light.direction, UpHint(light.direction));
+}
+
+ViewProjection FitLightView(const Scene& scene, size_t lightIndex, size_t receiverCount,
+                            const LightViewBounds& receivers, const ShadowMapParams& params) {
+  const PreparedLight light = PrepareLights(scene, glm::mat4(1.0f))[lightIndex];  // world space
+  const size_t directionalCount = scene.directionalLights.size();
+  if (light.isSpot) return FitSpot(light, scene.spotLights[lightIndex - directionalCount], scene, params);
+  if (receiverCount > 0) return FitDirectional(light, scene, receivers, params);
+  // Nothing receives a shadow: a unit window at the origin, only so the output is a valid view.
+  return MakeOrthographic(glm::vec3(0.0f), light.direction, UpHint(light.direction), 1.0f, 1.0f, 0.0f, 1.0f,
+                          params.resolution, params.resolution);
+}
+
 ViewProjection FitShadowMapView(const Scene& scene, const ViewProjection& camera, const GBuffer& gbuffer,
                                 size_t lightIndex, const ShadowMapParams& params, KernelPath kernels,
                                 size_t& receiverCount) {
   const PreparedLight light = PrepareLights(scene, glm::mat4(1.0f))[lightIndex];  // world space
-  const size_t directionalCount = scene.directionalLights.size();
   // One sweep counts the receivers and bounds them in the directional light's view (a spot's view is
   // fitted to its cone instead, and its bounds go unused).
-  const glm::mat4 rotation = light.isSpot ? glm::mat4(1.0f) : DirectionalRotation(light);
   const Receivers receivers =
-      ScanReceivers(gbuffer, ReceiverPositions(camera, rotation * glm::inverse(camera.view)), kernels);
+      ScanReceivers(gbuffer, ReceiverPositions(camera, ShadowFitRotation(light) * glm::inverse(camera.view)), kernels);
   receiverCount = receivers.count;
-  if (light.isSpot) return FitSpot(light, scene.spotLights[lightIndex - directionalCount], scene, params);
-  if (receivers.count > 0) return FitDirectional(light, scene, receivers.bounds, params);
-  // Nothing receives a shadow: a unit window at the origin, only so the output is a valid view.
-  return MakeOrthographic(glm::vec3(0.0f), light.direction, UpHint(light.direction), 1.0f, 1.0f, 0.0f, 1.0f,
-                          params.resolution, params.resolution);
+  return FitLightView(scene, lightIndex, receivers.count, receivers.bounds, params);
 }
 
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/camera.h"
@@ -70,6 +71,32 @@ struct ShadowMapStats {
 // the blocker search's row kernel; both paths give the same bytes.
 ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& params, ShadowMapOutputs& out,
                             Plane<uint32_t>& shadowTerm, KernelPath kernels = KernelPath::kSimd);
+
+// Light-view bounds of points as (x, y, depth = -z_view), combined by glm::min and glm::max (so in
+// any order).
+struct LightViewBounds {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()};
+  glm::vec3 hi{-std::numeric_limits<float>::infinity()};
+  void Add(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void Add(const LightViewBounds& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  bool Empty() const { return !(lo.x <= hi.x); }
+};
+
+// The view the receivers are bounded in before a light's window is fitted: a directional light's
+// rotation (world -> light view, through the origin); the identity for a spot, fitted to its cone.
+glm::mat4 ShadowFitRotation(const PreparedLight& light);
+
+// §Light camera from the receivers: light `lightIndex` (PrepareLights order)'s view, given how many
+// receivers there are and their bounds in ShadowFitRotation's view. FitShadowMapView finds them on
+// the CPU; a port that finds them on its GPU calls this for the same view.
+ViewProjection FitLightView(const Scene& scene, size_t lightIndex, size_t receiverCount,
+                            const LightViewBounds& receivers, const ShadowMapParams& params);
 
 // §Light camera alone: the view RunShadowMap rasterizes light `light` (PrepareLights order) from,
 // fitted to the receivers of the G-buffer's word 2 (seen through `camera`), whose count goes to
