@@ -52,11 +52,20 @@ hn::Vec<D> SkyVisibilityV(D d, const SkyVisibilityVolume& volume, const Vec3V<D>
       base(i0[0], i0[1], i1[2]), base(i1[0], i0[1], i1[2]), base(i0[0], i1[1], i1[2]), base(i1[0], i1[1], i1[2])};
   const float* table = volume.coefficients.data();
   const auto one = hn::Set(d, 1.0f);
+  // Neighbouring pixels mostly lie in one cell: then every lane reads the same 32 values, loaded
+  // once and broadcast instead of gathered (the same values, so the same bits).
+  const int32_t firstCorner = hn::GetLane(corner[0]);
+  const bool oneCell = hn::AllTrue(di, hn::Eq(corner[0], hn::Set(di, firstCorner))) &&
+                       hn::AllTrue(di, hn::Eq(corner[7], hn::Set(di, hn::GetLane(corner[7]))));
+  int32_t cornerIndex[8];
+  if (oneCell)
+    for (int i = 0; i < 8; ++i) cornerIndex[i] = hn::GetLane(corner[i]);
   hn::Vec<D> v[4];
   for (int k = 0; k < 4; ++k) {
     const auto kk = hn::Set(di, k);
     hn::Vec<D> t[8];
-    for (int i = 0; i < 8; ++i) t[i] = hn::GatherIndex(d, table, hn::Add(corner[i], kk));
+    for (int i = 0; i < 8; ++i)
+      t[i] = oneCell ? hn::Set(d, table[cornerIndex[i] + k]) : hn::GatherIndex(d, table, hn::Add(corner[i], kk));
     const auto lerp = [&](hn::Vec<D> a, hn::Vec<D> b, hn::Vec<D> w) {
       return hn::Add(hn::Mul(a, hn::Sub(one, w)), hn::Mul(b, w));
     };
