@@ -111,9 +111,10 @@ void BM_RenderViewsCommand(benchmark::State& state) {
   double rate = 0.0;
   for (auto _ : state) {
     const std::string output = Run(state, command);
-    const size_t at = output.find(" views/s)");
-    const size_t open = output.rfind('(', at);
-    if (at != std::string::npos && open != std::string::npos) rate += std::atof(output.c_str() + open + 1);
+    // "rendered 24 of 24 views in 5.7 s (4.22 views/s) on ..."
+    const size_t line = output.find("rendered ");
+    const size_t open = output.find('(', line);
+    if (line != std::string::npos && open != std::string::npos) rate += std::atof(output.c_str() + open + 1);
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * kViews);
   state.counters["renderingViewsPerS"] = rate / double(state.iterations());
