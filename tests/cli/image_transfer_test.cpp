@@ -63,7 +63,7 @@ TEST_CASE("image transfer: raw and lz4 give back the exact pixels, jpeg close on
   CHECK(back.kind == ImageFileKind::kExr);
 }
 
-TEST_CASE("image transfer: a failed view travels as its message; a corrupt message is refused", "[cli][views]") {
+TEST_CASE("image transfer: a failed view travels as its message, and a corrupt message is refused", "[cli][views]") {
   ViewImage failed;
   failed.index = 3;
   failed.error = "views.json:4: views[3].camera.target must differ from camera.position";
