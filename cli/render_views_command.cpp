@@ -54,7 +54,6 @@ void Prepare(const RenderViewsOptions& options, int rank, Prepared& p) {
   job.jpegQuality = options.jpegQuality;
   job.writeOnRank = options.writeOnRank;
   job.resume = options.resume;
-  job.threads = options.threads;
   if (job.encoding == TransferEncoding::kJpeg && job.pattern->Kind() == ImageFileKind::kExr)
     throw InputError("--encoding jpeg carries 8-bit images: use lz4 or raw for .exr output");
   CheckInputFile(job.viewsPath, "views");

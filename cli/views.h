@@ -115,7 +115,6 @@ struct ViewsJob {
   TransferEncoding encoding = TransferEncoding::kLz4;
   int jpegQuality = 90;
   bool writeOnRank = false;
-  int threads = 0;
   MemoryBudget budget;
 };
 
