@@ -24,11 +24,6 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-std::string ReadBytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 Json Camera(std::array<float, 3> position, std::array<float, 3> target, float fov = 40.0f) {
   return Json{{"position", position}, {"target", target}, {"fov_y_deg", fov}};
 }
@@ -88,7 +83,7 @@ TEST_CASE("render-views: each view is byte-identical to `ssgi render` of its cam
     CAPTURE(o, result.output);
     REQUIRE(result.exitCode == 0);
     CHECK(result.output.find("rendered 5 of 5 views") != std::string::npos);
-    for (int k = 0; k < n; ++k) bytes[o][size_t(orders[o][size_t(k)])] = ReadBytes(out / ViewName(k));
+    for (int k = 0; k < n; ++k) bytes[o][size_t(orders[o][size_t(k)])] = ReadFileBytes(out / ViewName(k));
     CHECK(fs::exists(out / "manifest.json"));
   }
   for (int i = 0; i < n; ++i) {
@@ -104,7 +99,7 @@ TEST_CASE("render-views: each view is byte-identical to `ssgi render` of its cam
     const CommandResult render = RunCli("render " + Quote(scene) + " -o " + Quote(single) + " --size " + size);
     CAPTURE(render.output);
     REQUIRE(render.exitCode == 0);
-    CHECK(ReadBytes(single) == bytes[0][size_t(i)]);
+    CHECK(ReadFileBytes(single) == bytes[0][size_t(i)]);
   }
 }
 
@@ -126,8 +121,8 @@ TEST_CASE("render-views: a camera path interpolates its keyframes", "[cli][views
                                  " -o " + Quote(dir / "mid" / "m_%d.png") + " " + kSize);
   CAPTURE(b.output);
   REQUIRE(b.exitCode == 0);
-  CHECK(ReadBytes(dir / "path_1.png") == ReadBytes(dir / "mid" / "m_0.png"));
-  CHECK(ReadBytes(dir / "path_0.png") != ReadBytes(dir / "path_1.png"));
+  CHECK(ReadFileBytes(dir / "path_1.png") == ReadFileBytes(dir / "mid" / "m_0.png"));
+  CHECK(ReadFileBytes(dir / "path_0.png") != ReadFileBytes(dir / "path_1.png"));
   CHECK(fs::exists(dir / "path_2.png"));
 }
 
@@ -148,7 +143,7 @@ TEST_CASE("render-views: a failing view is reported by its index and the others 
   CHECK(result.output.find("2 of 5 views failed (view 1, 3)") != std::string::npos);
   for (int i : {0, 2, 4}) CHECK(fs::exists(dir / "out" / ViewName(i)));
   for (int i : {1, 3}) CHECK_FALSE(fs::exists(dir / "out" / ViewName(i)));
-  const Json manifest = Json::parse(ReadBytes(dir / "out" / "manifest.json"));
+  const Json manifest = Json::parse(ReadFileBytes(dir / "out" / "manifest.json"));
   CHECK(manifest["delivered"] == Json::array({0, 2, 4}));
 }
 
@@ -192,10 +187,10 @@ TEST_CASE("render-views: --resume renders only the views missing from the manife
   const std::string command = "render-views " + DefaultSceneArg() + " --views " + Quote(dir / "views.json") + " -o " +
                               Quote(dir / "out" / "view_%03d.png") + " " + kSize;
   REQUIRE(RunCli(command).exitCode == 0);
-  const std::string second = ReadBytes(dir / "out" / ViewName(2));
+  const std::string second = ReadFileBytes(dir / "out" / ViewName(2));
   fs::remove(dir / "out" / ViewName(2));
   // A manifest that lost view 4, as if the run had died before delivering it.
-  Json manifest = Json::parse(ReadBytes(dir / "out" / "manifest.json"));
+  Json manifest = Json::parse(ReadFileBytes(dir / "out" / "manifest.json"));
   manifest["delivered"] = Json::array({0, 1, 2, 3});
   std::ofstream(dir / "out" / "manifest.json") << manifest.dump();
   const CommandResult resumed = RunCli(command + " --resume");
@@ -203,8 +198,8 @@ TEST_CASE("render-views: --resume renders only the views missing from the manife
   REQUIRE(resumed.exitCode == 0);
   CHECK(resumed.output.find("resuming: 3 of 5 views delivered, 2 to render") != std::string::npos);
   CHECK(resumed.output.find("rendered 2 of 2 views") != std::string::npos);
-  CHECK(ReadBytes(dir / "out" / ViewName(2)) == second);
-  CHECK(Json::parse(ReadBytes(dir / "out" / "manifest.json"))["delivered"] == Json::array({0, 1, 2, 3, 4}));
+  CHECK(ReadFileBytes(dir / "out" / ViewName(2)) == second);
+  CHECK(Json::parse(ReadFileBytes(dir / "out" / "manifest.json"))["delivered"] == Json::array({0, 1, 2, 3, 4}));
   // Another run's manifest is refused.
   WriteViews(dir / "other.json", SomeViews());
   const CommandResult other = RunCli("render-views " + DefaultSceneArg() + " --views " + Quote(dir / "other.json") +
@@ -251,7 +246,7 @@ TEST_CASE("render-views over 2 MPI ranks gives the bytes of one process", "[cli]
     REQUIRE(png.exitCode == 0);
     CHECK(png.output.find("on 2 ranks") != std::string::npos);
     if (mode != "--write-on-rank") CHECK(png.output.find("KiB per view") != std::string::npos);
-    for (int i = 0; i < 5; ++i) CHECK(ReadBytes(out / ViewName(i)) == ReadBytes(dir / "one" / ViewName(i)));
+    for (int i = 0; i < 5; ++i) CHECK(ReadFileBytes(out / ViewName(i)) == ReadFileBytes(dir / "one" / ViewName(i)));
   }
   // EXR: the same pixels (the header carries a date).
   const CommandResult exr = Mpirun(2, "render-views " + views + " -o " + Quote(dir / "mpiexr" / "view_%03d.exr"));
@@ -277,12 +272,12 @@ pid_t RankProcess(pid_t mpirun, int rank) {
   for (const auto& entry : fs::directory_iterator("/proc")) {
     const std::string name = entry.path().filename().string();
     if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::istringstream stat(ReadBytes(entry.path() / "stat"));
+    std::istringstream stat(ReadFileBytes(entry.path() / "stat"));
     std::string pid, comm, state;
     pid_t parent = 0;
     stat >> pid >> comm >> state >> parent;
     if (parent != mpirun) continue;
-    const std::string environment = ReadBytes(entry.path() / "environ");
+    const std::string environment = ReadFileBytes(entry.path() / "environ");
     for (size_t at = 0; at < environment.size(); at = environment.find('\0', at) + 1) {
       if (environment.compare(at, wanted.size() + 1, wanted + '\0') == 0) return pid_t(std::stoi(name));
       if (environment.find('\0', at) == std::string::npos) break;
@@ -316,7 +311,7 @@ TEST_CASE("render-views over MPI: a killed rank ends the run, and --resume compl
   while (std::chrono::steady_clock::now() < deadline) {
     std::error_code error;
     if (fs::exists(manifest, error)) {
-      const std::string text = ReadBytes(manifest);
+      const std::string text = ReadFileBytes(manifest);
       if (Json::accept(text) && Json::parse(text)["delivered"].size() >= 4) {
         victim = RankProcess(mpirun, 1);
         if (victim > 0) break;
@@ -328,13 +323,14 @@ TEST_CASE("render-views over MPI: a killed rank ends the run, and --resume compl
   ::kill(victim, SIGKILL);
   int status = 0;
   ::waitpid(mpirun, &status, 0);
-  CAPTURE(ReadBytes(dir / "cut.log"));
+  CAPTURE(ReadFileBytes(dir / "cut.log"));
   // The run ended without finishing, and what it delivered is whole.
   REQUIRE(!(WIFEXITED(status) && WEXITSTATUS(status) == 0));
-  const Json delivered = Json::parse(ReadBytes(manifest))["delivered"];
+  const Json delivered = Json::parse(ReadFileBytes(manifest))["delivered"];
   CHECK(delivered.size() < size_t(kViews));
   for (const Json& index : delivered)
-    CHECK(ReadBytes(dir / "cut" / ViewName(index.get<int>())) == ReadBytes(dir / "whole" / ViewName(index.get<int>())));
+    CHECK(ReadFileBytes(dir / "cut" / ViewName(index.get<int>())) ==
+          ReadFileBytes(dir / "whole" / ViewName(index.get<int>())));
 
   const CommandResult resumed =
       Mpirun(2, "render-views " + views + " --resume -o " + Quote(dir / "cut" / "view_%03d.png"));
@@ -344,7 +340,7 @@ TEST_CASE("render-views over MPI: a killed rank ends the run, and --resume compl
         std::string::npos);
   for (int i = 0; i < kViews; ++i) {
     CAPTURE(i);
-    CHECK(ReadBytes(dir / "cut" / ViewName(i)) == ReadBytes(dir / "whole" / ViewName(i)));
+    CHECK(ReadFileBytes(dir / "cut" / ViewName(i)) == ReadFileBytes(dir / "whole" / ViewName(i)));
   }
   // Only the images and the manifest: the temporaries a killed process may leave (SIGKILL runs no
   // handler) are swept by the next run.
