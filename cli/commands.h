@@ -10,6 +10,7 @@
 namespace ssgi::cli {
 
 Command AddRenderCommand(CLI::App& app);
+Command AddRenderViewsCommand(CLI::App& app);
 Command AddFiguresCommand(CLI::App& app);
 Command AddReferenceCommand(CLI::App& app);
 Command AddCompareCommand(CLI::App& app);

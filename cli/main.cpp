@@ -21,9 +21,10 @@ int main(int argc, char** argv) {
                "reflections."};
   app.set_version_flag("--version", std::string("ssgi ") + SSGI_VERSION + " (commit " + SSGI_COMMIT + ")");
   app.require_subcommand(1);
-  const ssgi::cli::Command commands[] = {
-      ssgi::cli::AddRenderCommand(app), ssgi::cli::AddFiguresCommand(app), ssgi::cli::AddReferenceCommand(app),
-      ssgi::cli::AddCompareCommand(app), ssgi::cli::AddPassesCommand(app), ssgi::cli::AddDiffCommand(app)};
+  const ssgi::cli::Command commands[] = {ssgi::cli::AddRenderCommand(app),  ssgi::cli::AddRenderViewsCommand(app),
+                                         ssgi::cli::AddFiguresCommand(app), ssgi::cli::AddReferenceCommand(app),
+                                         ssgi::cli::AddCompareCommand(app), ssgi::cli::AddPassesCommand(app),
+                                         ssgi::cli::AddDiffCommand(app)};
   const auto fail = [](const char* kind, const char* what, int code) {
     std::fprintf(stderr, "ssgi: %s: %s\n", kind, ssgi::cli::Printable(what).c_str());
     return code;

@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 
 #include "core/error.h"
@@ -160,6 +162,22 @@ void OutputFiles::Commit() {
     Unregister(output.writerSlot);
   }
   committed_ = true;
+}
+
+size_t RemoveStaleTemporaries(const fs::path& folder) {
+  size_t removed = 0;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    // ".ssgi-PID-N-name" (Add) and "..ssgi-PID-N-name.tmp-PID" (the image writer's sibling of it).
+    const std::string name = entry.path().filename().string();
+    const size_t start = name.rfind(".ssgi-", 1);
+    if (start == std::string::npos || (start == 1 && name[0] != '.')) continue;
+    const long pid = std::strtol(name.c_str() + start + 6, nullptr, 10);
+    if (pid <= 0 || pid == ::getpid() || ::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code ignored;
+    if (fs::remove(entry.path(), ignored)) ++removed;
+  }
+  return removed;
 }
 
 CreatedFolder::CreatedFolder(const fs::path& folder) {

@@ -47,6 +47,10 @@ class OutputFiles {
   bool committed_ = false;
 };
 
+// Removes from `folder` the temporaries of OutputFiles whose process is gone: a process killed with
+// SIGKILL (which no handler sees) leaves its temporary behind. Returns how many it removed.
+size_t RemoveStaleTemporaries(const std::filesystem::path& folder);
+
 // A folder a command creates for its outputs: removed again, when it created it, unless Keep() was
 // called, if it is then empty.
 class CreatedFolder {

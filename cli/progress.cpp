@@ -35,6 +35,13 @@ Progress::~Progress() {
   if (printed_ && terminal_) std::fprintf(stderr, "\n");
 }
 
+std::string Progress::RateText(double count, const std::string& unit) const {
+  const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.2f %s/s", seconds > 0.0 ? count / seconds : 0.0, unit.c_str());
+  return text;
+}
+
 void Progress::Update(double fraction, const std::string& detail) {
   const Clock::time_point now = Clock::now();
   const double elapsed = std::chrono::duration<double>(now - start_).count();

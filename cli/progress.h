@@ -18,6 +18,8 @@ class Progress {
   // Reports `fraction` (0 to 1) of the work done; `detail` names what was just done. Called from
   // one thread.
   void Update(double fraction, const std::string& detail = "");
+  // "8.1 views/s": `count` items of `unit` over the time since the start.
+  std::string RateText(double count, const std::string& unit) const;
 
  private:
   using Clock = std::chrono::steady_clock;

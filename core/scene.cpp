@@ -306,20 +306,15 @@ struct ObjectDesc {
   std::map<std::string, MaterialOverride> named;  // by MTL material name
 };
 
-CameraDesc ReadCamera(const ErrorReporter& errors, const Json& node) {
-  const ObjectReader r(errors, node, "camera", {"position", "target", "up", "fov_y_deg", "near"});
+CameraDesc ReadCamera(const ErrorReporter& errors, const Json& node, const std::string& path = "camera") {
+  const ObjectReader r(errors, node, path, {"position", "target", "up", "fov_y_deg", "near"});
   CameraDesc camera;
   camera.position = r.RequiredVec3("position");
   camera.target = r.RequiredVec3("target");
   camera.up = r.Vec3("up", glm::vec3(0.0f, 1.0f, 0.0f));
   camera.fovYDegrees = r.Number("fov_y_deg", 45.0f, Range{0.0, 180.0, true, true});
   camera.nearPlane = r.Number("near", 0.05f, kPositive);
-  const glm::dvec3 forward = glm::dvec3(camera.target) - glm::dvec3(camera.position);
-  const glm::dvec3 up = camera.up;
-  if (forward == glm::dvec3(0.0)) r.Fail("target", "must differ from camera.position");
-  // sin(angle between up and forward) below 1e-6: lookAt would have no sideways axis.
-  if (!(glm::length(glm::cross(forward, up)) > 1e-6 * glm::length(forward) * glm::length(up)))
-    r.Fail("up", "must not be zero or parallel to target - position");
+  if (const std::optional<CameraProblem> problem = FindCameraProblem(camera)) r.Fail(problem->key, problem->problem);
   return camera;
 }
 
@@ -569,13 +564,18 @@ void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, S
   }
 }
 
-SceneFile LoadJsonScene(const fs::path& file) {
+// The whole of a text file; `what` names it in the errors ("scene file").
+std::string ReadTextFile(const fs::path& file, const std::string& what) {
   std::error_code error;
-  if (!fs::is_regular_file(file, error)) throw InputError(file, "scene file not found");
+  if (!fs::is_regular_file(file, error)) throw InputError(file, what + " not found");
   std::ifstream in(file, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in) throw InputError(file, "cannot read scene file");
-  JsonDocument document = ParseJson(file, text);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) throw InputError(file, "cannot read " + what);
+  return text;
+}
+
+SceneFile LoadJsonScene(const fs::path& file) {
+  JsonDocument document = ParseJson(file, ReadTextFile(file, "scene file"));
   if (!document.root.is_object()) throw InputError(file, 1, "the scene must be a JSON object");
   const ErrorReporter errors(file, std::move(document.lines));
   const ObjectReader root(errors, document.root, "", {"camera", "lights", "environment", "objects", "render"});
@@ -614,7 +614,135 @@ SceneFile LoadObjScene(const fs::path& file) {
   return loaded;
 }
 
+// A view's "size": "WIDTHxHEIGHT", as --size takes it.
+void ReadViewSize(const ObjectReader& r, std::string_view key, int& width, int& height) {
+  const Json* size = r.Find(key);
+  if (!size) return;
+  if (!size->is_string()) r.Fail(key, "must be a string WIDTHxHEIGHT such as \"640x480\", got " + size->dump());
+  try {
+    ParseImageSize(size->get<std::string>(), width, height);
+  } catch (const InputError& e) {
+    r.Fail(key, e.what());
+  }
+}
+
+// One element of "views"; whatever is wrong inside it is the view's error, not the file's.
+ViewSpec ReadView(const ErrorReporter& errors, const Json& node, const std::string& path) {
+  ViewSpec view;
+  try {
+    const ObjectReader r(errors, node, path, {"camera", "size", "light_direction"});
+    const Json* camera = r.Find("camera");
+    if (!camera) errors.Fail(path, r.Path("camera") + " is required");
+    view.camera = ReadCamera(errors, *camera, r.Path("camera"));
+    ReadViewSize(r, "size", view.width, view.height);
+    if (r.Has("light_direction")) view.lightDirection = r.NonZeroDirection("light_direction");
+  } catch (const InputError& e) {
+    view.error = e.what();
+  }
+  return view;
+}
+
+// "path": {"keyframes": [{"camera": {...}, "light_direction": [...]}, ...], "frames": N, "size": "WxH"}.
+// Frame i of N sits at u = i (K - 1) / (N - 1) along the K keyframes (the first frame on the first
+// keyframe, the last on the last); each camera value is interpolated linearly between the two
+// keyframes around u, in double, and the light direction is the normalised linear blend.
+std::vector<ViewSpec> ReadPath(const fs::path& file, const ErrorReporter& errors, const Json& node) {
+  const ObjectReader p(errors, node, "path", {"keyframes", "frames", "size"});
+  const Json* keyframes = p.Find("keyframes");
+  if (!keyframes) errors.Fail("path", "path.keyframes is required");
+  if (!keyframes->is_array() || keyframes->empty())
+    p.Fail("keyframes", "must be a non-empty array of {\"camera\": {...}}, got " + keyframes->dump());
+  const Json* frames = p.Find("frames");
+  if (!frames) errors.Fail("path", "path.frames is required");
+  constexpr int64_t kMaxFrames = 1000000;
+  if (!frames->is_number_integer() || frames->get<int64_t>() < 1 || frames->get<int64_t>() > kMaxFrames)
+    p.Fail("frames", "must be a whole number in [1, " + std::to_string(kMaxFrames) + "], got " + frames->dump());
+  int width = 0, height = 0;
+  ReadViewSize(p, "size", width, height);
+  struct Key {
+    CameraDesc camera;
+    std::optional<glm::vec3> light;
+  };
+  std::vector<Key> keys;
+  for (size_t k = 0; k < keyframes->size(); ++k) {
+    const std::string path = "path.keyframes[" + std::to_string(k) + "]";
+    const ObjectReader r(errors, (*keyframes)[k], path, {"camera", "light_direction"});
+    const Json* camera = r.Find("camera");
+    if (!camera) errors.Fail(path, r.Path("camera") + " is required");
+    Key key{ReadCamera(errors, *camera, r.Path("camera")), std::nullopt};
+    if (r.Has("light_direction")) key.light = r.NonZeroDirection("light_direction");
+    if (k > 0 && key.light.has_value() != keys[0].light.has_value())
+      errors.Fail(path,
+                  "light_direction must be given on every keyframe or on none (" + path +
+                      (key.light ? " has it, path.keyframes[0] does not)" : " lacks it, path.keyframes[0] has it)"));
+    keys.push_back(key);
+  }
+  const int count = int(frames->get<int64_t>());
+  const int line = errors.LineOf("path");
+  std::vector<ViewSpec> views(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const double u = count == 1 ? 0.0 : double(i) * double(keys.size() - 1) / double(count - 1);
+    const size_t segment = std::min(size_t(u), keys.size() >= 2 ? keys.size() - 2 : 0);
+    const double t = keys.size() == 1 ? 0.0 : u - double(segment);
+    const Key& a = keys[segment];
+    const Key& b = keys[std::min(segment + 1, keys.size() - 1)];
+    const auto mix = [t](const glm::vec3& x, const glm::vec3& y) {
+      return glm::vec3(glm::dvec3(x) + (glm::dvec3(y) - glm::dvec3(x)) * t);
+    };
+    const auto mixNumber = [t](float x, float y) { return float(double(x) + (double(y) - double(x)) * t); };
+    ViewSpec& view = views[size_t(i)];
+    view.width = width;
+    view.height = height;
+    view.camera.position = mix(a.camera.position, b.camera.position);
+    view.camera.target = mix(a.camera.target, b.camera.target);
+    view.camera.up = mix(a.camera.up, b.camera.up);
+    view.camera.fovYDegrees = mixNumber(a.camera.fovYDegrees, b.camera.fovYDegrees);
+    view.camera.nearPlane = mixNumber(a.camera.nearPlane, b.camera.nearPlane);
+    const std::string frame = "path frame " + std::to_string(i);
+    if (const std::optional<CameraProblem> problem = FindCameraProblem(view.camera))
+      view.error = InputError(file, line, frame + ": camera." + problem->key + " " + problem->problem).what();
+    if (a.light) {
+      const glm::dvec3 light = glm::dvec3(mix(*a.light, *b.light));
+      if (light == glm::dvec3(0.0))
+        view.error = InputError(file, line, frame + ": the light directions of its keyframes cancel out").what();
+      else
+        view.lightDirection = glm::vec3(glm::normalize(light));
+    }
+  }
+  return views;
+}
+
 }  // namespace
+
+std::optional<CameraProblem> FindCameraProblem(const CameraDesc& camera) {
+  const glm::dvec3 forward = glm::dvec3(camera.target) - glm::dvec3(camera.position);
+  const glm::dvec3 up = camera.up;
+  if (forward == glm::dvec3(0.0)) return CameraProblem{"target", "must differ from camera.position"};
+  // sin(angle between up and forward) below 1e-6: lookAt would have no sideways axis.
+  if (!(glm::length(glm::cross(forward, up)) > 1e-6 * glm::length(forward) * glm::length(up)))
+    return CameraProblem{"up", "must not be zero or parallel to target - position"};
+  return std::nullopt;
+}
+
+std::vector<ViewSpec> LoadViewsFile(const fs::path& file) {
+  JsonDocument document = ParseJson(file, ReadTextFile(file, "views file"));
+  if (!document.root.is_object())
+    throw InputError(file, 1, "a views file must be a JSON object with \"views\" or \"path\"");
+  const ErrorReporter errors(file, std::move(document.lines));
+  const ObjectReader root(errors, document.root, "", {"views", "path"});
+  const Json* views = root.Find("views");
+  const Json* path = root.Find("path");
+  if (views && path) errors.Fail("path", "give either views or path, not both");
+  if (path) return ReadPath(file, errors, *path);
+  if (!views) throw InputError(file, 1, "a views file needs \"views\" (a list of views) or \"path\" (keyframes)");
+  if (!views->is_array() || views->empty())
+    root.Fail("views", "must be a non-empty array of {\"camera\": {...}}, got " + views->dump().substr(0, 60));
+  std::vector<ViewSpec> specs;
+  specs.reserve(views->size());
+  for (size_t i = 0; i < views->size(); ++i)
+    specs.push_back(ReadView(errors, (*views)[i], "views[" + std::to_string(i) + "]"));
+  return specs;
+}
 
 Scene LoadScene(const fs::path& file) { return LoadSceneFile(file).scene; }
 

@@ -76,6 +76,30 @@ Scene LoadScene(const std::filesystem::path& file);
 // Throws InputError with the problem and the text otherwise (callers say where the text came from).
 void ParseImageSize(const std::string& text, int& width, int& height);
 
+// Why a camera cannot be rendered: lookAt needs a target away from the position and an up
+// direction that is not parallel to the view direction. `key` is the camera key at fault.
+struct CameraProblem {
+  std::string key;      // "target" or "up"
+  std::string problem;  // "must differ from camera.position"
+};
+std::optional<CameraProblem> FindCameraProblem(const CameraDesc& camera);
+
+// One view of a views file (docs/user-guide.md "Views files"): a camera, and optionally its own
+// image size and the first directional light's direction. A view that cannot render carries why,
+// and the other views still render.
+struct ViewSpec {
+  CameraDesc camera;
+  int width = 0, height = 0;                // 0: the scene's configured size
+  std::optional<glm::vec3> lightDirection;  // unit, the direction the light travels
+  std::string error;                        // "<file>:<line>: <problem>" when the view cannot render
+};
+
+// `ssgi render-views`' views: "views", a list of views, or "path", camera keyframes interpolated
+// over a number of frames. Throws InputError (file, line, problem) when the file as a whole cannot
+// be read: not JSON, neither or both of "views" and "path", an empty list, a malformed path; a
+// problem inside one view (a bad camera, size or light direction) is that view's error.
+std::vector<ViewSpec> LoadViewsFile(const std::filesystem::path& file);
+
 // The camera and light `ssgi render model.obj` uses: looks at the bounding sphere of `mesh` from the
 // front-right and above, with a directional light from the upper left.
 CameraDesc FrameMesh(const Mesh& mesh, int width, int height);

@@ -1,19 +1,19 @@
 #include "tests/test_support.h"
 
+#include <OpenImageIO/imageio.h>
+#include <hwy/targets.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
-
-#include <OpenImageIO/imageio.h>
-#include <catch2/catch.hpp>
-#include <hwy/targets.h>
 
 namespace ssgi::test {
 
@@ -41,6 +41,11 @@ void WriteText(const std::filesystem::path& file, const std::string& text) {
   std::ofstream out(file, std::ios::binary);
   out << text;
   if (!out) throw std::runtime_error("cannot write " + file.string());
+}
+
+std::string ReadFileBytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 StoredImage ReadStoredImage(const std::filesystem::path& file) {

@@ -37,6 +37,8 @@ class ScratchDir {
 };
 
 void WriteText(const std::filesystem::path& file, const std::string& text);
+// A file's bytes ("" when it cannot be read).
+std::string ReadFileBytes(const std::filesystem::path& file);
 
 struct CommandResult {
   int exitCode = -1;

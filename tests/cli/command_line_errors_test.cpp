@@ -50,7 +50,8 @@ TEST_CASE("ssgi: unknown commands and options are named, with the near miss", "[
   const CommandResult unrelated = RunCli("draw scene.json");
   CHECK(unrelated.exitCode == 2);
   CheckOneErrorLine(unrelated);
-  CHECK_THAT(unrelated.output, Catch::Contains("unknown command 'draw'") && Catch::Contains("render, figures"));
+  CHECK_THAT(unrelated.output,
+             Catch::Contains("unknown command 'draw'") && Catch::Contains("render, render-views, figures"));
   CHECK(unrelated.output.find("did you mean") == std::string::npos);
 
   const CommandResult none = RunCli("");

@@ -28,13 +28,8 @@ CommandResult Fetch(const std::string& arguments) { return test::RunProgram(Fetc
 
 bool HavePython() { return test::RunProgram("/bin/sh", "-c 'command -v python3' >/dev/null").exitCode == 0; }
 
-std::string Bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 void FlipLastByte(const fs::path& file) {
-  std::string bytes = Bytes(file);
+  std::string bytes = test::ReadFileBytes(file);
   bytes.back() = char(bytes.back() ^ 1);
   test::WriteText(file, bytes);
 }
@@ -86,7 +81,8 @@ TEST_CASE("fetch.sh: a mirror's scene is copied, verified and its licence shown,
   CHECK(first.output.find("licence: CC0") != std::string::npos);
   CHECK(Entries(dest) == std::vector<std::string>{"utah-teapot"});
   CHECK(Entries(dest / "utah-teapot") == std::vector<std::string>(std::begin(kTeapotFiles), std::end(kTeapotFiles)));
-  for (const char* name : kTeapotFiles) CHECK(Bytes(dest / "utah-teapot" / name) == Bytes(teapot / name));
+  for (const char* name : kTeapotFiles)
+    CHECK(test::ReadFileBytes(dest / "utah-teapot" / name) == test::ReadFileBytes(teapot / name));
 
   const CommandResult again = Fetch("--from " + Quote(mirror) + " --dest " + Quote(dest) + " teapot --quiet");
   CAPTURE(again.output);
@@ -120,10 +116,10 @@ TEST_CASE("fetch.sh: a changed or missing file is an error naming it, and nothin
   fs::create_directories(dest / "utah-teapot");
   for (const char* name : kTeapotFiles) fs::copy_file(teapot / name, dest / "utah-teapot" / name);
   FlipLastByte(dest / "utah-teapot" / "teapot.obj");
-  const std::string earlier = Bytes(dest / "utah-teapot" / "teapot.obj");
+  const std::string earlier = test::ReadFileBytes(dest / "utah-teapot" / "teapot.obj");
   checkError("default.mtl");
   CHECK(Entries(dest) == std::vector<std::string>{"utah-teapot"});
-  CHECK(Bytes(dest / "utah-teapot" / "teapot.obj") == earlier);
+  CHECK(test::ReadFileBytes(dest / "utah-teapot" / "teapot.obj") == earlier);
 
   fs::remove(mirror / "utah-teapot" / "default.mtl");
   checkError("default.mtl");
@@ -132,7 +128,8 @@ TEST_CASE("fetch.sh: a changed or missing file is an error naming it, and nothin
   CAPTURE(good.output);
   CHECK(good.exitCode == 0);
   CHECK(Entries(dest) == std::vector<std::string>{"utah-teapot"});
-  for (const char* name : kTeapotFiles) CHECK(Bytes(dest / "utah-teapot" / name) == Bytes(teapot / name));
+  for (const char* name : kTeapotFiles)
+    CHECK(test::ReadFileBytes(dest / "utah-teapot" / name) == test::ReadFileBytes(teapot / name));
 }
 
 TEST_CASE("fetch.sh: command lines it refuses, and its help", "[data][fetch]") {
@@ -191,7 +188,7 @@ TEST_CASE("fetch.sh: the armadillo's upstream PLY converts to the listed OBJ byt
   INFO(r.output);
   REQUIRE(r.exitCode == 0);
   CHECK(Entries(dest / "stanford-armadillo") == std::vector<std::string>{"armadillo.obj"});
-  CHECK(Bytes(dest / "stanford-armadillo" / "armadillo.obj") == Bytes(armadillo));
+  CHECK(test::ReadFileBytes(dest / "stanford-armadillo" / "armadillo.obj") == test::ReadFileBytes(armadillo));
 }
 
 }  // namespace
