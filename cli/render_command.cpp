@@ -117,7 +117,9 @@ int Render(const RenderOptions& options) {
   const double writeMs = write.Lap();
 
   if (options.explain)
-    std::printf("%s", ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.view, true)).c_str());
+    std::printf(
+        "%s", ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.gbuffer.edgeCoverage, frame.view, true))
+                  .c_str());
   if (options.stats) {
     std::printf("%s, load %.1f ms\n", DescribeScene(scenePath, scene).c_str(), loadMs);
     if (scene.reorientedTriangles > 0)

@@ -97,12 +97,14 @@ TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 thre
   }
 }
 
-// The default frame, and the same without the bounce: the image the frame gave before the bounce was
-// part of it, so with the bounce off every other pass and the composite keep their bytes.
+// The default frame; the same without anti-aliasing, the image the frame gave before the
+// anti-aliasing was part of it; and without the bounce too, the image the frame gave before the bounce
+// was: with either off every other pass and the composite keep their bytes.
 TEST_CASE("render: the default scene matches its golden images byte for byte", "[cli][golden]") {
   ScratchDir dir("cli-golden");
   for (const auto& [name, options] : {std::pair<std::string, std::string>{"default_160x120.png", ""},
-                                      {"default_160x120_bounce_off.png", " --bounce off"}}) {
+                                      {"default_160x120_aa_off.png", " --aa off"},
+                                      {"default_160x120_bounce_off.png", " --bounce off --aa off"}}) {
     CAPTURE(name);
     const fs::path golden = SourceDir() / "tests" / "golden" / name;
     const fs::path rendered = dir / name;
