@@ -97,6 +97,20 @@ TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 thre
   }
 }
 
+TEST_CASE("render: --explain says whether the anti-aliasing runs and on how many edge pixels", "[cli]") {
+  ScratchDir dir("cli-explain-aa");
+  const CommandResult edge =
+      RunCli("render " + DefaultSceneArg() + " --size 96x64 --explain -o " + Quote(dir / "edge.png"));
+  REQUIRE(edge.exitCode == 0);
+  CAPTURE(edge.output);
+  CHECK(edge.output.find("antialias: run, pixels lie on geometric edges; needed in") != std::string::npos);
+  const CommandResult off =
+      RunCli("render " + DefaultSceneArg() + " --size 96x64 --aa off --explain -o " + Quote(dir / "off.png"));
+  REQUIRE(off.exitCode == 0);
+  CAPTURE(off.output);
+  CHECK(off.output.find("antialias: skipped, switched off\n    antialias does not run\n") != std::string::npos);
+}
+
 // The default frame; the same without anti-aliasing, the image the frame gave before the
 // anti-aliasing was part of it; and without the bounce too, the image the frame gave before the bounce
 // was: with either off every other pass and the composite keep their bytes.
