@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <glm/glm.hpp>
+#include <utility>
 #include <vector>
 
 #include "core/check.h"
@@ -164,11 +165,11 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
     if (!GeometricEdge(ta, tb, da, db, materials)) return {};
     return projection.Pair(ta, tb, da, db, int(x), int(y), alongX);
   };
-  // Per row: the zero words, then the pixels whose triangle differs from a neighbour's, gathered
-  // (a pair with the row above or below is computed again for that row: pairs are few).
+  // Per row: the zero words, then the pixels whose triangle differs from a neighbour's, gathered.
   std::vector<std::array<double, 4>> weights(width, {0.0, 0.0, 0.0, 0.0});  // left, right, up, down
   std::vector<uint8_t> touched(width, 0);
   std::vector<size_t> pixels;
+  std::vector<std::pair<size_t, double>> fromAbove;  // the next row's weights toward this row
   size_t edgePixels = 0;
   for (size_t y = y0; y < y1; ++y) {
     const uint32_t* row = visibility.triangle.ConstRow(y);
@@ -187,12 +188,19 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
       add(x, 1, w.towardB);
       add(x + 1, 0, w.towardA);
     });
-    if (y > 0)
+    // The pairs with the row above: the band's first row computes them, later rows take them from
+    // the row above's pairs with the row below.
+    if (y == y0 && y > 0)
       ForEachDifference(row, visibility.triangle.ConstRow(y - 1), width,
                         [&](size_t x) { add(x, 2, pair(x, y - 1, false).towardA); });
+    for (const auto& [x, w] : fromAbove) add(x, 2, w);
+    fromAbove.clear();
     if (y + 1 < height)
-      ForEachDifference(row, visibility.triangle.ConstRow(y + 1), width,
-                        [&](size_t x) { add(x, 3, pair(x, y, false).towardB); });
+      ForEachDifference(row, visibility.triangle.ConstRow(y + 1), width, [&](size_t x) {
+        const PairWeights w = pair(x, y, false);
+        add(x, 3, w.towardB);
+        if (w.towardA != 0.0) fromAbove.emplace_back(x, w.towardA);
+      });
     for (size_t x : pixels) {
       uint32_t code[4], sum = 0;
       for (size_t k = 0; k < 4; ++k) sum += code[k] = WeightCode(weights[x][k]);
