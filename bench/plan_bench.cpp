@@ -133,7 +133,8 @@ BENCHMARK(BM_FramePenumbraShare)->Apply(RegisterPenumbrae);
 // scene, -1 Dabrovic Sponza) at its own 1024x1024, row 0 direct light only, 1 with shadows,
 // 2 with shadows and reflections (rows 0-2 the paper's pipeline: the effects it does not have, the
 // sky light and the diffuse bounce, switched off), 3 with every effect, on `threads` threads,
-// rendered as Table 1 renders them (into the last frame's buffers).
+// rendered as Table 1 renders them (into the last frame's buffers), with the anti-aliasing `aa`
+// (0 off, 1 edge; passes/antialias.h).
 void BM_Table1Frame(benchmark::State& state) {
   const BenchScene& bench = BenchSceneOf(state.range(2));
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
@@ -143,12 +144,13 @@ void BM_Table1Frame(benchmark::State& state) {
   config.reflections = state.range(0) >= 2 ? EffectMode::kAuto : EffectMode::kOff;
   config.sky = state.range(0) >= 3 ? EffectMode::kAuto : EffectMode::kOff;
   config.bounce = state.range(0) >= 3 ? EffectMode::kAuto : EffectMode::kOff;
+  config.antialiasing = Antialiasing(state.range(3));
   TimeFrames(state, bench.scene, config, BufferLifetime::kKeepForReuse);
 }
 
 BENCHMARK(BM_Table1Frame)
-    ->ArgNames({"row", "threads", "scene"})
-    ->ArgsProduct({{0, 1, 2, 3}, {2}, {0, -1}})
+    ->ArgNames({"row", "threads", "scene", "aa"})
+    ->ArgsProduct({{0, 1, 2, 3}, {2}, {0, -1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -116,8 +116,18 @@ int Render(const RenderOptions& options) {
   outputs.Commit();
   const double writeMs = write.Lap();
 
-  if (options.explain)
-    std::printf("%s", ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.view, true)).c_str());
+  if (options.explain) {
+    // Freeing early, the frame has let its edge coverage go after the anti-aliasing: the plan counts
+    // the edge pixels of a G-buffer pass of the same view again, which writes the same words.
+    const Plane<uint32_t>* edgeCoverage = &frame.gbuffer.edgeCoverage;
+    GBufferOutputs again;
+    if (config.antialiasing == Antialiasing::kEdge && edgeCoverage->xsize() == 0) {
+      RunGBuffer({scene, frame.view}, {config.normalEncoding, true}, again);
+      edgeCoverage = &again.edgeCoverage;
+    }
+    std::printf("%s",
+                ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, *edgeCoverage, frame.view, true)).c_str());
+  }
   if (options.stats) {
     std::printf("%s, load %.1f ms\n", DescribeScene(scenePath, scene).c_str(), loadMs);
     if (scene.reorientedTriangles > 0)

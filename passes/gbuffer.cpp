@@ -134,8 +134,16 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
       rays.y.data(),
   };
   const VisibilityBuffer& visibility = out.visibility;
-  std::vector<size_t> coveredPerBand(RowBandCount(height), 0);
+  std::vector<size_t> coveredPerBand(RowBandCount(height), 0), edgesPerBand(RowBandCount(height), 0);
+  if (!params.edgeCoverage) {
+    out.edgeCoverage = {};
+  } else if (out.edgeCoverage.xsize() != width || out.edgeCoverage.ysize() != height) {
+    out.edgeCoverage = MakePlane<uint32_t>(width, height, 0u);
+  }
   ParallelForRowBands("gbuffer.resolve", height, [&](size_t band, size_t yBegin, size_t yEnd) {
+    // The band's edge coverage first, while its visibility rows are in cache for the resolve too.
+    if (params.edgeCoverage)
+      edgesPerBand[band] = EdgeCoverageRows(scene, view, visibility, yBegin, yEnd, out.edgeCoverage);
     if (kernels == KernelPath::kSimd) {
       for (size_t y = yBegin; y < yEnd; y += kGBufferResolveRowsPerCall) {
         const int rows = int(std::min(yEnd - y, size_t(kGBufferResolveRowsPerCall)));
@@ -153,6 +161,7 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
     }
   });
   for (size_t n : coveredPerBand) stats.coveredPixels += n;
+  for (size_t n : edgesPerBand) stats.edgePixels += n;
   stats.resolveMs = stopwatch.Lap();
   return stats;
 }

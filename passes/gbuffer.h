@@ -19,6 +19,8 @@ namespace ssgi {
 
 struct GBufferParams {
   NormalEncoding normalEncoding = NormalEncoding::kOct24;
+  // Also write the edge coverage (GBufferOutputs::edgeCoverage), which the edge anti-aliasing reads.
+  bool edgeCoverage = false;
 };
 
 struct GBufferInputs {
@@ -30,6 +32,9 @@ struct GBufferInputs {
 struct GBufferOutputs {
   GBuffer gbuffer;             // words 0-2 filled; word 3 set to kShadowLit (in the resolve's pass over the rows)
   VisibilityBuffer visibility; // the triangle index per pixel (for dumps and tests)
+  // With GBufferParams::edgeCoverage: per pixel, the share of its area that each 4-neighbour's
+  // surface covers across a geometric edge (EdgeCoverageWord); otherwise empty.
+  Plane<uint32_t> edgeCoverage;
 };
 
 struct GBufferStats {
@@ -37,6 +42,9 @@ struct GBufferStats {
   double rasterMs = 0.0;
   double resolveMs = 0.0;
   size_t coveredPixels = 0;
+  // Pixels with a non-zero edge coverage word, when asked for: computed in the resolve's row bands
+  // while their visibility rows are in cache, so resolveMs includes it.
+  size_t edgePixels = 0;
 };
 
 // `kernels` picks the raster's tile kernel and the resolve's row kernel; both paths give the same
@@ -89,5 +97,42 @@ size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const Visibi
 // 1M-triangle knot (12 MB) resolved with its fetches confined to 1024 triangles took 13% less time,
 // the 100k knot (1.2 MB) the same.
 inline constexpr size_t kGBufferCachedVertexBytes = size_t(4) << 20;
+
+// ---- Edge coverage (passes/gbuffer_edges.cpp, docs/pipeline.md §Edge coverage) ----
+//
+// Where two 4-neighbouring pixels see different surfaces across a geometric edge (GeometricEdge),
+// the nearer pixel's triangle has an edge between the two pixel centres. Its screen-space line gives,
+// as a box filter would, the share of each pixel's square on the other side of it: the share of the
+// near pixel outside its triangle (covered by the far pixel's surface) and the share of the far
+// pixel inside it. Each pair counts only along the line's major axis (a pair along x when the line's
+// normal is closer to x), so a pixel is not blended twice across one line (Persson's GBAA).
+
+// Depth ratio beyond which two pixels of different triangles with the same material are apart.
+inline constexpr float kEdgeDepthJump = 0.02f;
+
+// Whether neighbouring pixels a and b (triangle indices from the visibility buffer, view depths
+// from G-buffer word 2) are on two sides of a geometric edge: different triangles, and one is the
+// background, their materials differ (`materials`: per triangle) or their depths differ by more than
+// the ratio 1 + kEdgeDepthJump.
+bool GeometricEdge(uint32_t triangleA, uint32_t triangleB, float depthA, float depthB, const uint32_t* materials);
+
+// The edge coverage word of a pixel: bytes 0-3 are the shares of its area, in 1/256, covered by the
+// surface of its left, right, upper and lower neighbour; their sum is at most 256. 0: no edge.
+inline uint32_t EdgeCoverageWord(uint32_t left, uint32_t right, uint32_t up, uint32_t down) {
+  return left | right << 8 | up << 16 | down << 24;
+}
+
+// The share of a unit pixel square on the inside of a line (the box filter's coverage): `distance`
+// is the signed distance of the square's centre from the line, positive inside, in pixels, and
+// (nx, ny) the line's unit normal.
+double BoxCoverage(double distance, double nx, double ny);
+
+// The edge coverage of rows [y0, y1) of the visibility buffer (which `view` rasterized from
+// `scene`), with the view depths of its depth keys (those of G-buffer word 2). Returns the pixels
+// with a non-zero word.
+// Computed in double by this one definition (no SIMD twin): it runs on edge pairs only, and its
+// output is integer.
+size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const VisibilityBuffer& visibility, size_t y0,
+                        size_t y1, Plane<uint32_t>& coverage);
 
 }  // namespace ssgi

@@ -249,6 +249,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
     exposure.get = [](const FrameConfig& c) { return SettingValue(double(c.tonemap.exposureEv)); };
     table.push_back(std::move(exposure));
   }
+  table.push_back(ChoiceSetting<Antialiasing>(
+      "antialiasing", "--aa",
+      "Anti-aliasing of the final image: edge (each geometric edge's coverage of the pixels it crosses, from "
+      "the rasterizer's triangles, blended in linear HDR before the tonemap) or off.",
+      {{"off", Antialiasing::kOff}, {"edge", Antialiasing::kEdge}}, {"off", "edge"},
+      [](auto& c) -> auto& { return c.antialiasing; }));
   table.push_back(ChoiceSetting<Tonemap>("tonemap", "--tonemap",
                                          "Display curve of PNG output: aces (Narkowicz's filmic fit) or clamp.",
                                          {{"aces", Tonemap::kAces}, {"clamp", Tonemap::kClamp}}, {},
@@ -282,7 +288,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
 
 const std::vector<QualityPreset>& QualityPresets() {
   static const std::vector<QualityPreset> presets = {
-      {"low", {{"blocker_taps", "4"}, {"blur_taps", "2"}, {"ssr_iterations", "8"}, {"ssr_block_roughness", "0.1"}}},
+      {"low",
+       {{"blocker_taps", "4"},
+        {"blur_taps", "2"},
+        {"ssr_iterations", "8"},
+        {"ssr_block_roughness", "0.1"},
+        {"antialiasing", "off"}}},
       {"medium", {{"blur_taps", "4"}, {"ssr_iterations", "32"}}},
       {"high", {}},
       {"ultra",

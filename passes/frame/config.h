@@ -44,6 +44,7 @@ struct FrameConfig {
   BounceParams diffuseBounce;
   SsrTraceParams ssrTrace;
   SsrConeParams ssrCone;
+  Antialiasing antialiasing = Antialiasing::kEdge;  // of the final image (passes/antialias.h)
   TonemapParams tonemap;
 };
 

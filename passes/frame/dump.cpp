@@ -301,8 +301,8 @@ namespace {
 
 // Which effects belong to the frame a dump is loaded into: all of them until the plan has decided.
 struct EffectSet {
-  bool shadows = true, reflections = true, sky = true, bounce = true;
-  bool Has(FrameEffect effect) const { return EffectBelongs(effect, shadows, reflections, sky, bounce); }
+  bool shadows = true, reflections = true, sky = true, bounce = true, antialias = true;
+  bool Has(FrameEffect effect) const { return EffectBelongs(effect, shadows, reflections, sky, bounce, antialias); }
 };
 
 }  // namespace
@@ -340,9 +340,9 @@ void LoadFrameDump(const ExrFile& dump, const std::filesystem::path& file, const
   // The G-buffer pass's buffers first: the plan reads them and decides which effects belong.
   for (const MadeBuffer& made : FrameBuffers())
     if (made.maker->pass == FramePass::kGBuffer && made.buffer->readByPlan) load(made);
-  const FramePlan plan =
-      PlanFrame(scene, config, frame.gbuffer.gbuffer, MakePerspective(scene.camera, config.width, config.height));
-  effects = {plan.shadows.run, plan.reflections.run, plan.sky.run, plan.bounce.run};
+  const FramePlan plan = PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.gbuffer.edgeCoverage,
+                                   MakePerspective(scene.camera, config.width, config.height));
+  effects = {plan.shadows.run, plan.reflections.run, plan.sky.run, plan.bounce.run, plan.antialias.run};
   for (const MadeBuffer& made : FrameBuffers())
     if (!made.buffer->readByPlan) load(made);
 }

@@ -21,7 +21,7 @@ FramePass ParseFramePass(std::string_view name) {
   throw InputError("'" + std::string(name) + "' is not a pass; the passes: " + FramePassNames());
 }
 
-bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky, bool bounce) {
+bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky, bool bounce, bool antialias) {
   switch (effect) {
     case FrameEffect::kAlways:
       return true;
@@ -35,6 +35,8 @@ bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky,
       return bounce;
     case FrameEffect::kIndirect:
       return reflections || sky || bounce;
+    case FrameEffect::kAntialias:
+      return antialias;
   }
   return false;
 }
@@ -68,12 +70,13 @@ void RunFramePasses(const Scene& scene, const FrameConfig& config, FramePass fro
       // Only the effects the visible pixels need (docs/design.md §9). G-buffer word 3 has room for one
       // light's term: the first shadow-casting light's.
       Stopwatch planning;
-      frame.plan = PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.view);
+      frame.plan = PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.gbuffer.edgeCoverage, frame.view);
       stats.planMs = planning.Lap();
       frame.shadows = frame.plan.shadows.run && (from > FramePass::kShadowMap || to >= FramePass::kShadowMap);
       frame.reflections = frame.plan.reflections.run;
       frame.sky = frame.plan.sky.run;
       frame.bounce = frame.plan.bounce.run;
+      frame.antialias = frame.plan.antialias.run;
     }
     if (observer) observer(steps[index], frame);
     release(index);

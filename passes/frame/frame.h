@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "core/plane.h"
 #include "core/scene.h"
+#include "passes/antialias.h"
 #include "passes/bounce.h"
 #include "passes/color_pyramid.h"
 #include "passes/composite.h"
@@ -44,6 +45,7 @@ struct FrameStats {
   std::optional<SsrTraceStats> ssrTrace;
   std::optional<SsrConeStats> ssrCone;
   std::optional<CompositeStats> composite;
+  std::optional<AntialiasStats> antialias;
   std::optional<TonemapStats> tonemap;
   double planMs = 0.0;  // PlanFrame: it runs in every frame, after the G-buffer pass or its dump
   double totalMs = 0.0;
@@ -58,7 +60,8 @@ std::vector<StageStats> StageRows(const FrameStats& stats);
 inline constexpr FramePass kFramePasses[] = {
     FramePass::kGBuffer,  FramePass::kShadowMap, FramePass::kShadowFilter, FramePass::kDirectLight,
     FramePass::kSkyLight, FramePass::kBounce,    FramePass::kHiZ,          FramePass::kColorPyramid,
-    FramePass::kSsrTrace, FramePass::kSsrCone,   FramePass::kComposite,    FramePass::kTonemap};
+    FramePass::kSsrTrace, FramePass::kSsrCone,   FramePass::kComposite,    FramePass::kAntialias,
+    FramePass::kTonemap};
 // The pass's registry name: "gbuffer", "shadow_map", ..., "tonemap".
 std::string_view FramePassName(FramePass pass);
 // The pass of that name; throws InputError listing the names for any other.
@@ -68,7 +71,7 @@ std::string FramePassNames();
 
 // Whether `effect`'s passes belong to a frame with these effects on (kIndirect: any of the three
 // that feed the composite).
-bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky, bool bounce);
+bool EffectBelongs(FrameEffect effect, bool shadows, bool reflections, bool sky, bool bounce, bool antialias);
 
 struct Frame {
   ViewProjection view;
@@ -97,17 +100,27 @@ struct Frame {
   SsrTraceOutputs ssrTrace;
   SsrConeOutputs ssrCone;
   CompositeOutputs composite;
+  // Whether the anti-aliasing belongs to this frame (it is on and some pixel lies on an edge), and
+  // its image: empty when it works in place on the result (BufferLifetime::kUntilLastReader).
+  bool antialias = false;
+  Plane3<float> antialiased;
   TonemapOutputs display;  // 8-bit sRGB of the final image
   FrameStats stats;
 
   // Whether the effect's passes belong to this frame.
-  bool Has(FrameEffect effect) const { return EffectBelongs(effect, shadows, reflections, sky, bounce); }
+  bool Has(FrameEffect effect) const { return EffectBelongs(effect, shadows, reflections, sky, bounce, antialias); }
   // The image the colour pyramid and the composite read: lit = direct + the sky's diffuse light, or
   // the direct light without the sky light.
   const Plane3<float>& Lit() const { return sky ? skyLight.lit : direct.radiance; }
   // The final linear HDR image: result = lit + indirect (the direct light alone without reflections,
-  // sky light and bounce).
-  const Plane3<float>& Result() const { return Has(FrameEffect::kIndirect) ? composite.result : direct.radiance; }
+  // sky light and bounce), anti-aliased when the anti-aliasing ran into its own buffer.
+  const Plane3<float>& Result() const {
+    if (antialias && antialiased.c[0].xsize() > 0) return antialiased;
+    return Composed();
+  }
+  // The image before the anti-aliasing (after it where it works in place).
+  const Plane3<float>& Composed() const { return Has(FrameEffect::kIndirect) ? composite.result : direct.radiance; }
+  Plane3<float>& MutableComposed() { return Has(FrameEffect::kIndirect) ? composite.result : direct.radiance; }
 };
 
 // How long a frame keeps its buffers.

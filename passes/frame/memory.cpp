@@ -14,6 +14,7 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   FrameShape shape{size_t(config.width), size_t(config.height), scene.mesh.TriangleCount(),
                    size_t(config.shadowMap.resolution)};
   shape.handOver = release;
+  shape.edgeCoverage = config.antialiasing == Antialiasing::kEdge;
   if (config.sky != EffectMode::kOff) {
     shape.skyVolumeBytes = SkyVisibilityBytes(scene, config.skyVisibility);
     shape.skyVolumeBuildBytes = SkyVisibilityBuildBytes(scene, config.skyVisibility);
@@ -33,6 +34,8 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
       case FrameEffect::kIndirect:
         return config.reflections != EffectMode::kOff || config.sky != EffectMode::kOff ||
                config.bounce != EffectMode::kOff;
+      case FrameEffect::kAntialias:
+        return config.antialiasing != Antialiasing::kOff;
     }
     return false;
   };

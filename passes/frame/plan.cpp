@@ -75,8 +75,8 @@ void CountPlanRowScalar(const uint32_t* word1, const uint32_t* word2, int width,
   }
 }
 
-FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer, const ViewProjection& view,
-                    bool countShadowPixels) {
+FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer,
+                    const Plane<uint32_t>& edgeCoverage, const ViewProjection& view, bool countShadowPixels) {
   const int width = gbuffer.width(), height = gbuffer.height();
   FramePlan plan;
   plan.reflectionTiles = TileMask::None(width, height);
@@ -199,6 +199,28 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
                                                          : "nothing on screen is lit (no light reaches a visible "
                                                            "pixel and the sky light does not run)";
   }
+  if (config.antialiasing == Antialiasing::kOff) {
+    plan.antialias.why = "switched off";
+  } else {
+    // Edge pixels are those with a non-zero edge coverage word (passes/gbuffer.h): the first one
+    // decides, unless they are counted (for --explain).
+    std::vector<uint32_t> edgesPerTile(plan.tiles, 0);
+    bool found = false;
+    for (size_t y = 0; y < edgeCoverage.ysize() && !(found && !countShadowPixels); ++y) {
+      const uint32_t* row = edgeCoverage.ConstRow(y);
+      uint32_t* tileRow = &edgesPerTile[y / TileMask::kTileSize * size_t(tilesX)];
+      for (size_t x = 0; x < edgeCoverage.xsize(); ++x) tileRow[x / TileMask::kTileSize] += row[x] != 0;
+      found = found || std::find_if(row, row + edgeCoverage.xsize(), [](uint32_t w) { return w != 0; }) !=
+                           row + edgeCoverage.xsize();
+    }
+    for (uint32_t edges : edgesPerTile) {
+      plan.antialias.pixels += edges;
+      plan.antialias.tiles += edges > 0;
+    }
+    plan.antialias.counted = countShadowPixels;
+    plan.antialias.run = found;
+    plan.antialias.why = plan.antialias.run ? "pixels lie on geometric edges" : "no pixel lies on a geometric edge";
+  }
   return plan;
 }
 
@@ -244,6 +266,8 @@ std::string ExplainPlan(const FramePlan& plan) {
                    "the diffuse albedo") +
            (plan.sky.run ? " and darkens the sky's diffuse light by its visibility" : ""),
        plan.bounce);
+  line("antialias", "antialias does not run", "antialias blends those pixels with their neighbours across the edge",
+       plan.antialias);
   return text;
 }
 

@@ -39,6 +39,7 @@ struct FramePlan {
   EffectPlan reflections;
   EffectPlan sky;
   EffectPlan bounce;
+  EffectPlan antialias;  // pixels: those on a geometric edge (when counted)
   // Per light, in PrepareLights order: whether some visible pixel faces it (the direct light's
   // conditions for a non-zero term). The direct light shades only these; the others add exactly 0.
   std::vector<bool> lightReaches;
@@ -49,9 +50,11 @@ struct FramePlan {
 };
 
 // The plan for the frame of this G-buffer, rendered with `view`. countShadowPixels: count the
-// pixels and tiles facing the shadowed light (for --explain) instead of stopping at the first.
-FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer, const ViewProjection& view,
-                    bool countShadowPixels = false);
+// pixels and tiles facing the shadowed light and those on an edge (for --explain) instead of
+// stopping at the first.
+// edgeCoverage: the G-buffer's edge coverage (empty unless --aa edge).
+FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer& gbuffer,
+                    const Plane<uint32_t>& edgeCoverage, const ViewProjection& view, bool countShadowPixels = false);
 
 // Per 32x32 tile of row y (tile t holds x in [32t, 32t + 32)): adds the row's pixels with geometry
 // (word 2 not the background) to geometry[t] and those of them whose roughness code (word 1's top

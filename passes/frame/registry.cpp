@@ -75,7 +75,9 @@ void DumpLevels(DumpPart part, const Levels& levels, DumpSink& sink) {
 
 void GBufferStep(FrameStep& s) {
   Frame& f = s.frame;
-  if (s.Runs(P::kGBuffer)) f.stats.gbuffer = RunGBuffer({s.scene, f.view}, {s.config.normalEncoding}, f.gbuffer);
+  if (s.Runs(P::kGBuffer))
+    f.stats.gbuffer = RunGBuffer({s.scene, f.view},
+                                 {s.config.normalEncoding, s.config.antialiasing == Antialiasing::kEdge}, f.gbuffer);
 }
 
 const char kWord0Meaning[] = "albedo R, G, B 8-bit sRGB codes (bits 0-23), metallic code (24-31)";
@@ -160,6 +162,26 @@ PassDeclaration GBufferPass() {
            },
        .carriedThrough = true},
   };
+  pass.makes.push_back(
+      {.id = B::kEdgeCoverage,
+       .name = "edge coverage",
+       .bytes = [](const FrameShape& s) { return s.edgeCoverage ? PlaneBytes<uint32_t>(s.width, s.height) : 0; },
+       .layers = {{"aa.coverage", P::kGBuffer, true, DumpPart::kImage, false,
+                   "edge coverage word: shares of the pixel, in 1/256, covered by the left (bits 0-7), right "
+                   "(8-15), upper (16-23) and lower (24-31) neighbour's surface; 0 = no edge"}},
+       .heldBytes = [](const Frame& f) { return Held(f.gbuffer.edgeCoverage); },
+       .release = [](Frame& f) { f.gbuffer.edgeCoverage = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (ImageSized(f, f.gbuffer.edgeCoverage))
+               sink.Add(DumpPart::kImage, 0, "aa.coverage", f.gbuffer.edgeCoverage);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             if (source.Has(DumpPart::kImage, 0, "aa.coverage"))
+               source.Load(DumpPart::kImage, 0, "aa.coverage", f.gbuffer.edgeCoverage);
+           },
+       .readByPlan = true});
   pass.scratchName = "g-buffer raster set-up";
   pass.scratchBytes = [](const FrameShape& s) { return kRasterBytesPerTriangle * s.triangles; };
   pass.stats = {
@@ -884,6 +906,51 @@ PassDeclaration CompositePass() {
   return pass;
 }
 
+// ---- Anti-aliasing (passes/antialias.h) ----
+
+void AntialiasStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (!s.Runs(P::kAntialias)) return;
+  // Where no dump reads the image before the anti-aliasing, in place: nothing else reads it.
+  if (s.Undumped()) f.antialiased = {};
+  Plane3<float>& out = s.Undumped() ? f.MutableComposed() : f.antialiased;
+  f.stats.antialias = RunAntialias({f.gbuffer.edgeCoverage, f.Composed()}, out);
+}
+
+const char kAntialiasedMeaning[] =
+    "the final image anti-aliased across geometric edges, linear, >= 0 (result where no pixel is on an edge)";
+
+PassDeclaration AntialiasPass() {
+  PassDeclaration pass{P::kAntialias, "antialias",
+                       "the final image blended across geometric edges by their coverage of each pixel"};
+  pass.effect = FrameEffect::kAntialias;
+  pass.makes = {
+      {.id = B::kAntialiased,
+       .name = "anti-aliased result",
+       .storageOf = B::kResult,
+       .bytes = [](const FrameShape& s) { return s.handOver ? 0 : ImagePlanes(s, 3); },
+       .layers = {{"aa.result.R", P::kAntialias, false, DumpPart::kImage, false, kAntialiasedMeaning},
+                  {"aa.result.G", P::kAntialias, false, DumpPart::kImage, false, kAntialiasedMeaning},
+                  {"aa.result.B", P::kAntialias, false, DumpPart::kImage, false, kAntialiasedMeaning}},
+       .heldBytes = [](const Frame& f) { return Held(f.antialiased); },
+       .release = [](Frame& f) { f.antialiased = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (f.antialias && ImageSized(f, f.antialiased.c[0]))
+               sink.Add3(DumpPart::kImage, 0, "aa.result.", f.antialiased);
+           },
+       .load = [](const DumpSource& source,
+                  Frame& f) { source.Load3(DumpPart::kImage, 0, "aa.result.", f.antialiased); }},
+  };
+  pass.reads = {B::kEdgeCoverage, B::kResult};
+  pass.stats = {{"antialias", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.antialias) return std::nullopt;
+                   return Row(s.antialias->ms, double(s.antialias->edgePixels), "pixels");
+                 }}};
+  pass.step = AntialiasStep;
+  return pass;
+}
+
 // ---- Tonemap (passes/tonemap.h) ----
 
 void TonemapStep(FrameStep& s) {
@@ -908,7 +975,7 @@ PassDeclaration TonemapPass() {
        .release = nullptr,  // a frame output
        .dump = [](const Frame& f, DumpSink& sink) { sink.AddDisplay(f.display); }},
   };
-  pass.reads = {B::kResult};
+  pass.reads = {B::kResult, B::kAntialiased};
   pass.stats = {{"tonemap", [](const FrameStats& s) -> std::optional<StageStats> {
                    if (!s.tonemap) return std::nullopt;
                    return Row(s.tonemap->ms, double(s.tonemap->pixels), "pixels");
@@ -920,7 +987,8 @@ PassDeclaration TonemapPass() {
 std::vector<PassDeclaration> MakeRegistry() {
   std::vector<PassDeclaration> passes = {GBufferPass(),  ShadowMapPass(), ShadowFilterPass(), DirectLightPass(),
                                          SkyLightPass(), BouncePass(),    HiZPass(),          ColorPyramidPass(),
-                                         SsrTracePass(), SsrConePass(),   CompositePass(),    TonemapPass()};
+                                         SsrTracePass(), SsrConePass(),   CompositePass(),    AntialiasPass(),
+                                         TonemapPass()};
   for (size_t i = 0; i < passes.size(); ++i) SSGI_CHECK(size_t(passes[i].pass) == i);
   return passes;
 }
@@ -950,9 +1018,9 @@ const std::vector<MadeBuffer>& FrameBuffers() {
 const MadeBuffer& FrameBufferDeclaration(FrameBuffer buffer) { return FrameBuffers()[size_t(buffer)]; }
 
 const std::vector<FramePass>& FrameSteps() {
-  static const std::vector<FramePass> steps = {P::kGBuffer,      P::kShadowMap, P::kShadowFilter, P::kDirectLight,
-                                               P::kSkyLight,     P::kBounce,    P::kHiZ,          P::kSsrTrace,
-                                               P::kColorPyramid, P::kSsrCone,   P::kComposite,    P::kTonemap};
+  static const std::vector<FramePass> steps = {
+      P::kGBuffer,  P::kShadowMap,    P::kShadowFilter, P::kDirectLight, P::kSkyLight,  P::kBounce, P::kHiZ,
+      P::kSsrTrace, P::kColorPyramid, P::kSsrCone,      P::kComposite,   P::kAntialias, P::kTonemap};
   return steps;
 }
 

@@ -42,6 +42,7 @@ enum class FramePass {
   kSsrTrace,
   kSsrCone,
   kComposite,
+  kAntialias,
   kTonemap,
 };
 
@@ -53,6 +54,7 @@ enum class FrameEffect {
   kSky,          // the environment's light: the sky light
   kBounce,       // the diffuse bounce and its ambient occlusion
   kIndirect,     // any light beyond the direct light (reflections, sky or bounce): the composite
+  kAntialias,    // the anti-aliasing of the final image
 };
 
 // Every buffer of a frame, by what it holds.
@@ -74,6 +76,8 @@ enum class FrameBuffer {
   kReflected,  // the cone-traced radiance
   kIndirect,
   kResult,
+  kEdgeCoverage,  // the G-buffer's edge coverage words, for the edge anti-aliasing
+  kAntialiased,   // the anti-aliased final image
   kDisplay,
 };
 
@@ -105,6 +109,7 @@ struct FrameShape {
   size_t shadowMapResolution = 0;
   size_t skyVolumeBytes = 0;       // the sky visibility volume of the scene (SkyVisibilityBytes)
   size_t skyVolumeBuildBytes = 0;  // what making it holds besides the volume
+  bool edgeCoverage = false;       // the G-buffer pass writes its edge coverage (--aa edge)
   // The frame frees buffers after their last reader and hands storage on (kUntilLastReader).
   bool handOver = false;
 };

@@ -97,12 +97,28 @@ TEST_CASE("render: output and every buffer are byte-identical at 1, 2 and 3 thre
   }
 }
 
-// The default frame, and the same without the bounce: the image the frame gave before the bounce was
-// part of it, so with the bounce off every other pass and the composite keep their bytes.
+TEST_CASE("render: --explain says whether the anti-aliasing runs and on how many edge pixels", "[cli]") {
+  ScratchDir dir("cli-explain-aa");
+  const CommandResult edge =
+      RunCli("render " + DefaultSceneArg() + " --size 96x64 --explain -o " + Quote(dir / "edge.png"));
+  REQUIRE(edge.exitCode == 0);
+  CAPTURE(edge.output);
+  CHECK(edge.output.find("antialias: run, pixels lie on geometric edges; needed in") != std::string::npos);
+  const CommandResult off =
+      RunCli("render " + DefaultSceneArg() + " --size 96x64 --aa off --explain -o " + Quote(dir / "off.png"));
+  REQUIRE(off.exitCode == 0);
+  CAPTURE(off.output);
+  CHECK(off.output.find("antialias: skipped, switched off\n    antialias does not run\n") != std::string::npos);
+}
+
+// The default frame; the same without anti-aliasing, the image the frame gave before the
+// anti-aliasing was part of it; and without the bounce too, the image the frame gave before the bounce
+// was: with either off every other pass and the composite keep their bytes.
 TEST_CASE("render: the default scene matches its golden images byte for byte", "[cli][golden]") {
   ScratchDir dir("cli-golden");
   for (const auto& [name, options] : {std::pair<std::string, std::string>{"default_160x120.png", ""},
-                                      {"default_160x120_bounce_off.png", " --bounce off"}}) {
+                                      {"default_160x120_aa_off.png", " --aa off"},
+                                      {"default_160x120_bounce_off.png", " --bounce off --aa off"}}) {
     CAPTURE(name);
     const fs::path golden = SourceDir() / "tests" / "golden" / name;
     const fs::path rendered = dir / name;

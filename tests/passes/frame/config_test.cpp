@@ -39,7 +39,10 @@ TEST_CASE("quality presets: high is the defaults and every knob grows from low t
     CHECK(a.shadowFilter.maxRadiusPixels <= b.shadowFilter.maxRadiusPixels);
     CHECK(a.ssrTrace.maxIterations <= b.ssrTrace.maxIterations);
     CHECK(a.ssrCone.maxSamples <= b.ssrCone.maxSamples);
+    CHECK(int(a.antialiasing != Antialiasing::kOff) <= int(b.antialiasing != Antialiasing::kOff));
   }
+  CHECK(Preset("low").antialiasing == Antialiasing::kOff);
+  CHECK(high.antialiasing == defaults.antialiasing);
   CHECK(Preset("low").ssrTrace.maxIterations == 8);
   CHECK(Preset("ultra").ssrTrace.maxIterations == 128);
   // A preset resets every knob any preset sets, so a later "high" undoes an earlier "low".

@@ -36,8 +36,8 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
   const Frame all = RenderFrame(scene, config);
   CHECK(StageNames(all) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "shadow map",
                                                     "blocker search", "shadow filter", "direct light", "bounce", "hi-z",
-                                                    "colour pyramid", "ssr trace", "cone trace", "composite", "tonemap",
-                                                    "frame total"});
+                                                    "colour pyramid", "ssr trace", "cone trace", "composite",
+                                                    "antialias", "tonemap", "frame total"});
   REQUIRE(all.stats.tonemap);
   CHECK(all.stats.tonemap->pixels == 48 * 32);
   REQUIRE(all.stats.gbuffer);
@@ -49,9 +49,8 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
   config.reflections = EffectMode::kOff;
   config.bounce = EffectMode::kOff;
   const Frame direct = RenderFrame(scene, config);
-  CHECK(StageNames(direct) ==
-        std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "direct light", "tonemap",
-                                 "frame total"});
+  CHECK(StageNames(direct) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan",
+                                                       "direct light", "antialias", "tonemap", "frame total"});
   CHECK(!direct.stats.shadowMap);
   CHECK(!direct.stats.composite);
 }

@@ -146,7 +146,8 @@ TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]
   test::TestScene scene = RoughFloor();
   AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
   const Frame frame = Render(scene, EffectMode::kAuto, EffectMode::kAuto);
-  const FramePlan counted = PlanFrame(scene, test::ConfigOf(scene), frame.gbuffer.gbuffer, frame.view, true);
+  const FramePlan counted =
+      PlanFrame(scene, test::ConfigOf(scene), frame.gbuffer.gbuffer, frame.gbuffer.edgeCoverage, frame.view, true);
   CHECK(counted.shadows.counted);
   CHECK(counted.shadows.pixels > 0);
   CHECK(counted.shadows.pixels <= counted.geometryPixels);
@@ -163,7 +164,8 @@ TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]
   // Without the bounce, the composite works on the traced tiles alone.
   FrameConfig config = test::ConfigOf(scene);
   config.bounce = EffectMode::kOff;
-  const std::string withoutBounce = ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.view));
+  const std::string withoutBounce =
+      ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.gbuffer.edgeCoverage, frame.view));
   CHECK(withoutBounce.find("hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
                            std::to_string(counted.reflections.tiles) + " tiles only") != std::string::npos);
   CHECK(withoutBounce.find("bounce: skipped, switched off\n    bounce does not run\n") != std::string::npos);
