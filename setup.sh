@@ -9,13 +9,15 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-# The last four are Mesa's OpenGL on the CPU, for the llvmpipe peer (bench/llvmpipe_bench.cpp) and
-# the GLSL port the tests check against the oracle (tests/port/): EGL and OpenGL headers and
-# libraries, Mesa's EGL, and Mesa's software drivers (llvmpipe). The build and the tests run
-# without them (the peer is left out, the port's test skips). python3 runs data/scenes/fetch.sh.
-packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libopenimageio-dev
-          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev python3
-          libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri)
+# libtinygltf-dev reads glTF 2.0 files; assimp-testmodels holds the glTF 2.0 files the tests render
+# or refuse (tests/cli/gltf_models_test.cpp). The last four are Mesa's OpenGL on the CPU, for the
+# llvmpipe peer (bench/llvmpipe_bench.cpp) and the GLSL port the tests check against the oracle
+# (tests/port/): EGL and OpenGL headers and libraries, Mesa's EGL, and Mesa's software drivers
+# (llvmpipe). The build and the tests run without them (the peer is left out, the port's test
+# skips). python3 runs data/scenes/fetch.sh.
+packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libtinygltf-dev
+          libopenimageio-dev libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev python3
+          assimp-testmodels libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -736,27 +736,15 @@ SceneFile LoadJsonScene(const fs::path& file) {
   return loaded;
 }
 
-SceneFile LoadObjScene(const fs::path& file) {
+// A bare OBJ or glTF file. An OBJ gets the default light and a camera framing it. A glTF file
+// keeps its lights (the default light without any) and takes its first camera (framed as an OBJ
+// without one), whose aspect ratio sets the image's height for the default width.
+SceneFile LoadModelScene(const fs::path& file, bool gltf) {
   SceneFile loaded;
   Scene& scene = loaded.scene;
   scene.source = file;
   ObjectDesc object;
-  object.obj = file;
-  std::vector<std::vector<GltfCamera>> cameras;
-  Bake(ErrorReporter(file, {}), {object}, scene, cameras);
-  scene.directionalLights.push_back(DefaultLight());
-  scene.camera = FrameMesh(scene.mesh, kDefaultImageSide, kDefaultImageSide);
-  return loaded;
-}
-
-// A bare glTF file: its first camera (framed like an OBJ without one) and its lights (the default
-// light without any). A camera's aspect ratio sets the image's height for the default width.
-SceneFile LoadGltfScene(const fs::path& file) {
-  SceneFile loaded;
-  Scene& scene = loaded.scene;
-  scene.source = file;
-  ObjectDesc object;
-  object.gltf = file;
+  (gltf ? object.gltf : object.obj) = file;
   std::vector<std::vector<GltfCamera>> cameras;
   Bake(ErrorReporter(file, {}), {object}, scene, cameras);
   if (scene.directionalLights.empty() && scene.spotLights.empty() && scene.pointLights.empty())
@@ -782,8 +770,8 @@ Scene LoadScene(const fs::path& file) { return LoadSceneFile(file).scene; }
 SceneFile LoadSceneFile(const fs::path& file) {
   const std::string ext = LowerExtension(file);
   if (ext == ".json") return LoadJsonScene(file);
-  if (ext == ".obj") return LoadObjScene(file);
-  if (ext == ".gltf" || ext == ".glb") return LoadGltfScene(file);
+  if (ext == ".obj") return LoadModelScene(file, false);
+  if (ext == ".gltf" || ext == ".glb") return LoadModelScene(file, true);
   throw InputError(file, "unsupported scene format '" + ext + "' (use .json, .obj, .gltf or .glb)");
 }
 

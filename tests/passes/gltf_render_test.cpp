@@ -1,7 +1,6 @@
 // glTF scenes through the G-buffer and the direct light: a metallic-roughness sphere grid in the
 // style of Khronos's MetalRoughSpheres, written here and loaded back, against the BRDF; the same
-// model as OBJ+MTL and as glTF giving the same G-buffer; normal maps and vertex colours on both
-// kernel paths and thread counts.
+// model as OBJ+MTL and as glTF giving the same G-buffer.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -13,7 +12,6 @@
 #include "core/brdf.h"
 #include "core/gltf_loader.h"
 #include "core/image_io.h"
-#include "core/parallel.h"
 #include "core/scene.h"
 #include "passes/direct_light.h"
 #include "passes/gbuffer.h"
@@ -282,67 +280,6 @@ TEST_CASE("glTF: the same model as OBJ+MTL and as glTF gives the same G-buffer",
     CHECK(covered > size_t(size.x * size.y) / 8);
     for (int w = 0; w < 4; ++w) CHECK(test::SameBytes(a.gbuffer.word[w], b.gbuffer.word[w]));
   }
-}
-
-TEST_CASE(
-    "glTF: normal maps and vertex colours give the same G-buffer bytes on both kernel paths and at any "
-    "thread count",
-    "[gltf][simd]") {
-  // The default scene with a random normal map (scale 0.7) on every third material, vertex colours
-  // on the next, textures on others, generated tangents.
-  Scene scene = test::LoadDefaultScene().scene;
-  std::mt19937 rng(11);
-  std::vector<uint8_t> normals(32 * 32 * 4), colours(8 * 8 * 4);
-  for (size_t i = 0; i < normals.size(); i += 4) {
-    normals[i] = uint8_t(rng()), normals[i + 1] = uint8_t(rng()), normals[i + 2] = uint8_t(160 + rng() % 96);
-    normals[i + 3] = 255;
-  }
-  for (uint8_t& t : colours) t = uint8_t(rng());
-  scene.textures.push_back(MakeTexture(32, 32, std::move(normals), TextureEncoding::kLinear));
-  scene.textures.push_back(MakeTexture(8, 8, std::move(colours), TextureEncoding::kSrgb));
-  const int32_t normalMap = int32_t(scene.textures.size()) - 2, colourMap = normalMap + 1;
-  for (size_t m = 0; m < scene.materials.size(); ++m) {
-    Material& material = scene.materials[m];
-    if (m % 3 == 0) material.normalTexture = normalMap, material.normalScale = 0.7f;
-    if (m % 3 == 1) material.vertexColors = true;
-    if (m % 2 == 0) material.baseColorTexture = colourMap;
-  }
-  for (size_t i = 0; i < scene.mesh.positions.size(); ++i) {
-    const glm::vec3 p = scene.mesh.positions[i];
-    scene.mesh.uvs[i] = {1.3f * p.x, 1.3f * (p.z + p.y)};
-    scene.mesh.colors.push_back(glm::vec3(float(rng() % 256) / 255.0f, 0.5f, float(rng() % 256) / 255.0f));
-  }
-  GenerateTangents(scene.mesh);
-  for (const glm::ivec2 size : {glm::ivec2(1, 1), glm::ivec2(67, 45), glm::ivec2(333, 197)}) {
-    const ViewProjection view = MakePerspective(scene.camera, size.x, size.y);
-    for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
-      const auto run = [&](KernelPath kernels) {
-        GBufferOutputs out;
-        RunGBuffer({scene, view}, {encoding}, out, kernels);
-        return out;
-      };
-      const auto same = [](const GBufferOutputs& a, const GBufferOutputs& b) {
-        for (int w = 0; w < 4; ++w)
-          if (!test::SameBytes(a.gbuffer.word[w], b.gbuffer.word[w])) return false;
-        return true;
-      };
-      CAPTURE(size.x, size.y, int(encoding));
-      CHECK(test::TargetsWhereKernelPathsDiffer(run, same) == "");
-      GBufferOutputs reference = run(KernelPath::kSimd);
-      for (const int threads : {1, 3}) {
-        ThreadLimit limit(threads);
-        CHECK(same(run(KernelPath::kSimd), reference));
-      }
-    }
-  }
-  // The normal map changes the normals it covers.
-  const ViewProjection view = MakePerspective(scene.camera, 67, 45);
-  GBufferOutputs mapped;
-  RunGBuffer({scene, view}, {}, mapped);
-  for (Material& material : scene.materials) material.normalTexture = kNoTexture;
-  GBufferOutputs flat;
-  RunGBuffer({scene, view}, {}, flat);
-  CHECK_FALSE(test::SameBytes(mapped.gbuffer.word[1], flat.gbuffer.word[1]));
 }
 
 }  // namespace
