@@ -13,6 +13,7 @@
 #include <iterator>
 #include <map>
 #include <set>
+#include <tuple>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -66,7 +67,9 @@ class Loader {
   const fs::path file_;
   const tinygltf::Model& gltf_;
   GltfModel out_;
-  std::map<std::pair<int, int>, int32_t> textures_;          // (image, role) -> out_.textures
+  // (image, role, wrap u, wrap v) -> out_.textures
+  using TextureKey = std::tuple<int, int, TextureWrap, TextureWrap>;
+  std::map<TextureKey, int32_t> textures_;
   std::map<std::pair<int, bool>, uint32_t> materials_;       // (material, vertex colours) -> out_.materials
   std::map<std::pair<int, bool>, bool> invisibleMaterials_;  // constant alpha below the cut-off
   bool normalMapped_ = false;
@@ -343,15 +346,25 @@ int32_t Loader::TextureFor(int textureIndex, int role, const std::string& what) 
   const tinygltf::Texture& texture = gltf_.textures[size_t(textureIndex)];
   if (texture.source < 0 || size_t(texture.source) >= gltf_.images.size())
     Fail("texture " + std::to_string(textureIndex) + " has no image ssgi can read (KTX2 and WebP are not supported)");
-  if (texture.sampler >= 0 && size_t(texture.sampler) < gltf_.samplers.size()) {
+  TextureWrap wrapU = TextureWrap::kRepeat, wrapV = TextureWrap::kRepeat;
+  if (texture.sampler >= 0) {
+    if (size_t(texture.sampler) >= gltf_.samplers.size())
+      Fail("texture " + std::to_string(textureIndex) + " names a sampler that does not exist");
     const tinygltf::Sampler& s = gltf_.samplers[size_t(texture.sampler)];
-    if (s.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || s.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
-      Warn("texture samplers' CLAMP_TO_EDGE and MIRRORED_REPEAT are sampled as REPEAT");
+    const auto wrap = [&](int mode) {
+      if (mode == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::kClamp;
+      if (mode == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::kMirror;
+      if (mode != TINYGLTF_TEXTURE_WRAP_REPEAT)
+        Fail("sampler " + std::to_string(texture.sampler) + " has an unknown wrap mode " + std::to_string(mode));
+      return TextureWrap::kRepeat;
+    };
+    wrapU = wrap(s.wrapS);
+    wrapV = wrap(s.wrapT);
     if ((s.magFilter != -1 && s.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR) ||
         (s.minFilter != -1 && s.minFilter != TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR))
       Warn("texture samplers' filters other than LINEAR / LINEAR_MIPMAP_LINEAR are sampled trilinearly");
   }
-  const auto [it, inserted] = textures_.emplace(std::make_pair(texture.source, role), 0);
+  const auto [it, inserted] = textures_.emplace(TextureKey{texture.source, role, wrapU, wrapV}, 0);
   if (!inserted) return it->second;
   const tinygltf::Image& image = gltf_.images[size_t(texture.source)];
   if (image.image.empty())
@@ -388,6 +401,8 @@ int32_t Loader::TextureFor(int textureIndex, int role, const std::string& what) 
   Texture made = MakeTexture(image.width, image.height, std::move(rgba),
                              role == kBaseColorRole ? TextureEncoding::kSrgb : TextureEncoding::kLinear);
   made.sourceChannels = role == kBaseColorRole ? channels : 3;
+  made.wrapU = wrapU;
+  made.wrapV = wrapV;
   it->second = int32_t(out_.textures.size());
   out_.textures.push_back(std::move(made));
   return it->second;

@@ -274,7 +274,8 @@ TEST_CASE(
   GltfWriter w;
   Json& j = w.json();
   j["images"] = {{{"uri", "tex.png"}}};
-  j["textures"] = {{{"source", 0}}};
+  j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}}};  // CLAMP_TO_EDGE, MIRRORED_REPEAT
   j["materials"] = Json::parse(R"([
       {"name": "factors", "doubleSided": true, "emissiveFactor": [1, 0, 0],
        "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1.0, 1.0], "metallicFactor": 0.75,
@@ -319,6 +320,8 @@ TEST_CASE(
   CHECK(texel(textured.baseColorTexture, 0) == 10);
   CHECK(m.textures[size_t(textured.baseColorTexture)].encoding == TextureEncoding::kSrgb);
   CHECK(m.textures[size_t(textured.metallicTexture)].encoding == TextureEncoding::kLinear);
+  CHECK(m.textures[size_t(textured.baseColorTexture)].wrapU == TextureWrap::kClamp);
+  CHECK(m.textures[size_t(textured.baseColorTexture)].wrapV == TextureWrap::kMirror);
   // KHR_texture_transform u' = 2 u + 0.5; glTF's v = 1 - ssgi's.
   CHECK(m.mesh.uvs[4 + 1].x == Approx(2.5f));
   CHECK(m.mesh.uvs[4 + 0].x == Approx(0.5f));

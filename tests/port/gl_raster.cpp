@@ -24,6 +24,12 @@ std::vector<float> MaterialRecords(const Scene& scene) {
   for (const Material& m : scene.materials) {
     // The port's resolve (gbuffer_conventional.frag) predates them; the port refuses rather than
     // draw another G-buffer than the oracle's (tests/port/README.md).
+    for (const int32_t t : {m.baseColorTexture, m.metallicTexture, m.roughnessTexture, m.alphaTexture})
+      if (t != kNoTexture && (scene.textures[size_t(t)].wrapU != TextureWrap::kRepeat ||
+                              scene.textures[size_t(t)].wrapV != TextureWrap::kRepeat))
+        throw InputError(
+            scene.source,
+            "material '" + m.name + "' has a clamped or mirrored texture, which the GLSL port does not implement");
     if (m.normalTexture != kNoTexture || m.vertexColors)
       throw InputError(
           scene.source,
