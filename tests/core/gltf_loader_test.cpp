@@ -416,6 +416,19 @@ TEST_CASE("glTF: punctual lights in ssgi's units, spot cones, the first camera w
   CHECK(picked.pointLights[0].position == glm::vec3(1, 3, 3));
   test::WriteText(dir / "bad_camera.json", R"({"objects": [{"gltf": "lights.gltf", "camera": 2}]})");
   CHECK_THAT(test::InputErrorOf([&] { LoadScene(dir / "bad_camera.json"); }), Catch::Contains("camera"));
+  test::WriteText(dir / "both.json", R"({"objects": [{"gltf": "lights.gltf", "obj": "x.obj"}]})");
+  CHECK_THAT(test::InputErrorOf([&] { LoadScene(dir / "both.json"); }), Catch::Contains("exactly one of"));
+  // A scene file's own point light, beside the file's, and the one warning.
+  test::WriteText(dir / "point.json", R"({"lights": [{"type": "point", "position": [0, 5, 0], "radius": 0.1,
+      "intensity": [2, 3, 4]}], "objects": [{"gltf": "lights.gltf"}]})");
+  const Scene point = LoadScene(dir / "point.json");
+  REQUIRE(point.pointLights.size() == 2);
+  CHECK(point.pointLights[0].position == glm::vec3(0, 5, 0));
+  CHECK(point.pointLights[0].radius == 0.1f);
+  CHECK(point.pointLights[0].intensity == glm::vec3(2, 3, 4));
+  CHECK(std::count_if(point.warnings.begin(), point.warnings.end(), [](const std::string& line) {
+          return line.find("point lights are not shadowed") != std::string::npos;
+        }) == 1);
 }
 
 TEST_CASE("glTF: generated tangents follow the UVs' u direction with the UV triangle's handedness", "[gltf]") {
