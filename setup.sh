@@ -9,17 +9,18 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
-# liblz4-dev and libturbojpeg0-dev are render-views' transfer encodings (LZ4, JPEG). libopenmpi-dev
-# and openmpi-bin are Open MPI, which spreads render-views over processes and machines (mpirun); the
-# build and the tests run without them (render-views then runs in one process, the MPI tests are
-# left out). The last four are Mesa's OpenGL on the CPU, for the llvmpipe peer
-# (bench/llvmpipe_bench.cpp) and the GLSL port the tests check against the oracle (tests/port/):
-# EGL and OpenGL headers and libraries, Mesa's EGL, and Mesa's software drivers (llvmpipe). The
-# build and the tests run without them (the peer is left out, the port's test skips). python3 runs
-# data/scenes/fetch.sh.
-packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libopenimageio-dev
-          libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev python3
-          liblz4-dev libturbojpeg0-dev libopenmpi-dev openmpi-bin
+# libtinygltf-dev reads glTF 2.0 files; assimp-testmodels holds the glTF 2.0 files the tests render
+# or refuse (tests/cli/gltf_models_test.cpp). liblz4-dev and libturbojpeg0-dev are render-views'
+# transfer encodings (LZ4, JPEG). libopenmpi-dev and openmpi-bin are Open MPI, which spreads
+# render-views over processes and machines (mpirun); the build and the tests run without them
+# (render-views then runs in one process, the MPI tests are left out). The last four are Mesa's
+# OpenGL on the CPU, for the llvmpipe peer (bench/llvmpipe_bench.cpp) and the GLSL port the tests
+# check against the oracle (tests/port/): EGL and OpenGL headers and libraries, Mesa's EGL, and
+# Mesa's software drivers (llvmpipe). The build and the tests run without them (the peer is left
+# out, the port's test skips). python3 runs data/scenes/fetch.sh.
+packages=(cmake ninja-build g++ pkg-config libembree-dev libglm-dev libtinyobjloader-dev libtinygltf-dev
+          libopenimageio-dev libbenchmark-dev catch2 libtbb-dev libhwy-dev libcli11-dev nlohmann-json3-dev python3
+          assimp-testmodels liblz4-dev libturbojpeg0-dev libopenmpi-dev openmpi-bin
           libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${packages[@]}"; do

@@ -80,6 +80,7 @@ void SettingOptions::ApplyTo(FrameConfig& config) const {
 SceneAndConfig LoadSceneAndConfig(const fs::path& path, const SettingOptions& settings) {
   CheckInputFile(path, "scene");
   SceneFile file = LoadSceneFile(path);
+  for (const std::string& warning : file.scene.warnings) std::fprintf(stderr, "ssgi: warning: %s\n", warning.c_str());
   FrameConfig config = FrameConfigFromSceneFile(file);
   settings.ApplyTo(config);
   return {std::move(file.scene), config};

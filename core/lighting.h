@@ -51,6 +51,20 @@ inline PreparedLight Prepare(const SpotLight& light, const glm::mat4& toSpace) {
   return p;
 }
 
+// A point light is a spot whose cone never cuts: (cos - (-3)) * 1 is at least 2 for any cosine, so
+// the cone factor clamps to exactly 1 and every kernel and port of the spot's formula shades it.
+inline PreparedLight Prepare(const PointLight& light, const glm::mat4& toSpace) {
+  PreparedLight p;
+  p.isSpot = true;
+  p.position = glm::vec3(toSpace * glm::vec4(light.position, 1.0f));
+  p.direction = glm::vec3(0.0f, 0.0f, -1.0f);
+  p.power = light.intensity;
+  p.radius = light.radius;
+  p.cosOuter = -3.0f;
+  p.coneScale = 1.0f;
+  return p;
+}
+
 // Spot lights: smooth cone falloff between the inner and outer half-angles (Filament's spot
 // attenuation, squared) and the inverse square of the distance, kept at least the emitter radius.
 inline LightAtPoint Evaluate(const PreparedLight& light, const glm::vec3& point) {
@@ -142,12 +156,13 @@ inline glm::vec3 DiskLightBrdfCosine(const SurfaceMaterial& m, float alpha, cons
   return diffuse * nDotL + specular;
 }
 
-// Every light of a scene, prepared in one space; directional lights first, then spots, each in
-// scene order (light indices in per-light buffers follow this order).
+// Every light of a scene, prepared in one space; directional lights first, then spots, then point
+// lights, each in scene order (light indices in per-light buffers follow this order).
 inline std::vector<PreparedLight> PrepareLights(const Scene& scene, const glm::mat4& toSpace) {
   std::vector<PreparedLight> lights;
   for (const DirectionalLight& l : scene.directionalLights) lights.push_back(Prepare(l, toSpace));
   for (const SpotLight& l : scene.spotLights) lights.push_back(Prepare(l, toSpace));
+  for (const PointLight& l : scene.pointLights) lights.push_back(Prepare(l, toSpace));
   return lights;
 }
 

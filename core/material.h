@@ -21,6 +21,11 @@ struct Material {
   int32_t alphaTexture = kNoTexture;      // map_d: cut-out where alpha < alphaCutoff
   float alphaCutoff = 0.5f;
   bool twoSided = false;  // false: back faces are culled
+  // Tangent-space normal map (glTF's normalTexture, linear RGB = (x, y, z) * 0.5 + 0.5); needs the
+  // mesh's tangents. normalScale scales its x and y (docs/pipeline.md §G-buffer, "Normal mapping").
+  int32_t normalTexture = kNoTexture;
+  float normalScale = 1.0f;
+  bool vertexColors = false;  // the mesh's colors multiply baseColor
 };
 
 }  // namespace ssgi

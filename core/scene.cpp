@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <iterator>
 #include <limits>
@@ -17,6 +18,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/gltf_loader.h"
 #include "core/obj_loader.h"
 
 namespace ssgi {
@@ -299,7 +301,9 @@ struct MaterialOverride {
 };
 
 struct ObjectDesc {
-  fs::path obj;
+  fs::path obj;  // one of obj and gltf
+  fs::path gltf;
+  std::optional<int> camera;  // glTF: which of its cameras the scene uses when it has none of its own
   std::string path;  // "objects[1]", for messages; empty for a bare OBJ
   glm::mat4 transform{1.0f};
   std::optional<MaterialOverride> allMaterials;   // "*"
@@ -396,8 +400,15 @@ void ReadLights(const ErrorReporter& errors, const Json& node, Scene& scene) {
       s.intensity = r.Vec3("intensity", glm::vec3(10.0f), kNonNegative);
       s.castShadows = r.OptionalBool("cast_shadows").value_or(true);
       scene.spotLights.push_back(s);
+    } else if (*type == "point") {
+      const ObjectReader r(errors, light, path, {"type", "position", "radius", "intensity"});
+      PointLight p;
+      p.position = r.RequiredVec3("position");
+      p.radius = r.Number("radius", 0.05f, kNonNegative);
+      p.intensity = r.Vec3("intensity", glm::vec3(10.0f), kNonNegative);
+      scene.pointLights.push_back(p);
     } else {
-      errors.Fail(path + ".type", path + ".type must be \"directional\" or \"spot\", got " + type->dump());
+      errors.Fail(path + ".type", path + ".type must be \"directional\", \"spot\" or \"point\", got " + type->dump());
     }
   }
 }
@@ -467,13 +478,21 @@ std::vector<ObjectDesc> ReadObjects(const ErrorReporter& errors, const Json& nod
   for (size_t i = 0; i < node.size(); ++i) {
     ObjectDesc object;
     object.path = "objects[" + std::to_string(i) + "]";
-    const ObjectReader r(errors, node[i], object.path, {"obj", "transform", "materials"});
-    const Json* obj = r.Find("obj");
-    if (!obj) errors.Fail(object.path, object.path + ".obj is required");
-    if (!obj->is_string()) r.Fail("obj", "must be a file name, got " + obj->dump());
-    object.obj = folder / obj->get<std::string>();
+    const ObjectReader r(errors, node[i], object.path, {"obj", "gltf", "camera", "transform", "materials"});
+    const char* kind = r.Has("gltf") ? "gltf" : "obj";
+    if (r.Has("obj") == r.Has("gltf"))
+      errors.Fail(object.path, object.path + " needs exactly one of \"obj\" and \"gltf\"");
+    const Json* file = r.Find(kind);
+    if (!file->is_string()) r.Fail(kind, "must be a file name, got " + file->dump());
+    (r.Has("gltf") ? object.gltf : object.obj) = folder / file->get<std::string>();
+    const fs::path& named = r.Has("gltf") ? object.gltf : object.obj;
     std::error_code error;
-    if (!fs::is_regular_file(object.obj, error)) r.Fail("obj", "names a missing file: " + object.obj.string());
+    if (!fs::is_regular_file(named, error)) r.Fail(kind, "names a missing file: " + named.string());
+    if (const Json* camera = r.Find("camera")) {
+      if (!r.Has("gltf") || !camera->is_number_integer() || camera->get<int64_t>() < 0)
+        r.Fail("camera", "must be the index of one of the glTF file's cameras, got " + camera->dump());
+      object.camera = int(camera->get<int64_t>());
+    }
     if (const Json* transform = r.Find("transform"))
       object.transform = ReadTransform(errors, *transform, r.Path("transform"));
     if (const Json* materials = r.Find("materials")) {
@@ -495,10 +514,102 @@ std::vector<ObjectDesc> ReadObjects(const ErrorReporter& errors, const Json& nod
 
 std::string PathKey(const fs::path& file) { return fs::absolute(file).lexically_normal().string(); }
 
-// Loads each distinct OBJ once and each (image, encoding) once, and appends every object to the
-// scene in world space with its own copy of its materials.
-void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, Scene& scene) {
+// Appends `source` (object space) to the scene's mesh in world space through `transform`, its
+// materials offset by `firstMaterial`.
+void AppendMesh(const ErrorReporter& errors, const ObjectDesc& object, const fs::path& file, const Mesh& source,
+                uint32_t firstMaterial, Scene& scene) {
+  Mesh& mesh = scene.mesh;
+  const size_t firstVertex = mesh.positions.size();
+  if (firstVertex + source.positions.size() > std::numeric_limits<uint32_t>::max())
+    errors.Fail(object.path, object.path + ": the scene has more than 2^32 - 1 vertices");
+  const glm::mat3 linear(object.transform);
+  const glm::mat3 normalMatrix = glm::transpose(glm::inverse(linear));
+  // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners back, and
+  // turn the tangent frames' handedness.
+  const bool mirrored = glm::determinant(linear) < 0.0f;
+  for (size_t v = 0; v < source.positions.size(); ++v) {
+    const glm::vec3 p = glm::vec3(object.transform * glm::vec4(source.positions[v], 1.0f));
+    const glm::vec3 n =
+        source.normals[v] == glm::vec3(0.0f) ? glm::vec3(0.0f) : glm::normalize(normalMatrix * source.normals[v]);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(n.x) ||
+        !std::isfinite(n.y) || !std::isfinite(n.z))
+      errors.Fail(object.path, (object.path.empty() ? file.string() : object.path) +
+                                   ": the transform makes vertex positions or normals non-finite");
+    mesh.positions.push_back(p);
+    mesh.normals.push_back(n);
+  }
+  mesh.uvs.insert(mesh.uvs.end(), source.uvs.begin(), source.uvs.end());
+  if (!source.tangents.empty()) {
+    mesh.tangents.resize(firstVertex, glm::vec4(0.0f));
+    for (const glm::vec4& t : source.tangents) {
+      const glm::vec3 direction = linear * glm::vec3(t);
+      const float length = glm::length(direction);
+      mesh.tangents.push_back(glm::vec4(length > 0.0f ? direction / length : direction, mirrored ? -t.w : t.w));
+    }
+  }
+  if (!source.colors.empty()) {
+    mesh.colors.resize(firstVertex, glm::vec3(1.0f));
+    mesh.colors.insert(mesh.colors.end(), source.colors.begin(), source.colors.end());
+  }
+  // The optional arrays are per position once any object has them.
+  if (!mesh.tangents.empty()) mesh.tangents.resize(mesh.positions.size(), glm::vec4(0.0f));
+  if (!mesh.colors.empty()) mesh.colors.resize(mesh.positions.size(), glm::vec3(1.0f));
+  for (size_t t = 0; t < source.materials.size(); ++t) {
+    const uint32_t* corner = &source.indices[3 * t];
+    mesh.indices.push_back(uint32_t(firstVertex) + corner[0]);
+    mesh.indices.push_back(uint32_t(firstVertex) + corner[mirrored ? 2 : 1]);
+    mesh.indices.push_back(uint32_t(firstVertex) + corner[mirrored ? 1 : 2]);
+    mesh.materials.push_back(firstMaterial + source.materials[t]);
+  }
+}
+
+// Fails when an override names a material the model does not have.
+void CheckOverrideNames(const ErrorReporter& errors, const ObjectDesc& object, const fs::path& file,
+                        const std::function<bool(const std::string&)>& has) {
+  for (const auto& [name, o] : object.named)
+    if (!has(name)) errors.Fail(o.path, o.path + ": " + file.filename().string() + " has no material '" + name + "'");
+}
+
+Material Overridden(const ObjectDesc& object, Material material) {
+  if (object.allMaterials) object.allMaterials->ApplyTo(material);
+  if (const auto named = object.named.find(material.name); named != object.named.end()) named->second.ApplyTo(material);
+  return material;
+}
+
+// A glTF model's lights and cameras, through an object's transform.
+void AddGltfLightsAndCameras(const GltfModel& m, const ObjectDesc& object, Scene& scene,
+                             std::vector<GltfCamera>& cameras) {
+  const glm::mat3 linear(object.transform);
+  const auto point = [&](const glm::vec3& p) { return glm::vec3(object.transform * glm::vec4(p, 1.0f)); };
+  const auto direction = [&](const glm::vec3& d) { return glm::normalize(linear * d); };
+  for (DirectionalLight d : m.directionalLights) {
+    d.direction = direction(d.direction);
+    scene.directionalLights.push_back(d);
+  }
+  for (SpotLight s : m.spotLights) {
+    s.position = point(s.position);
+    s.direction = direction(s.direction);
+    scene.spotLights.push_back(s);
+  }
+  for (PointLight p : m.pointLights) {
+    p.position = point(p.position);
+    scene.pointLights.push_back(p);
+  }
+  for (GltfCamera c : m.cameras) {
+    c.desc.position = point(c.desc.position);
+    c.desc.target = point(c.desc.target);
+    c.desc.up = direction(c.desc.up);
+    cameras.push_back(c);
+  }
+}
+
+// Loads each distinct OBJ or glTF file once and each OBJ's (image, encoding) once, and appends every
+// object to the scene in world space with its own copy of its materials. `cameras` receives, per
+// object, the glTF cameras in world space (empty for an OBJ).
+void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, Scene& scene,
+          std::vector<std::vector<GltfCamera>>& cameras) {
   std::map<std::string, ObjModel> models;
+  std::map<std::string, std::pair<GltfModel, int32_t>> gltfModels;  // with its first texture in the scene
   std::map<std::pair<std::string, TextureEncoding>, int32_t> textureIndex;
   auto texture = [&](const fs::path& file, TextureEncoding encoding) -> int32_t {
     if (file.empty()) return kNoTexture;
@@ -511,57 +622,75 @@ void Bake(const ErrorReporter& errors, const std::vector<ObjectDesc>& objects, S
   };
 
   for (const ObjectDesc& object : objects) {
+    cameras.emplace_back();
+    const uint32_t firstMaterial = uint32_t(scene.materials.size());
+    if (!object.gltf.empty()) {
+      const std::string key = PathKey(object.gltf);
+      auto model = gltfModels.find(key);
+      if (model == gltfModels.end()) {
+        GltfModel loaded = LoadGltfModel(object.gltf);
+        const int32_t firstTexture = int32_t(scene.textures.size());
+        for (Texture& t : loaded.textures) scene.textures.push_back(std::move(t));
+        for (const std::string& w : loaded.warnings)
+          if (std::find(scene.warnings.begin(), scene.warnings.end(), w) == scene.warnings.end())
+            scene.warnings.push_back(w);
+        model = gltfModels.emplace(key, std::make_pair(std::move(loaded), firstTexture)).first;
+      }
+      const auto& [m, firstTexture] = model->second;
+      CheckOverrideNames(errors, object, object.gltf, [&](const std::string& name) {
+        return std::any_of(m.materials.begin(), m.materials.end(), [&](const Material& g) { return g.name == name; });
+      });
+      for (const Material& g : m.materials) {
+        Material material = Overridden(object, g);
+        for (int32_t* t : {&material.baseColorTexture, &material.metallicTexture, &material.roughnessTexture,
+                           &material.alphaTexture, &material.normalTexture})
+          if (*t != kNoTexture) *t += firstTexture;
+        scene.materials.push_back(std::move(material));
+      }
+      AppendMesh(errors, object, object.gltf, m.mesh, firstMaterial, scene);
+      AddGltfLightsAndCameras(m, object, scene, cameras.back());
+      if (object.camera && size_t(*object.camera) >= cameras.back().size())
+        errors.Fail(object.path + ".camera", object.path + ".camera is " + std::to_string(*object.camera) + " but " +
+                                                 object.gltf.filename().string() + " places " +
+                                                 std::to_string(cameras.back().size()) + " cameras");
+      continue;
+    }
     const std::string key = PathKey(object.obj);
     auto model = models.find(key);
     if (model == models.end()) model = models.emplace(key, LoadObjModel(object.obj)).first;
     const ObjModel& m = model->second;
     scene.reorientedTriangles += m.reorientedTriangles;
-
-    for (const auto& [name, o] : object.named) {
-      const bool found = std::any_of(m.materials.begin(), m.materials.end(),
-                                     [&](const ObjMaterial& om) { return om.material.name == name; });
-      if (!found)
-        errors.Fail(o.path, o.path + ": " + object.obj.filename().string() + " has no material '" + name + "'");
-    }
-    const uint32_t firstMaterial = uint32_t(scene.materials.size());
+    CheckOverrideNames(errors, object, object.obj, [&](const std::string& name) {
+      return std::any_of(m.materials.begin(), m.materials.end(),
+                         [&](const ObjMaterial& om) { return om.material.name == name; });
+    });
     for (const ObjMaterial& om : m.materials) {
-      Material material = om.material;
-      if (object.allMaterials) object.allMaterials->ApplyTo(material);
-      if (const auto named = object.named.find(material.name); named != object.named.end())
-        named->second.ApplyTo(material);
+      Material material = Overridden(object, om.material);
       material.baseColorTexture = texture(om.baseColorTexture, TextureEncoding::kSrgb);
       material.metallicTexture = texture(om.metallicTexture, TextureEncoding::kLinear);
       material.roughnessTexture = texture(om.roughnessTexture, TextureEncoding::kLinear);
       material.alphaTexture = texture(om.alphaTexture, TextureEncoding::kLinear);
       scene.materials.push_back(std::move(material));
     }
-
-    Mesh& mesh = scene.mesh;
-    const size_t firstVertex = mesh.positions.size();
-    if (firstVertex + m.mesh.positions.size() > std::numeric_limits<uint32_t>::max())
-      errors.Fail(object.path, object.path + ": the scene has more than 2^32 - 1 vertices");
-    const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(object.transform)));
-    for (size_t v = 0; v < m.mesh.positions.size(); ++v) {
-      const glm::vec3 p = glm::vec3(object.transform * glm::vec4(m.mesh.positions[v], 1.0f));
-      const glm::vec3 n = glm::normalize(normalMatrix * m.mesh.normals[v]);
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(n.x) ||
-          !std::isfinite(n.y) || !std::isfinite(n.z))
-        errors.Fail(object.path, (object.path.empty() ? object.obj.string() : object.path) +
-                                     ": the transform makes vertex positions or normals non-finite");
-      mesh.positions.push_back(p);
-      mesh.normals.push_back(n);
-    }
-    mesh.uvs.insert(mesh.uvs.end(), m.mesh.uvs.begin(), m.mesh.uvs.end());
-    // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners back.
-    const bool mirrored = glm::determinant(glm::mat3(object.transform)) < 0.0f;
-    for (size_t t = 0; t < m.mesh.materials.size(); ++t) {
-      const uint32_t* corner = &m.mesh.indices[3 * t];
-      mesh.indices.push_back(uint32_t(firstVertex) + corner[0]);
-      mesh.indices.push_back(uint32_t(firstVertex) + corner[mirrored ? 2 : 1]);
-      mesh.indices.push_back(uint32_t(firstVertex) + corner[mirrored ? 1 : 2]);
-      mesh.materials.push_back(firstMaterial + m.mesh.materials[t]);
-    }
+    AppendMesh(errors, object, object.obj, m.mesh, firstMaterial, scene);
   }
+  if (!scene.pointLights.empty()) {
+    const std::string w = scene.source.string() + ": point lights are not shadowed (a shadow needs a cube map)";
+    if (std::none_of(scene.warnings.begin(), scene.warnings.end(),
+                     [](const std::string& x) { return x.find("point lights are not shadowed") != std::string::npos; }))
+      scene.warnings.push_back(w);
+  }
+}
+
+// The camera a scene without one of its own takes from its glTF objects: the object's "camera", else
+// the first camera of the first object that places one.
+std::optional<GltfCamera> SceneGltfCamera(const std::vector<ObjectDesc>& objects,
+                                          const std::vector<std::vector<GltfCamera>>& cameras) {
+  for (size_t i = 0; i < objects.size(); ++i)
+    if (objects[i].camera) return cameras[i][size_t(*objects[i].camera)];
+  for (const std::vector<GltfCamera>& c : cameras)
+    if (!c.empty()) return c.front();
+  return std::nullopt;
 }
 
 // The whole of a text file; `what` names it in the errors ("scene file").
@@ -596,21 +725,41 @@ SceneFile LoadJsonScene(const fs::path& file) {
     scene.environment = ReadEnvironment(errors, *environment, scene, folder);
   const Json* objects = root.Find("objects");
   if (!objects) errors.Fail("", "objects is required");
-  Bake(errors, ReadObjects(errors, *objects, folder), scene);
+  const std::vector<ObjectDesc> descs = ReadObjects(errors, *objects, folder);
+  std::vector<std::vector<GltfCamera>> cameras;
+  Bake(errors, descs, scene, cameras);
+  if (!camera) {
+    if (const std::optional<GltfCamera> gltf = SceneGltfCamera(descs, cameras)) camera = gltf->desc;
+  }
   scene.camera = camera ? *camera
                         : FrameMesh(scene.mesh, FramingSide(loaded.render, "width"), FramingSide(loaded.render, "height"));
   return loaded;
 }
 
-SceneFile LoadObjScene(const fs::path& file) {
+// A bare OBJ or glTF file. An OBJ gets the default light and a camera framing it. A glTF file
+// keeps its lights (the default light without any) and takes its first camera (framed as an OBJ
+// without one), whose aspect ratio sets the image's height for the default width.
+SceneFile LoadModelScene(const fs::path& file, bool gltf) {
   SceneFile loaded;
   Scene& scene = loaded.scene;
   scene.source = file;
   ObjectDesc object;
-  object.obj = file;
-  Bake(ErrorReporter(file, {}), {object}, scene);
-  scene.directionalLights.push_back(DefaultLight());
-  scene.camera = FrameMesh(scene.mesh, kDefaultImageSide, kDefaultImageSide);
+  (gltf ? object.gltf : object.obj) = file;
+  std::vector<std::vector<GltfCamera>> cameras;
+  Bake(ErrorReporter(file, {}), {object}, scene, cameras);
+  if (scene.directionalLights.empty() && scene.spotLights.empty() && scene.pointLights.empty())
+    scene.directionalLights.push_back(DefaultLight());
+  if (cameras.front().empty()) {
+    scene.camera = FrameMesh(scene.mesh, kDefaultImageSide, kDefaultImageSide);
+    return loaded;
+  }
+  scene.camera = cameras.front().front().desc;
+  const float aspect = cameras.front().front().aspectRatio;
+  if (aspect > 0.0f) {
+    const int height = std::clamp(int(std::lround(double(kDefaultImageSide) / double(aspect))), 1, kMaxImageSize);
+    loaded.render.push_back({"width", std::to_string(kDefaultImageSide), 0});
+    loaded.render.push_back({"height", std::to_string(height), 0});
+  }
   return loaded;
 }
 
@@ -749,8 +898,9 @@ Scene LoadScene(const fs::path& file) { return LoadSceneFile(file).scene; }
 SceneFile LoadSceneFile(const fs::path& file) {
   const std::string ext = LowerExtension(file);
   if (ext == ".json") return LoadJsonScene(file);
-  if (ext == ".obj") return LoadObjScene(file);
-  throw InputError(file, "unsupported scene format '" + ext + "' (use .json or .obj)");
+  if (ext == ".obj") return LoadModelScene(file, false);
+  if (ext == ".gltf" || ext == ".glb") return LoadModelScene(file, true);
+  throw InputError(file, "unsupported scene format '" + ext + "' (use .json, .obj, .gltf or .glb)");
 }
 
 void ParseImageSize(const std::string& text, int& width, int& height) {

@@ -34,6 +34,15 @@ struct SpotLight {
   bool castShadows = true;
 };
 
+// A point light: unshadowed in the frame and in the reference, since a shadow needs a cube map the
+// design does not have (word 3 and the shadow map hold one light's view; docs/pipeline.md §Direct
+// light). The scene loader warns once per scene that has one.
+struct PointLight {
+  glm::vec3 position{0.0f, 3.0f, 0.0f};
+  float radius = 0.05f;        // metres; emitter size (the specular disk, the distance clamp)
+  glm::vec3 intensity{10.0f};  // linear RGB, W/sr in every direction
+};
+
 inline constexpr int kMaxImageSize = 16384;
 inline constexpr int kDefaultImageSide = 1024;  // width and height of a frame when nothing sets them
 
@@ -42,11 +51,15 @@ struct Scene {
   CameraDesc camera;
   std::vector<DirectionalLight> directionalLights;
   std::vector<SpotLight> spotLights;
+  std::vector<PointLight> pointLights;
   Environment environment;  // black unless the scene file gives one
   Mesh mesh;
   std::vector<Material> materials;
   std::vector<Texture> textures;
   size_t reorientedTriangles = 0;  // triangles the OBJ loader turned to match their neighbours' winding
+  // What the loaders accepted but do not render as the file asks (one line each, naming the file);
+  // the command line prints them as "ssgi: warning: ...".
+  std::vector<std::string> warnings;
 };
 
 // One value of a scene file's "render" block as written: how the file asks for its frames to be

@@ -24,6 +24,19 @@ bool RayPlaneBarycentrics(const ViewProjection::Ray& ray, const glm::vec3& p0, c
 
 }  // namespace
 
+glm::vec3 NormalMapped(const Scene& scene, const Material& material, const uint32_t* idx, const glm::vec3& weights,
+                       const glm::vec3& normal, glm::vec2 uv, float footprint) {
+  const std::vector<glm::vec4>& tangents = scene.mesh.tangents;
+  const glm::vec3 tangent = glm::vec3(tangents[idx[0]]) * weights.x + glm::vec3(tangents[idx[1]]) * weights.y +
+                            glm::vec3(tangents[idx[2]]) * weights.z;
+  const glm::vec3 bitangent = glm::cross(normal, tangent) * tangents[idx[0]].w;
+  const glm::vec4 texel = SampleTexture(scene.textures[material.normalTexture], uv, footprint);
+  const float mx = (texel.x * 2.0f - 1.0f) * material.normalScale;
+  const float my = (texel.y * 2.0f - 1.0f) * material.normalScale;
+  const float mz = texel.z * 2.0f - 1.0f;
+  return tangent * mx + bitangent * my + normal * mz;
+}
+
 SurfaceResolver::SurfaceResolver(const Scene& scene, const ViewProjection& view) : scene_(scene), view_(view) {
   const Mesh& mesh = scene.mesh;
   viewPositions_ = std::make_unique_for_overwrite<glm::vec3[]>(mesh.positions.size());

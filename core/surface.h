@@ -22,6 +22,20 @@ struct SurfacePoint {
   float uvFootprint;  // larger UV step to the next pixel right or down
 };
 
+// The normal-mapped normal (docs/pipeline.md §G-buffer, "Normal mapping") of a point of the triangle
+// with corners `idx` at barycentric `weights`, for a material with a normal texture: the texel at
+// `uv` (trilinear at `footprint`) as a tangent-space normal with x and y scaled by normalScale, in
+// the frame of the interpolated, unnormalised tangent and `normal` (the interpolated vertex normal,
+// in the mesh's space) with MikkTSpace's per-pixel bitangent w0 cross(normal, tangent). Not
+// normalised.
+glm::vec3 NormalMapped(const Scene& scene, const Material& material, const uint32_t* idx, const glm::vec3& weights,
+                       const glm::vec3& normal, glm::vec2 uv, float footprint);
+
+// The mesh's vertex colours interpolated at `weights` (for a material with vertexColors).
+inline glm::vec3 InterpolatedColor(const Mesh& mesh, const uint32_t* idx, const glm::vec3& weights) {
+  return mesh.colors[idx[0]] * weights.x + mesh.colors[idx[1]] * weights.y + mesh.colors[idx[2]] * weights.z;
+}
+
 // Holds the mesh's vertices in `view`'s view space (computed once, in parallel); both references
 // must outlive it.
 class SurfaceResolver {

@@ -55,6 +55,29 @@ HWY_INLINE VI WrapIndexV(VI i, VI size) {
                         hn::IfThenElse(hn::Lt(i, size), i, hn::Sub(i, size)));
 }
 
+// EdgeIndex (texture.cpp): WrapIndexV for kRepeat, else clamped to [0, size - 1].
+HWY_INLINE VI EdgeIndexV(VI i, VI size, TextureWrap wrap) {
+  const DI di;
+  if (wrap == TextureWrap::kRepeat) return WrapIndexV(i, size);
+  return hn::Max(hn::Min(i, hn::Sub(size, hn::Set(di, 1))), hn::Zero(di));
+}
+
+// WrapCoordinate (texture.cpp): the coordinate in [0, 1] under `wrap`, 0 where it is not finite.
+HWY_INLINE VF WrapCoordinateV(VF x, TextureWrap wrap) {
+  const DF df;
+  const VF one = hn::Set(df, 1.0f);
+  VF wrapped;
+  if (wrap == TextureWrap::kClamp) {
+    wrapped = hn::Min(hn::Max(x, hn::Zero(df)), one);
+  } else if (wrap == TextureWrap::kMirror) {
+    const VF t = hn::Sub(x, hn::Mul(hn::Set(df, 2.0f), hn::Floor(hn::Mul(x, hn::Set(df, 0.5f)))));
+    wrapped = hn::IfThenElse(hn::Gt(t, one), hn::Sub(hn::Set(df, 2.0f), t), t);
+  } else {
+    wrapped = hn::Sub(x, hn::Floor(x));
+  }
+  return hn::IfThenElseZero(hn::IsFinite(x), wrapped);
+}
+
 // The decoded texel of each lane's 32-bit word.
 HWY_INLINE Vec4V DecodeTexelV(const TextureView& view, hn::Vec<DU> word) {
   const DF df;
@@ -115,8 +138,8 @@ HWY_INLINE Vec4V SampleBilinearV(const TextureView& view, VI level, VF u, VF v) 
   const VF fx = hn::Sub(x, x0), fy = hn::Sub(y, y0);
   const VI one = hn::Set(di, 1);
   const VI ix = hn::ConvertTo(di, x0), iy = hn::ConvertTo(di, y0);
-  const VI ix0 = WrapIndexV(ix, width), ix1 = WrapIndexV(hn::Add(ix, one), width);
-  const VI iy0 = WrapIndexV(iy, height), iy1 = WrapIndexV(hn::Add(iy, one), height);
+  const VI ix0 = EdgeIndexV(ix, width, view.wrapU), ix1 = EdgeIndexV(hn::Add(ix, one), width, view.wrapU);
+  const VI iy0 = EdgeIndexV(iy, height, view.wrapV), iy1 = EdgeIndexV(hn::Add(iy, one), height, view.wrapV);
   const bool neighbours = hn::AllTrue(di, hn::Eq(ix1, hn::Add(ix0, one)));
   hn::Vec<DU> word[4];  // (ix0, iy0), (ix1, iy0), (ix0, iy1), (ix1, iy1)
   TexelWordPairV(view, hn::Add(offset, hn::Mul(iy0, width)), ix0, ix1, neighbours, word[0], word[1]);
@@ -136,9 +159,8 @@ HWY_INLINE Vec4V SampleTextureV(const TextureView& view, VF u, VF v, VF footprin
   VF lambda = hn::IfThenElse(hn::Gt(scaled, hn::Set(df, 1.0f)), Log2V(scaled), zero);
   lambda = hn::IfThenElse(hn::Ge(scaled, hn::Set(df, float(1 << view.lastLevel))), hn::Set(df, float(view.lastLevel)),
                           lambda);
-  // Repeat: the fraction, 0 for a non-finite coordinate.
-  u = hn::IfThenElseZero(hn::IsFinite(u), hn::Sub(u, hn::Floor(u)));
-  v = hn::IfThenElseZero(hn::IsFinite(v), hn::Sub(v, hn::Floor(v)));
+  u = WrapCoordinateV(u, view.wrapU);
+  v = WrapCoordinateV(v, view.wrapV);
   const VI level = hn::ConvertTo(di, lambda);
   const VF blend = hn::Sub(lambda, hn::ConvertTo(df, level));
   const Vec4V fine = SampleBilinearV(view, level, u, v);

@@ -64,6 +64,21 @@ float Log2(float x) {
 float Repeat(float x) { return std::isfinite(x) ? x - std::floor(x) : 0.0f; }
 
 int WrapIndex(int i, int size) { return i < 0 ? i + size : (i >= size ? i - size : i); }
+// The coordinate in [0, 1] under `wrap`, 0 for a non-finite one.
+float WrapCoordinate(float x, TextureWrap wrap) {
+  if (!std::isfinite(x)) return 0.0f;
+  if (wrap == TextureWrap::kClamp) return std::min(std::max(x, 0.0f), 1.0f);
+  if (wrap == TextureWrap::kMirror) {
+    const float t = x - 2.0f * std::floor(x * 0.5f);  // in [0, 2]
+    return t > 1.0f ? 2.0f - t : t;
+  }
+  return Repeat(x);
+}
+// A texel index one beyond an edge ([-1, size]): the other side's for kRepeat, the edge's otherwise.
+int EdgeIndex(int i, int size, TextureWrap wrap) {
+  if (wrap == TextureWrap::kRepeat) return WrapIndex(i, size);
+  return i < 0 ? 0 : (i >= size ? size - 1 : i);
+}
 
 // DecodeColor and the alpha's code / 255 as tables, looked up once per sample rather than per
 // channel: the same values, without a call per channel in the resolve's hottest loop.
@@ -96,10 +111,10 @@ glm::vec4 SampleBilinear(const Texture& texture, const TextureLevel& level, floa
   const float y0 = std::floor(y);
   const float fx = x - x0;
   const float fy = y - y0;
-  const int ix0 = WrapIndex(int(x0), level.width);
-  const int ix1 = WrapIndex(int(x0) + 1, level.width);
-  const int iy0 = WrapIndex(int(y0), level.height);
-  const int iy1 = WrapIndex(int(y0) + 1, level.height);
+  const int ix0 = EdgeIndex(int(x0), level.width, texture.wrapU);
+  const int ix1 = EdgeIndex(int(x0) + 1, level.width, texture.wrapU);
+  const int iy0 = EdgeIndex(int(y0), level.height, texture.wrapV);
+  const int iy1 = EdgeIndex(int(y0) + 1, level.height, texture.wrapV);
   const glm::vec4 top =
       Texel(texels, level, ix0, iy0, encoding) * (1.0f - fx) + Texel(texels, level, ix1, iy0, encoding) * fx;
   const glm::vec4 bottom =
@@ -186,6 +201,8 @@ TextureView ViewOf(const Texture& texture) {
   const TexelDecoding decoding = DecodingOf(texture.encoding);
   view.colour = decoding.colour;
   view.alpha = decoding.alpha;
+  view.wrapU = texture.wrapU;
+  view.wrapV = texture.wrapV;
   return view;
 }
 
@@ -199,8 +216,8 @@ glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
   } else if (scaled > 1.0f) {
     lambda = Log2(scaled);
   }
-  const float u = Repeat(uv.x);
-  const float v = Repeat(uv.y);
+  const float u = WrapCoordinate(uv.x, texture.wrapU);
+  const float v = WrapCoordinate(uv.y, texture.wrapV);
   const int level = int(lambda);
   const float blend = lambda - float(level);
   const TexelDecoding decoding = DecodingOf(texture.encoding);

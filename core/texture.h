@@ -1,8 +1,9 @@
-// Mip-mapped textures, read by OpenImageIO (docs/design.md §4).
+// Mip-mapped textures, read by OpenImageIO (docs/design.md §4), or decoded by the glTF loader.
 // Texels are kept as 8 bits per channel, four channels (RGBA), with a full mip chain down to 1x1
 // built from the linear values. Colour textures (map_Kd) are sRGB-encoded and decoded to linear
 // before filtering; data textures (map_Pm, map_Pr, map_d) are linear. Addressing repeats (OBJ UVs
-// outside [0, 1] tile), v = 0 is the bottom row of the image (OBJ convention).
+// outside [0, 1] tile) unless a glTF sampler clamps or mirrors; v = 0 is the bottom row of the
+// image (OBJ convention).
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,11 @@ namespace ssgi {
 
 enum class TextureEncoding : uint8_t { kSrgb, kLinear };
 
+// Addressing outside [0, 1], per axis (glTF's sampler wrapS and wrapT; OBJ textures repeat).
+// kClamp and kMirror differ from kRepeat in the coordinate (clamped to [0, 1], or mirrored every
+// other repeat); both read the edge texel beyond an edge, where kRepeat reads the other side's.
+enum class TextureWrap : int32_t { kRepeat, kClamp, kMirror };
+
 struct TextureLevel {
   int width = 0;
   int height = 0;
@@ -23,6 +29,7 @@ struct TextureLevel {
 
 struct Texture {
   TextureEncoding encoding = TextureEncoding::kLinear;
+  TextureWrap wrapU = TextureWrap::kRepeat, wrapV = TextureWrap::kRepeat;
   int sourceChannels = 4;             // channels in the file (1 = grey, 3 = RGB, 4 = RGBA)
   std::vector<TextureLevel> levels;   // levels[0] is full size, the last is 1x1
   // Every level's texels, level after level, each row-major, top row first; a texel is 4 bytes,
@@ -52,11 +59,12 @@ struct TextureView {
   float baseSide;           // max(width, height) of level 0
   const float* colour;      // per code: the linear value of an R, G or B code in its encoding
   const float* alpha;       // per code: code / 255
+  TextureWrap wrapU, wrapV;
 };
 TextureView ViewOf(const Texture& texture);
 
-// Trilinear sample with repeat addressing. `footprint` is the larger screen-pixel footprint of the
-// lookup in UV units (max of |dUV/dx|, |dUV/dy|); it picks the mip level. Returns linear values.
+// Trilinear sample with the texture's addressing (repeat unless set). `footprint` is the larger screen-pixel footprint
+// of the lookup in UV units (max of |dUV/dx|, |dUV/dy|); it picks the mip level. Returns linear values.
 glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint);
 
 }  // namespace ssgi

@@ -22,11 +22,13 @@ void ResolveMaterial(const GBufferResolveContext& context, uint32_t triangle, co
   const Scene& scene = context.scene;
   const uint32_t materialIndex = scene.mesh.materials[triangle];
   const Material& material = scene.materials[materialIndex];
-  if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture) {
+  if (material.baseColorTexture == kNoTexture && material.metallicTexture == kNoTexture && !material.vertexColors) {
     word0 = context.constantWord0[materialIndex];
   } else {
     glm::vec3 albedo = material.baseColor;
     float metallic = material.metallic;
+    if (material.vertexColors)
+      albedo *= InterpolatedColor(scene.mesh, &scene.mesh.indices[3 * size_t(triangle)], s.weights);
     if (material.baseColorTexture != kNoTexture)
       albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], s.uv, s.uvFootprint));
     if (material.metallicTexture != kNoTexture)
@@ -52,8 +54,12 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
   const SurfacePoint s = resolver.At(triangle, x, y, context.textured[materialIndex] != 0);
   const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
   const std::vector<glm::vec3>& normals = scene.mesh.normals;
-  glm::vec3 normal = context.normalToView * (normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y +
-                                             normals[idx[2]] * s.weights.z);
+  glm::vec3 interpolated =
+      normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y + normals[idx[2]] * s.weights.z;
+  const Material& material = scene.materials[materialIndex];
+  if (material.normalTexture != kNoTexture)
+    interpolated = NormalMapped(scene, material, idx, s.weights, interpolated, s.uv, s.uvFootprint);
+  glm::vec3 normal = context.normalToView * interpolated;
   const float length = glm::length(normal);
   const glm::vec3& p0 = resolver.ViewPosition(idx[0]);
   const glm::vec3 faceNormal = glm::cross(resolver.ViewPosition(idx[1]) - p0, resolver.ViewPosition(idx[2]) - p0);
@@ -88,6 +94,10 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   const Scene& scene = in.scene;
   const ViewProjection& view = in.view;
   SSGI_CHECK(!view.orthographic);
+  for (const Material& material : scene.materials) {
+    SSGI_CHECK(material.normalTexture == kNoTexture || scene.mesh.tangents.size() == scene.mesh.positions.size());
+    SSGI_CHECK(!material.vertexColors || scene.mesh.colors.size() == scene.mesh.positions.size());
+  }
   GBufferStats stats;
 
   Stopwatch stopwatch;
@@ -117,8 +127,11 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
     const Material& material = scene.materials[m];
     constantWord0[m] = PackAlbedoMetallic(material.baseColor, material.metallic);
     constantRoughnessBits[m] = uint32_t(UnormCode8(material.roughness)) << 24;
-    textured[m] = material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
-                  material.roughnessTexture != kNoTexture;
+    textured[m] = material.normalTexture != kNoTexture || material.vertexColors ? kGBufferResolvedPerPixel
+                  : material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
+                          material.roughnessTexture != kNoTexture
+                      ? 1u
+                      : 0u;
   }
   const PixelRayTables rays = MakePixelRayTables(view, width + kGBufferRayPadding, height + kGBufferRayPadding);
   const GBufferResolveContext context{

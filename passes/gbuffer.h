@@ -61,7 +61,8 @@ struct GBufferResolveContext {
   // Per material: bits 24-31 of word 1 (the roughness code) when it has no roughness texture, and
   // whether any texture feeds word 0 or 1 (the SIMD kernel then also samples the pixel's textures).
   const uint32_t* constantRoughnessBits;
-  const uint32_t* textured;  // 1 or 0
+  // 0, 1, or kGBufferResolvedPerPixel for a material with a normal texture or vertex colours.
+  const uint32_t* textured;
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
   NormalEncoding normalEncoding;
   // The view's PixelRayTables, for the twin, which would otherwise divide for them in every vector;
@@ -71,6 +72,10 @@ struct GBufferResolveContext {
   const float* rayDirectionY;
 };
 inline constexpr int kGBufferRayPadding = 8;
+// GBufferResolveContext::textured of the materials whose pixels the twin resolves one lane at a time
+// with GBufferResolvePixelScalar (normal mapping and vertex colours are not vectorised): their bits
+// are the scalar definition's by construction.
+inline constexpr uint32_t kGBufferResolvedPerPixel = 2;
 
 // The resolve of one pixel (x, y) covered by `triangle` with depth key `depthKey`: its G-buffer
 // words 0-2.

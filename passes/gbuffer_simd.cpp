@@ -497,7 +497,25 @@ size_t GBufferResolveBlocks(const GBufferResolveInputs& in, const GBufferResolve
           TexturedWords(in, triangles, triangle, texturedLanes, direction.x, direction.y,
                         hn::LoadDup128(df, in.rayDirectionX + x + 1), downY, terms, center, centerB1, centerB2, b1, b2,
                         normalCode, textureCache, words0, words1);
-      storeWords(textured.word0, textured.word1, words2);
+      const auto perPixel = hn::And(hn::Eq(data.textured, hn::Set(du, kGBufferResolvedPerPixel)), drawn);
+      if (hn::AllFalse(du, perPixel)) {
+        storeWords(textured.word0, textured.word1, words2);
+        continue;
+      }
+      // Normal-mapped and vertex-coloured pixels: the scalar definition, lane by lane.
+      HWY_ALIGN uint32_t laneWords[3][kLanes], lanePerPixel[kLanes];
+      HWY_ALIGN float laneDepthKeys[kLanes];
+      hn::Store(textured.word0, du, laneWords[0]);
+      hn::Store(textured.word1, du, laneWords[1]);
+      hn::Store(words2, du, laneWords[2]);
+      hn::Store(hn::VecFromMask(du, perPixel), du, lanePerPixel);
+      hn::Store(depthKey, df, laneDepthKeys);
+      for (size_t lane = 0; lane < kLanes; ++lane)
+        if (lanePerPixel[lane] != 0)
+          GBufferResolvePixelScalar(*in.context, triangles[lane], laneDepthKeys[lane], int(x + lane % kWidth),
+                                    int(size_t(rows.y) + r + lane / kWidth), laneWords[0][lane], laneWords[1][lane],
+                                    laneWords[2][lane]);
+      storeWords(hn::Load(du, laneWords[0]), hn::Load(du, laneWords[1]), hn::Load(du, laneWords[2]));
     }
   }
   return covered;

@@ -2,9 +2,8 @@
 
 #include <embree3/rtcore.h>
 
-#include <atomic>
-
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -20,6 +19,7 @@
 #include "core/lighting.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
+#include "core/surface.h"
 
 namespace ssgi {
 namespace {
@@ -272,6 +272,10 @@ Surface ResolveSurface(const Scene& scene, const Hit& hit, const glm::vec3& rayD
   // Embree reports no hit on a zero-area triangle, so faceLength > 0; the guard keeps NaN out anyway.
   faceNormal = faceLength > 0.0f ? faceNormal / faceLength : glm::vec3(0.0f, 1.0f, 0.0f);
   glm::vec3 normal = mesh.normals[idx[0]] * w0 + mesh.normals[idx[1]] * hit.u + mesh.normals[idx[2]] * hit.v;
+  const Material& material = scene.materials[mesh.materials[hit.triangle]];
+  const glm::vec2 uv = InterpolateUv(mesh, idx, hit.u, hit.v);
+  if (material.normalTexture != kNoTexture)
+    normal = NormalMapped(scene, material, idx, glm::vec3(w0, hit.u, hit.v), normal, uv, 0.0f);
   const float length = glm::length(normal);
   normal = length > 0.0f && std::isfinite(length) ? normal / length : faceNormal;
   // A two-sided surface seen from behind shades with the side that faces the ray.
@@ -282,9 +286,8 @@ Surface ResolveSurface(const Scene& scene, const Hit& hit, const glm::vec3& rayD
   s.normal = normal;
   s.faceNormal = faceNormal;
 
-  const Material& material = scene.materials[mesh.materials[hit.triangle]];
-  const glm::vec2 uv = InterpolateUv(mesh, idx, hit.u, hit.v);
   s.material = {material.baseColor, material.metallic, material.roughness};
+  if (material.vertexColors) s.material.albedo *= InterpolatedColor(mesh, idx, glm::vec3(w0, hit.u, hit.v));
   if (material.baseColorTexture != kNoTexture)
     s.material.albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], uv, 0.0f));
   if (material.metallicTexture != kNoTexture)
@@ -309,9 +312,12 @@ struct SampledLight {
 
 std::vector<SampledLight> SampleableLights(const Scene& scene) {
   const std::vector<PreparedLight> prepared = PrepareLights(scene, glm::mat4(1.0f));
-  std::vector<bool> castShadows;  // in PrepareLights order: directional lights, then spots
+  // In PrepareLights order: directional lights, spots, then point lights, which the frame does not
+  // shadow (core/scene.h PointLight), so the reference does not either.
+  std::vector<bool> castShadows;
   for (const DirectionalLight& l : scene.directionalLights) castShadows.push_back(l.castShadows);
   for (const SpotLight& l : scene.spotLights) castShadows.push_back(l.castShadows);
+  castShadows.insert(castShadows.end(), scene.pointLights.size(), false);
   std::vector<SampledLight> lights;
   for (size_t i = 0; i < prepared.size(); ++i) {
     SampledLight s{prepared[i], castShadows[i]};

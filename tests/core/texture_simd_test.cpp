@@ -47,8 +47,16 @@ TEST_CASE("texture: SampleTextureV equals SampleTexture on every target", "[text
   for (const auto& [width, height] : {std::pair{37, 23}, std::pair{64, 64}, std::pair{1, 9}, std::pair{1, 1}}) {
     std::vector<uint8_t> rgba(size_t(width) * size_t(height) * 4);
     for (uint8_t& texel : rgba) texel = uint8_t(rng());
-    for (const TextureEncoding encoding : {TextureEncoding::kSrgb, TextureEncoding::kLinear}) {
-      const Texture texture = MakeTexture(width, height, rgba, encoding);
+    // Both encodings, and the three wrap modes (repeat by the sRGB texture, clamp and mirror mixed
+    // across the axes by the linear one, and the reverse).
+    for (const auto& [encoding, wrapU, wrapV] :
+         {std::tuple{TextureEncoding::kSrgb, TextureWrap::kRepeat, TextureWrap::kRepeat},
+          std::tuple{TextureEncoding::kLinear, TextureWrap::kRepeat, TextureWrap::kRepeat},
+          std::tuple{TextureEncoding::kLinear, TextureWrap::kClamp, TextureWrap::kMirror},
+          std::tuple{TextureEncoding::kSrgb, TextureWrap::kMirror, TextureWrap::kClamp}}) {
+      Texture texture = MakeTexture(width, height, rgba, encoding);
+      texture.wrapU = wrapU;
+      texture.wrapV = wrapV;
       const TextureView view = ViewOf(texture);
       constexpr size_t kCount = 4000;
       test::SimdRows in(3, kCount), expected(4, kCount);
@@ -71,7 +79,7 @@ TEST_CASE("texture: SampleTextureV equals SampleTexture on every target", "[text
         const glm::vec4 texel = SampleTexture(texture, {u, v}, footprint);
         for (int c = 0; c < 4; ++c) expected.values[size_t(c)][i] = texel[c];
       }
-      CAPTURE(width, height, int(encoding));
+      CAPTURE(width, height, int(encoding), int(wrapU), int(wrapV));
       test::CheckEveryTarget(expected, kCount, [&](float* const* out) {
         HWY_DYNAMIC_DISPATCH(SampleTextures)(view, in.in.data(), kCount, out);
       });

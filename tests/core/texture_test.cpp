@@ -155,5 +155,26 @@ TEST_CASE("LoadTexture reports missing and unreadable files by name", "[texture]
   CHECK(LoadTexture(dir / "longest.png", TextureEncoding::kLinear).levels.size() == size_t(kMaxTextureLevels));
 }
 
+TEST_CASE("texture: clamp and mirrored addressing read the edge texel beyond an edge and reflect every other repeat",
+          "[texture]") {
+  // Four texels in a row, codes 0, 85, 170, 255 (linear, one level 0 read: footprint 0).
+  Texture texture = MakeTexture(4, 1, {0, 0, 0, 255, 85, 85, 85, 255, 170, 170, 170, 255, 255, 255, 255, 255},
+                                TextureEncoding::kLinear);
+  const auto at = [&](float u) { return SampleTexture(texture, {u, 0.5f}, 0.0f).x; };
+  // Repeat: u = 1.125 is u = 0.125, texel 0's centre; u = 0 blends the first and last texels.
+  CHECK(at(1.125f) == Approx(0.0f));
+  CHECK(at(0.0f) == Approx(0.5f));
+  texture.wrapU = TextureWrap::kClamp;
+  CHECK(at(0.0f) == Approx(0.0f));  // the edge texel alone
+  CHECK(at(-5.0f) == Approx(0.0f));
+  CHECK(at(7.0f) == Approx(1.0f));
+  CHECK(at(0.375f) == Approx(1.0f / 3.0f));  // inside, as repeat
+  texture.wrapU = TextureWrap::kMirror;
+  CHECK(at(1.125f) == Approx(1.0f));   // the second repeat is reflected: u = 0.875, texel 3
+  CHECK(at(2.125f) == Approx(0.0f));   // the third is not
+  CHECK(at(-0.125f) == Approx(0.0f));  // nor the one before, reflected: u = 0.125
+  CHECK(at(1.0f) == Approx(1.0f));
+}
+
 }  // namespace
 }  // namespace ssgi

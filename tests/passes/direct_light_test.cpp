@@ -103,6 +103,41 @@ TEST_CASE("direct light: one sun on one surface is the analytic GGX value", "[di
   }
 }
 
+TEST_CASE("direct light: a point light is the analytic GGX value under the inverse square in every direction",
+          "[direct_light]") {
+  // A point light behind, beside and in front of the surface point: no cone cuts it (core/lighting.h),
+  // on both kernel paths.
+  for (const glm::vec3 position :
+       {glm::vec3(0.5f, 2.0f, -1.0f), glm::vec3(-1.5f, 0.5f, -4.5f), glm::vec3(0.2f, 1.0f, -5.5f)}) {
+    test::TestScene scene = ViewSpaceScene(9, 7);
+    const ViewProjection view = MakePerspective(scene.camera, 9, 7);
+    PointLight light;
+    light.position = position;
+    light.radius = 0.0f;
+    light.intensity = glm::vec3(4.0f, 3.0f, 2.0f);
+    scene.pointLights.push_back(light);
+    GBuffer g = MakeGBuffer(9, 7, NormalEncoding::kOct24);
+    SetPixel(g, 4, 3, {0.8f, 0.5f, 0.3f}, 0.0f, {0.0f, 1.0f, 0.3f}, 0.5f, 3.0f);
+    const uint32_t w0 = g.word[GBufferWord::kAlbedoMetallic].ConstRow(3)[4],
+                   w1 = g.word[GBufferWord::kNormalRoughness].ConstRow(3)[4];
+    const ViewProjection::Ray ray = view.PixelRay(4.5f, 3.5f);
+    const dvec3 p = dvec3(ray.direction) * double(UnpackDepth(g.word[GBufferWord::kDepth].ConstRow(3)[4]));
+    const dvec3 toLight = dvec3(position) - p;
+    const double distance2 = glm::dot(toLight, toLight);
+    const dvec3 expected = AnalyticRadiance(dvec3(UnpackAlbedo(w0)), UnpackMetallic(w0), UnpackRoughness(w1),
+                                            dvec3(UnpackNormal(w1, g.normalEncoding)), glm::normalize(-p),
+                                            glm::normalize(toLight), dvec3(light.intensity) / distance2);
+    for (const KernelPath kernels : {KernelPath::kScalar, KernelPath::kSimd}) {
+      DirectLightOutputs out;
+      RunDirectLight({g, view, scene}, {}, out, kernels);
+      const glm::vec3 got = Radiance(out, 4, 3);
+      CAPTURE(position.x, position.z, int(kernels), got.x, expected.x);
+      CHECK(glm::length(dvec3(expected)) > 0.0);
+      for (int c = 0; c < 3; ++c) CHECK(double(got[c]) == Approx(expected[c]).epsilon(1e-4).margin(1e-7));
+    }
+  }
+}
+
 TEST_CASE("direct light: lights add up, the shadowed one is scaled by its visibility, background is the "
           "background",
           "[direct_light]") {

@@ -5,10 +5,11 @@
 #include "passes/gbuffer.h"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
-#include <catch2/catch.hpp>
-
+#include "core/gltf_loader.h"
+#include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "core/texture.h"
 #include "tests/passes/test_scenes.h"
@@ -83,8 +84,12 @@ TEST_CASE("g-buffer: every pixel of a ground plane has its analytic depth and no
 
 // Both kernel paths of RunGBuffer on `scene` at each test size and normal encoding: every word of
 // the G-buffer and the visibility buffer the same bytes on every target.
-void CheckKernelPathsAgree(const Scene& scene) {
-  for (const glm::ivec2 size : {glm::ivec2(1024, 1024), glm::ivec2(1, 1), glm::ivec2(67, 45), glm::ivec2(1023, 769)}) {
+// With threadCounts, also the same bytes at 1 and 3 threads.
+void CheckKernelPathsAgree(const Scene& scene,
+                           const std::vector<glm::ivec2>& sizes = {glm::ivec2(1024, 1024), glm::ivec2(1, 1),
+                                                                   glm::ivec2(67, 45), glm::ivec2(1023, 769)},
+                           bool threadCounts = false) {
+  for (const glm::ivec2 size : sizes) {
     const ViewProjection view = MakePerspective(scene.camera, size.x, size.y);
     for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
       const auto run = [&](KernelPath kernels) {
@@ -100,6 +105,12 @@ void CheckKernelPathsAgree(const Scene& scene) {
       };
       CAPTURE(size.x, size.y, int(encoding));
       CHECK(test::TargetsWhereKernelPathsDiffer(run, same) == "");
+      if (!threadCounts) continue;
+      const GBufferOutputs reference = run(KernelPath::kSimd);
+      for (const int threads : {1, 3}) {
+        ThreadLimit limit(threads);
+        CHECK(same(run(KernelPath::kSimd), reference));
+      }
     }
   }
 }
@@ -182,6 +193,46 @@ TEST_CASE("g-buffer: the SIMD kernels give the scalar bytes on every target, tex
     scene.mesh.uvs[i] = {3.0f * p.x, 3.0f * (p.z + p.y)};
   }
   CheckKernelPathsAgree(scene);
+}
+
+TEST_CASE(
+    "g-buffer: normal maps and vertex colours give the same G-buffer bytes on both kernel paths and at any "
+    "thread count",
+    "[gbuffer][simd]") {
+  // The default scene with a random normal map (scale 0.7) on every third material, vertex colours
+  // on the next, textures on others, generated tangents.
+  Scene scene = test::LoadDefaultScene().scene;
+  std::mt19937 rng(11);
+  std::vector<uint8_t> normals(32 * 32 * 4), colours(8 * 8 * 4);
+  for (size_t i = 0; i < normals.size(); i += 4) {
+    normals[i] = uint8_t(rng()), normals[i + 1] = uint8_t(rng()), normals[i + 2] = uint8_t(160 + rng() % 96);
+    normals[i + 3] = 255;
+  }
+  for (uint8_t& t : colours) t = uint8_t(rng());
+  scene.textures.push_back(MakeTexture(32, 32, std::move(normals), TextureEncoding::kLinear));
+  scene.textures.push_back(MakeTexture(8, 8, std::move(colours), TextureEncoding::kSrgb));
+  const int32_t normalMap = int32_t(scene.textures.size()) - 2, colourMap = normalMap + 1;
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    Material& material = scene.materials[m];
+    if (m % 3 == 0) material.normalTexture = normalMap, material.normalScale = 0.7f;
+    if (m % 3 == 1) material.vertexColors = true;
+    if (m % 2 == 0) material.baseColorTexture = colourMap;
+  }
+  for (size_t i = 0; i < scene.mesh.positions.size(); ++i) {
+    const glm::vec3 p = scene.mesh.positions[i];
+    scene.mesh.uvs[i] = {1.3f * p.x, 1.3f * (p.z + p.y)};
+    scene.mesh.colors.push_back(glm::vec3(float(rng() % 256) / 255.0f, 0.5f, float(rng() % 256) / 255.0f));
+  }
+  GenerateTangents(scene.mesh);
+  CheckKernelPathsAgree(scene, {glm::ivec2(1, 1), glm::ivec2(67, 45), glm::ivec2(333, 197)}, true);
+  // The normal map changes the normals it covers.
+  const ViewProjection view = MakePerspective(scene.camera, 67, 45);
+  GBufferOutputs mapped;
+  RunGBuffer({scene, view}, {}, mapped);
+  for (Material& material : scene.materials) material.normalTexture = kNoTexture;
+  GBufferOutputs flat;
+  RunGBuffer({scene, view}, {}, flat);
+  CHECK_FALSE(test::SameBytes(mapped.gbuffer.word[1], flat.gbuffer.word[1]));
 }
 
 }  // namespace

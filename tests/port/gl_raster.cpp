@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/color.h"
+#include "core/error.h"
 #include "core/raster/raster.h"
 #include "core/texture.h"
 
@@ -21,6 +22,18 @@ constexpr int kSetUpRowLength = 1024;  // raster_setup.comp's triangles per row 
 std::vector<float> MaterialRecords(const Scene& scene) {
   std::vector<float> records;
   for (const Material& m : scene.materials) {
+    // The port's resolve (gbuffer_conventional.frag) predates them; the port refuses rather than
+    // draw another G-buffer than the oracle's (tests/port/README.md).
+    for (const int32_t t : {m.baseColorTexture, m.metallicTexture, m.roughnessTexture, m.alphaTexture})
+      if (t != kNoTexture && (scene.textures[size_t(t)].wrapU != TextureWrap::kRepeat ||
+                              scene.textures[size_t(t)].wrapV != TextureWrap::kRepeat))
+        throw InputError(
+            scene.source,
+            "material '" + m.name + "' has a clamped or mirrored texture, which the GLSL port does not implement");
+    if (m.normalTexture != kNoTexture || m.vertexColors)
+      throw InputError(
+          scene.source,
+          "material '" + m.name + "' has a normal map or vertex colours, which the GLSL port does not implement");
     const float fields[8] = {
         m.baseColor.x, m.baseColor.y, m.baseColor.z, m.metallic, m.roughness, m.alphaCutoff, m.twoSided ? 1.0f : 0.0f,
         0.0f};
