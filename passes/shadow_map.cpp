@@ -27,8 +27,6 @@ constexpr float kMinDepthMargin = 1e-3f;  // metres between the outermost geomet
 constexpr double kCosGoldenAngle = -0.7373688780783197;
 constexpr double kSinGoldenAngle = 0.6754902942615238;
 
-using Bounds = LightViewBounds;
-
 // (x, y, depth) of a point in a light view: depth = -z_view, the distance along the view axis.
 glm::vec3 LightCoordinates(const glm::mat4& view, const glm::vec3& world) {
   const glm::vec3 v(view * glm::vec4(world, 1.0f));
@@ -36,15 +34,15 @@ glm::vec3 LightCoordinates(const glm::mat4& view, const glm::vec3& world) {
 }
 
 // Light-view bounds of every mesh vertex: the casters. Per-item partials combined in item order.
-Bounds CasterBounds(const Mesh& mesh, const glm::mat4& view) {
+LightViewBounds CasterBounds(const Mesh& mesh, const glm::mat4& view) {
   const size_t items = (mesh.positions.size() + kVerticesPerItem - 1) / kVerticesPerItem;
-  std::vector<Bounds> partial(items);
+  std::vector<LightViewBounds> partial(items);
   ParallelFor("shadow_map.caster_bounds", items, [&](size_t item) {
     const size_t end = std::min(mesh.positions.size(), (item + 1) * kVerticesPerItem);
     for (size_t i = item * kVerticesPerItem; i < end; ++i) partial[item].Add(LightCoordinates(view, mesh.positions[i]));
   });
-  Bounds all;
-  for (const Bounds& b : partial) all.Add(b);
+  LightViewBounds all;
+  for (const LightViewBounds& b : partial) all.Add(b);
   return all;
 }
 
@@ -52,7 +50,7 @@ Bounds CasterBounds(const Mesh& mesh, const glm::mat4& view) {
 // receivers). Per-band partials combined in band order.
 struct Receivers {
   size_t count = 0;
-  Bounds bounds;
+  LightViewBounds bounds;
 };
 Receivers ScanReceivers(const GBuffer& gbuffer, const ReceiverPositions& positions, KernelPath kernels) {
   const size_t height = size_t(gbuffer.height());
@@ -77,11 +75,11 @@ Receivers ScanReceivers(const GBuffer& gbuffer, const ReceiverPositions& positio
 // (in ShadowFitRotation's view) padded by the widest search radius plus the normal offset, its
 // near plane behind every caster of the scene (casters outside the camera's view still cast), its
 // far plane behind every receiver.
-ViewProjection FitDirectional(const PreparedLight& light, const Scene& scene, const Bounds& receivers,
+ViewProjection FitDirectional(const PreparedLight& light, const Scene& scene, const LightViewBounds& receivers,
                               const ShadowMapParams& params) {
   const glm::vec3 up = UpHint(light.direction);
   const glm::mat4 rotation = ShadowFitRotation(light);
-  const Bounds casters = CasterBounds(scene.mesh, rotation);
+  const LightViewBounds casters = CasterBounds(scene.mesh, rotation);
   const float nearDepth = std::min(receivers.lo.z, casters.lo.z);
   const float margin = std::max(kMinDepthMargin, 1e-3f * (receivers.hi.z - nearDepth));
   const float eyeDepth = nearDepth - margin;
@@ -106,7 +104,7 @@ ViewProjection FitSpot(const PreparedLight& light, const SpotLight& spot, const 
   desc.target = light.position + light.direction;
   desc.up = UpHint(light.direction);
   desc.fovYDegrees = std::min(2.0f * spot.outerConeDegrees, kMaxSpotFovDegrees);
-  const Bounds casters = CasterBounds(scene.mesh, glm::lookAt(desc.position, desc.target, desc.up));
+  const LightViewBounds casters = CasterBounds(scene.mesh, glm::lookAt(desc.position, desc.target, desc.up));
   desc.nearPlane = casters.Empty() ? kMinSpotNear : std::max(kMinSpotNear, 0.99f * casters.lo.z);
   return MakePerspective(desc, params.resolution, params.resolution);
 }

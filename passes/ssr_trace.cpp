@@ -13,8 +13,6 @@
 namespace ssgi {
 namespace {
 
-constexpr int kTileSize = 32;
-
 float SafeReciprocal(float v) { return std::fabs(v) < kHiZTinyComponent ? kHiZNever : 1.0f / v; }
 
 // The cell of level-0 coordinate p at a level with `size` cells of 2^level pixels; the last cell
@@ -308,9 +306,8 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   if (steps == SsrTraceSteps::kRecord) ShapeOutput(out.iterations, size_t(width), size_t(height));
   else out.iterations = Plane<float>();
 
-  const int tilesX = (width + kTileSize - 1) / kTileSize;
-  const int tilesY = (height + kTileSize - 1) / kTileSize;
-  static_assert(kTileSize == TileMask::kTileSize);
+  const int tilesX = (width + kSsrTraceTileSize - 1) / kSsrTraceTileSize;
+  const int tilesY = (height + kSsrTraceTileSize - 1) / kSsrTraceTileSize;
   SSGI_CHECK(in.tiles == nullptr || in.tiles->Fits(width, height));
   std::vector<SsrTraceCounts> counts(size_t(tilesX) * size_t(tilesY));
   // Tiles the mask leaves out hold no pixel that traces: "no hit" is stored there unread, a row's
@@ -333,10 +330,10 @@ SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params
   }
   ParallelFor("ssr_trace", traced.size(), [&](size_t i) {
     const size_t tile = traced[i];
-    const int x0 = int(tile % size_t(tilesX)) * kTileSize;
-    const int y0 = int(tile / size_t(tilesX)) * kTileSize;
-    const int x1 = std::min(x0 + kTileSize, width);
-    const int y1 = std::min(y0 + kTileSize, height);
+    const int x0 = int(tile % size_t(tilesX)) * kSsrTraceTileSize;
+    const int y0 = int(tile / size_t(tilesX)) * kSsrTraceTileSize;
+    const int x1 = std::min(x0 + kSsrTraceTileSize, width);
+    const int y1 = std::min(y0 + kSsrTraceTileSize, height);
     const auto kernel = kernels == KernelPath::kSimd ? SsrTraceTileSimd : SsrTraceTileScalar;
     kernel(in, params, {x0, y0, x1, y1}, out, counts[tile]);
   });

@@ -151,8 +151,11 @@ inline constexpr int32_t kSharedRayOctStepsXyz8 = 6;
 // top-left pixel and quadRoughness; else kOwn. A top-left pixel is its own source.
 SsrRaySource SsrRaySourceOf(const SsrTraceInputs& in, const SsrTraceParams& params, int x, int y);
 
+// The trace works in the frame plan's tiles of this many pixels a side.
+inline constexpr int kSsrTraceTileSize = TileMask::kTileSize;
+
 // A rectangle of pixels [x0, x1) x [y0, y1) whose corner (x0, y0) lies on the 4x4 block grid, so
-// that every pixel's quad and block sources are inside it.
+// that every pixel's quad and block sources are inside it (the SIMD kernel takes at most a tile).
 struct SsrTraceTile {
   int x0, y0, x1, y1;
 };

@@ -332,7 +332,7 @@ RayResults FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, 
           hn::IfThenElseZero(found, MinStd(fade, one)), steps};
 }
 
-constexpr int kMaxTilePixels = 32 * 32;
+constexpr int kMaxTilePixels = kSsrTraceTileSize * kSsrTraceTileSize;
 
 // SsrRaySourceOf's test against the source pixels (x & mask, sourceY) of the lanes at xs in row y,
 // whose G-buffer words are word1 and d: whether each lane takes that source's ray.
@@ -407,10 +407,13 @@ void TraceTile(const SsrTraceFrame& frame, const SsrTraceParams& params, const S
       if (hn::AllFalse(df, own)) continue;
       const VI xs = hn::Iota(di, int32_t(x0));
       if (sharing) {
-        const MF block =
-            hn::And(own, SharesRay(frame, params, xs, y, ~3, tile.x1 - 1, word1, d, params.blockRoughness));
-        const MF quad = hn::AndNot(
-            block, hn::And(own, SharesRay(frame, params, xs, y, ~1, tile.x1 - 1, word1, d, params.quadRoughness)));
+        // A threshold at or above the cut-off shares nothing: its gathers are skipped.
+        const auto shares = [&](int mask, float threshold) {
+          if (!(threshold < params.roughnessCutoff)) return hn::FirstN(df, 0);
+          return hn::And(own, SharesRay(frame, params, xs, y, mask, tile.x1 - 1, word1, d, threshold));
+        };
+        const MF block = shares(~3, params.blockRoughness);
+        const MF quad = hn::AndNot(block, shares(~1, params.quadRoughness));
         if (!hn::AllFalse(df, hn::Or(block, quad))) {
           anyShared = true;
           HWY_ALIGN int32_t code[hn::MaxLanes(DI())];
@@ -543,8 +546,9 @@ SsrTraceFrame FlattenInputs(const SsrTraceInputs& in) {
 void SsrTraceTileSimd(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
                       SsrTraceOutputs& out, SsrTraceCounts& counts) {
   SSGI_CHECK(tile.x0 % 4 == 0 && tile.y0 % 4 == 0);
-  SSGI_CHECK_LE(size_t(tile.x1 - tile.x0) * size_t(tile.y1 - tile.y0), size_t(32 * 32));
-  SSGI_CHECK_LE(tile.x1 - tile.x0, 256);
+  // Its list packs a pixel as (y - y0) << 8 | (x - x0).
+  SSGI_CHECK_LE(tile.x1 - tile.x0, kSsrTraceTileSize);
+  SSGI_CHECK_LE(tile.y1 - tile.y0, kSsrTraceTileSize);
   HWY_DYNAMIC_DISPATCH(TraceTile)(FlattenInputs(in), params, tile, out, counts);
 }
 
