@@ -69,12 +69,33 @@ Vec3V<D> SampleLevelV(D d, const OctahedralLevel& level, hn::Vec<D> u, hn::Vec<D
   const auto index01 = hn::Add(index00, stride);
   const auto index11 = hn::Add(index01, hn::Set(di, 1));
   const auto fx1 = hn::Sub(one, fx), fy1 = hn::Sub(one, fy);
+  // Neighbouring pixels mostly read neighbouring texels (a smooth surface's reflected directions, a
+  // rough level's few texels): when every lane's 2x2 texels lie in one window of a row and the next,
+  // two loads per channel serve the four lookups (GatherWindow, core/math-inl.h), else four gathers.
+  // The same texels either way.
+  const int32_t planeSize = int32_t(level.texels.c[0].PixelsPerRow()) * (level.size + 2);
+  const GatherWindow<D> window = WindowFromLowest(d, planeSize - level.texels.c[0].PixelsPerRow(), index00, 1);
   hn::Vec<D> out[3];
   for (int c = 0; c < 3; ++c) {
     const float* t = level.texels.c[c].ConstRow(0);
-    const auto top = hn::Add(hn::Mul(hn::GatherIndex(d, t, index00), fx1), hn::Mul(hn::GatherIndex(d, t, index10), fx));
-    const auto bottom =
-        hn::Add(hn::Mul(hn::GatherIndex(d, t, index01), fx1), hn::Mul(hn::GatherIndex(d, t, index11), fx));
+    hn::Vec<D> t00, t10, t01, t11;
+    if (window.holdsAll) {
+      const auto placeLeft = hn::IndicesFromVec(d, window.place);
+      const auto placeRight = hn::IndicesFromVec(d, hn::Add(window.place, hn::Set(di, 1)));
+      const auto upper = hn::LoadU(d, t + window.first);
+      const auto lower = hn::LoadU(d, t + window.first + level.texels.c[0].PixelsPerRow());
+      t00 = hn::TableLookupLanes(upper, placeLeft);
+      t10 = hn::TableLookupLanes(upper, placeRight);
+      t01 = hn::TableLookupLanes(lower, placeLeft);
+      t11 = hn::TableLookupLanes(lower, placeRight);
+    } else {
+      t00 = hn::GatherIndex(d, t, index00);
+      t10 = hn::GatherIndex(d, t, index10);
+      t01 = hn::GatherIndex(d, t, index01);
+      t11 = hn::GatherIndex(d, t, index11);
+    }
+    const auto top = hn::Add(hn::Mul(t00, fx1), hn::Mul(t10, fx));
+    const auto bottom = hn::Add(hn::Mul(t01, fx1), hn::Mul(t11, fx));
     out[c] = hn::Add(hn::Mul(top, fy1), hn::Mul(bottom, fy));
   }
   return {out[0], out[1], out[2]};

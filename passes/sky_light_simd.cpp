@@ -53,24 +53,37 @@ hn::Vec<D> SkyVisibilityV(D d, const SkyVisibilityVolume& volume, const Vec3V<D>
   const float* table = volume.coefficients.data();
   const auto one = hn::Set(d, 1.0f);
   // Neighbouring pixels mostly lie in one cell: then every lane reads the same 32 values, loaded
-  // once and broadcast instead of gathered (the same values, so the same bits).
+  // once and broadcast instead of gathered. Else they mostly lie in cells side by side along x, whose
+  // coefficients are neighbours in the table: a corner whose lanes' four coefficients all lie in one
+  // window takes them from one load (GatherWindow, core/math-inl.h). The same values on every path,
+  // so the same bits.
   const int32_t firstCorner = hn::GetLane(corner[0]);
   const bool oneCell = hn::AllTrue(di, hn::Eq(corner[0], hn::Set(di, firstCorner))) &&
                        hn::AllTrue(di, hn::Eq(corner[7], hn::Set(di, hn::GetLane(corner[7]))));
-  int32_t cornerIndex[8];
-  if (oneCell)
-    for (int i = 0; i < 8; ++i) cornerIndex[i] = hn::GetLane(corner[i]);
+  const int32_t tableSize = int32_t(volume.coefficients.size());
+  hn::Vec<D> t[4][8];  // coefficient k of corner i
+  for (int i = 0; i < 8; ++i) {
+    if (oneCell) {
+      const int32_t index = hn::GetLane(corner[i]);
+      for (int k = 0; k < 4; ++k) t[k][i] = hn::Set(d, table[index + k]);
+      continue;
+    }
+    const GatherWindow<D> window = WindowFromLowest(d, tableSize, corner[i], 3);
+    if (window.holdsAll) {
+      const auto values = hn::LoadU(d, table + window.first);
+      for (int k = 0; k < 4; ++k)
+        t[k][i] = hn::TableLookupLanes(values, hn::IndicesFromVec(d, hn::Add(window.place, hn::Set(di, k))));
+    } else {
+      for (int k = 0; k < 4; ++k) t[k][i] = hn::GatherIndex(d, table, hn::Add(corner[i], hn::Set(di, k)));
+    }
+  }
   hn::Vec<D> v[4];
   for (int k = 0; k < 4; ++k) {
-    const auto kk = hn::Set(di, k);
-    hn::Vec<D> t[8];
-    for (int i = 0; i < 8; ++i)
-      t[i] = oneCell ? hn::Set(d, table[cornerIndex[i] + k]) : hn::GatherIndex(d, table, hn::Add(corner[i], kk));
     const auto lerp = [&](hn::Vec<D> a, hn::Vec<D> b, hn::Vec<D> w) {
       return hn::Add(hn::Mul(a, hn::Sub(one, w)), hn::Mul(b, w));
     };
-    const auto x00 = lerp(t[0], t[1], f[0]), x10 = lerp(t[2], t[3], f[0]);
-    const auto x01 = lerp(t[4], t[5], f[0]), x11 = lerp(t[6], t[7], f[0]);
+    const auto x00 = lerp(t[k][0], t[k][1], f[0]), x10 = lerp(t[k][2], t[k][3], f[0]);
+    const auto x01 = lerp(t[k][4], t[k][5], f[0]), x11 = lerp(t[k][6], t[k][7], f[0]);
     v[k] = lerp(lerp(x00, x10, f[1]), lerp(x01, x11, f[1]), f[2]);
   }
   const auto sum =
