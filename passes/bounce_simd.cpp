@@ -182,7 +182,6 @@ struct MarchLanes {
   VF d;     // the depth (1 where there is none, so that no lane computes with infinity)
   Vec3V<DF> n, p, v;
   VF radius;
-  VI rotation, jitter;
 };
 
 // RawNormal (bounce.cpp) per lane.
@@ -293,6 +292,25 @@ HWY_INLINE void FoldTap(const BounceSetup& setup, const BounceHalfView& half, co
 
 HWY_ALIGN constexpr int32_t kBayerFlat[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
 
+// Each slice's direction and each step's spread for a vector of pixels of row j, from their
+// per-pixel rotation (bounce.cpp).
+struct SamplePattern {
+  VF cx[kBounceMaxSlices], cy[kBounceMaxSlices], spread[kBounceMaxSteps];
+};
+
+HWY_INLINE void GatherSamplePattern(const BounceSetup& setup, int j, VI iv, SamplePattern& pattern) {
+  const DF df;
+  const DI di;
+  const VI rotation = hn::GatherIndex(di, kBayerFlat, hn::Add(hn::Set(di, (j & 3) * 4), hn::And(iv, hn::Set(di, 3))));
+  const VI jitter = hn::And(hn::Mul(rotation, hn::Set(di, 5)), hn::Set(di, 15));
+  for (int k = 0; k < setup.slices; ++k) {
+    pattern.cx[k] = hn::GatherIndex(df, setup.directionX + 16 * k, rotation);
+    pattern.cy[k] = hn::GatherIndex(df, setup.directionY + 16 * k, rotation);
+  }
+  for (int step = 0; step < setup.steps; ++step)
+    pattern.spread[step] = hn::GatherIndex(df, setup.stepSpread + 16 * step, jitter);
+}
+
 uint64_t MarchRow(const BounceSetup& setup, const BounceHalfView& half, int j, float* visibility,
                   float* const bounce[3]) {
   const DF df;
@@ -303,6 +321,11 @@ uint64_t MarchRow(const BounceSetup& setup, const BounceHalfView& half, int j, f
   const size_t rowStart = size_t(j) * half.stride;
   const float sectors = float(setup.sectors);
   uint64_t taps = 0;
+  // The rotation repeats every four pixels along the row: where a vector holds whole groups of four,
+  // every vector of the row has the pattern of the first, gathered once.
+  const bool periodic = lanes % 4 == 0;
+  SamplePattern rowPattern, vectorPattern;
+  if (periodic) GatherSamplePattern(setup, j, hn::Iota(di, 0), rowPattern);
   for (size_t i0 = 0; i0 < count; i0 += lanes) {
     MarchLanes m;
     const VI iv = hn::Add(hn::Iota(di, 0), hn::Set(di, int32_t(i0)));
@@ -326,14 +349,13 @@ uint64_t MarchRow(const BounceSetup& setup, const BounceHalfView& half, int j, f
     m.radius =
         hn::Mul(MinStd(hn::Div(hn::Set(df, setup.radiusPixelsAtUnitDepth), m.d), hn::Set(df, setup.maxRadiusPixels)),
                 hn::Set(df, 0.5f));
-    m.rotation = hn::GatherIndex(di, kBayerFlat, hn::Add(hn::Set(di, (j & 3) * 4), hn::And(iv, hn::Set(di, 3))));
-    m.jitter = hn::And(hn::Mul(m.rotation, hn::Set(di, 5)), hn::Set(di, 15));
+    if (!periodic) GatherSamplePattern(setup, j, iv, vectorPattern);
+    const SamplePattern& pattern = periodic ? rowPattern : vectorPattern;
 
     VF weightSum = zero, visibilitySum = zero;
     Vec3V<DF> bounceSum{zero, zero, zero};
     for (int k = 0; k < setup.slices; ++k) {
-      const VF cx = hn::GatherIndex(df, setup.directionX + 16 * k, m.rotation);
-      const VF cy = hn::GatherIndex(df, setup.directionY + 16 * k, m.rotation);
+      const VF cx = pattern.cx[k], cy = pattern.cy[k];
       const SliceV slice = MakeSliceV(m.v, m.n, cx, cy);
       const MF live = hn::And(m.geometry, hn::Gt(slice.weight, zero));
       if (hn::AllFalse(df, live)) continue;
@@ -341,8 +363,7 @@ uint64_t MarchRow(const BounceSetup& setup, const BounceHalfView& half, int j, f
       Vec3V<DF> sliceBounce{zero, zero, zero};
       TapLanes placed[2 * kBounceMaxSteps];
       for (int step = 0; step < setup.steps; ++step) {
-        const VF spread = hn::GatherIndex(df, setup.stepSpread + 16 * step, m.jitter);
-        const VF distance = hn::Add(hn::Set(df, kBounceMinTapDistance), hn::Mul(spread, m.radius));
+        const VF distance = hn::Add(hn::Set(df, kBounceMinTapDistance), hn::Mul(pattern.spread[step], m.radius));
         const VF offsetX = hn::Mul(distance, cx), offsetY = hn::Mul(distance, cy);
         placed[2 * step] = PlaceTap(setup, half, m, live, offsetX, offsetY);
         placed[2 * step + 1] = PlaceTap(setup, half, m, live, hn::Neg(offsetX), hn::Neg(offsetY));
