@@ -18,6 +18,7 @@
 #include "core/gbuffer.h"
 #include "core/lighting.h"
 #include "core/parallel.h"
+#include "core/reference/ray_tracer.h"
 #include "core/stopwatch.h"
 #include "core/surface.h"
 
@@ -25,11 +26,6 @@ namespace ssgi {
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
-// Secondary rays start this far (times the scene's largest coordinate) off the surface, along its
-// geometric normal: about 80 float ulps of that coordinate, far above the rounding of a hit
-// position rebuilt from barycentrics, far below any feature a scene models.
-constexpr float kRayOffsetScale = 1e-5f;
-
 // PCG-XSH-RR 64/32 (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
 // Algorithms for Random Number Generation", pcg32_srandom_r / pcg32_random_r).
 class Pcg32 {
@@ -77,226 +73,6 @@ struct Basis {
     return {glm::dot(world, t), glm::dot(world, b), glm::dot(world, n)};
   }
 };
-
-// kCamera rays see what a camera sees (single-sided back faces are invisible, as the rasterizer
-// culls them): primary rays, and the paper transport's bounce rays. kBothFaces rays are stopped by
-// both faces of every surface: shadow rays (as the shadow map draws both), and every ray after the
-// first in the full transport (a surface is opaque from either side). Both skip alpha cut-out
-// holes.
-enum class RayKind { kCamera, kBothFaces };
-
-// Embree hands the filter the context pointer it was given, so the context carries what the
-// filter needs (Embree 3 manual, "rtcInitIntersectContext": the context may be extended).
-struct TraceContext {
-  RTCIntersectContext embree;  // first member: a TraceContext* is a valid RTCIntersectContext*
-  const Scene* scene;
-  RayKind kind;
-};
-
-float AlphaChannel(const Texture& texture, const glm::vec4& texel) {
-  // As the rasterizer's alpha test: grey+alpha and RGBA carry the mask in alpha, others in channel 0.
-  return texture.sourceChannels == 2 || texture.sourceChannels == 4 ? texel.w : texel.x;
-}
-
-glm::vec2 InterpolateUv(const Mesh& mesh, const uint32_t* idx, float u, float v) {
-  const glm::vec2 uv0 = mesh.uvs[idx[0]];
-  return uv0 + (mesh.uvs[idx[1]] - uv0) * u + (mesh.uvs[idx[2]] - uv0) * v;
-}
-
-glm::vec3 FaceNormal(const Mesh& mesh, const uint32_t* idx) {
-  const glm::vec3& p0 = mesh.positions[idx[0]];
-  return glm::cross(mesh.positions[idx[1]] - p0, mesh.positions[idx[2]] - p0);
-}
-
-// Rejects a candidate hit on a cut-out texel, and for camera rays on a culled back face. Embree
-// then continues the traversal past it, so the closest accepted hit wins whatever the BVH order.
-void FilterHits(const RTCFilterFunctionNArguments* args) {
-  const auto* context = reinterpret_cast<const TraceContext*>(args->context);
-  const Scene& scene = *context->scene;
-  for (unsigned int i = 0; i < args->N; ++i) {
-    if (args->valid[i] == 0) continue;
-    const uint32_t triangle = RTCHitN_primID(args->hit, args->N, i);
-    const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
-    const Material& material = scene.materials[scene.mesh.materials[triangle]];
-    if (context->kind == RayKind::kCamera && !material.twoSided) {
-      const glm::vec3 direction(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
-                                RTCRayN_dir_z(args->ray, args->N, i));
-      if (glm::dot(FaceNormal(scene.mesh, idx), direction) > 0.0f) {
-        args->valid[i] = 0;
-        continue;
-      }
-    }
-    if (material.alphaTexture != kNoTexture) {
-      const Texture& texture = scene.textures[material.alphaTexture];
-      const glm::vec2 uv =
-          InterpolateUv(scene.mesh, idx, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-      if (AlphaChannel(texture, SampleTexture(texture, uv, 0.0f)) < material.alphaCutoff) args->valid[i] = 0;
-    }
-  }
-}
-
-struct Hit {
-  uint32_t triangle;
-  float u, v;  // Embree's barycentrics: weights (1 - u - v, u, v) of the triangle's vertices
-  float t;     // in units of the ray direction's length
-};
-
-// One Embree device and scene holding the scene's mesh as one triangle geometry, primitive i being
-// triangle i of the mesh.
-class RayTracer {
- public:
-  explicit RayTracer(const Scene& scene) : scene_(scene) {
-    device_ = rtcNewDevice(nullptr);
-    if (device_ == nullptr) throw std::runtime_error("Embree: cannot create a device");
-    // Embree reports every allocation and free of its device: the memory the scene's BVH takes.
-    rtcSetDeviceMemoryMonitorFunction(
-        device_,
-        [](void* user, ssize_t bytes, bool) {
-          auto* counter = static_cast<MemoryCounter*>(user);
-          const ssize_t now = counter->now.fetch_add(bytes) + bytes;
-          for (ssize_t peak = counter->peak.load(); now > peak && !counter->peak.compare_exchange_weak(peak, now);) {
-          }
-          return true;
-        },
-        &memory_);
-    embreeScene_ = rtcNewScene(device_);
-    // Robust mode: watertight traversal, no ray slipping through a shared edge.
-    rtcSetSceneFlags(embreeScene_, RTC_SCENE_FLAG_ROBUST);
-    const Mesh& mesh = scene.mesh;
-    if (mesh.TriangleCount() > 0) {
-      RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      // Embree's own buffers, over-allocated for its 16-byte vertex loads (a packed
-      // std::vector<glm::vec3> shared in place would be read past its end).
-      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-          geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
-      auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-          geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.TriangleCount()));
-      if (vertices == nullptr || indices == nullptr) throw std::runtime_error("Embree: cannot allocate the mesh");
-      std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
-      std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
-      rtcSetGeometryIntersectFilterFunction(geometry, &FilterHits);
-      rtcSetGeometryOccludedFilterFunction(geometry, &FilterHits);
-      rtcCommitGeometry(geometry);
-      rtcAttachGeometry(embreeScene_, geometry);
-      rtcReleaseGeometry(geometry);
-    }
-    rtcCommitScene(embreeScene_);
-    const RTCError error = rtcGetDeviceError(device_);
-    if (error != RTC_ERROR_NONE) {
-      rtcReleaseScene(embreeScene_);
-      rtcReleaseDevice(device_);
-      throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(error)) + ")");
-    }
-  }
-  ~RayTracer() {
-    rtcReleaseScene(embreeScene_);
-    rtcReleaseDevice(device_);
-  }
-  RayTracer(const RayTracer&) = delete;
-  RayTracer& operator=(const RayTracer&) = delete;
-
-  // The most memory the device has held: the BVH and the mesh's copy.
-  size_t PeakBytes() const { return size_t(std::max<ssize_t>(memory_.peak.load(), 0)); }
-
-  // The closest accepted hit with t in [tnear, tfar]; false when there is none.
-  bool Intersect(RayKind kind, const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar,
-                 Hit& hit) const {
-    RTCRayHit rayHit{};
-    SetRay(rayHit.ray, origin, direction, tnear, tfar);
-    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rayHit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    TraceContext context = MakeContext(kind);
-    rtcIntersect1(embreeScene_, &context.embree, &rayHit);
-    if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    hit = {rayHit.hit.primID, rayHit.hit.u, rayHit.hit.v, rayHit.ray.tfar};
-    return true;
-  }
-
-  // Whether any surface stopping kBothFaces rays lies on the shadow ray with t in [tnear, tfar].
-  bool Occluded(const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) const {
-    RTCRay ray{};
-    SetRay(ray, origin, direction, tnear, tfar);
-    TraceContext context = MakeContext(RayKind::kBothFaces);
-    rtcOccluded1(embreeScene_, &context.embree, &ray);
-    return ray.tfar < 0.0f;  // Embree sets tfar to -inf on an occluded ray
-  }
-
- private:
-  static void SetRay(RTCRay& ray, const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) {
-    ray.org_x = origin.x;
-    ray.org_y = origin.y;
-    ray.org_z = origin.z;
-    ray.dir_x = direction.x;
-    ray.dir_y = direction.y;
-    ray.dir_z = direction.z;
-    ray.tnear = tnear;
-    ray.tfar = tfar;
-    ray.mask = 0xFFFFFFFFu;
-  }
-  TraceContext MakeContext(RayKind kind) const {
-    TraceContext context;
-    rtcInitIntersectContext(&context.embree);
-    context.scene = &scene_;
-    context.kind = kind;
-    return context;
-  }
-
-  const Scene& scene_;
-  struct MemoryCounter {
-    std::atomic<ssize_t> now{0}, peak{0};
-  };
-  MemoryCounter memory_;  // before device_: Embree reports into it until the device is released
-  RTCDevice device_ = nullptr;
-  RTCScene embreeScene_ = nullptr;
-};
-
-// A shaded point: what the G-buffer resolve computes, unquantised and in world space.
-struct Surface {
-  glm::vec3 position;
-  glm::vec3 normal;      // unit shading normal, on the side the ray came from
-  glm::vec3 faceNormal;  // unit geometric normal, on the side the ray came from
-  SurfaceMaterial material;
-  float alpha;           // GGX alpha, roughness^2 clamped to kMinGgxAlpha
-};
-
-// As passes/gbuffer.cpp's resolve, with Embree's barycentrics and texture level 0 (a ray has no
-// pixel footprint, and the reference wants the texels themselves).
-Surface ResolveSurface(const Scene& scene, const Hit& hit, const glm::vec3& rayDirection) {
-  const Mesh& mesh = scene.mesh;
-  const uint32_t* idx = &mesh.indices[3 * size_t(hit.triangle)];
-  const float w0 = 1.0f - hit.u - hit.v;
-  Surface s;
-  s.position = mesh.positions[idx[0]] * w0 + mesh.positions[idx[1]] * hit.u + mesh.positions[idx[2]] * hit.v;
-  glm::vec3 faceNormal = FaceNormal(mesh, idx);
-  const float faceLength = glm::length(faceNormal);
-  // Embree reports no hit on a zero-area triangle, so faceLength > 0; the guard keeps NaN out anyway.
-  faceNormal = faceLength > 0.0f ? faceNormal / faceLength : glm::vec3(0.0f, 1.0f, 0.0f);
-  glm::vec3 normal = mesh.normals[idx[0]] * w0 + mesh.normals[idx[1]] * hit.u + mesh.normals[idx[2]] * hit.v;
-  const Material& material = scene.materials[mesh.materials[hit.triangle]];
-  const glm::vec2 uv = InterpolateUv(mesh, idx, hit.u, hit.v);
-  if (material.normalTexture != kNoTexture)
-    normal = NormalMapped(scene, material, idx, glm::vec3(w0, hit.u, hit.v), normal, uv, 0.0f);
-  const float length = glm::length(normal);
-  normal = length > 0.0f && std::isfinite(length) ? normal / length : faceNormal;
-  // A two-sided surface seen from behind shades with the side that faces the ray.
-  if (glm::dot(faceNormal, rayDirection) > 0.0f) {
-    normal = -normal;
-    faceNormal = -faceNormal;
-  }
-  s.normal = normal;
-  s.faceNormal = faceNormal;
-
-  s.material = {material.baseColor, material.metallic, material.roughness};
-  if (material.vertexColors) s.material.albedo *= InterpolatedColor(mesh, idx, glm::vec3(w0, hit.u, hit.v));
-  if (material.baseColorTexture != kNoTexture)
-    s.material.albedo *= glm::vec3(SampleTexture(scene.textures[material.baseColorTexture], uv, 0.0f));
-  if (material.metallicTexture != kNoTexture)
-    s.material.metallic *= SampleTexture(scene.textures[material.metallicTexture], uv, 0.0f).x;
-  if (material.roughnessTexture != kNoTexture)
-    s.material.roughness *= SampleTexture(scene.textures[material.roughnessTexture], uv, 0.0f).x;
-  s.alpha = std::max(s.material.roughness * s.material.roughness, kMinGgxAlpha);
-  return s;
-}
 
 // A light as the reference samples it: its prepared form plus what sampling needs.
 struct SampledLight {
@@ -452,15 +228,6 @@ struct Counters {
   size_t paths = 0;
 };
 
-// How far a secondary ray starts off its surface: in proportion to the scene's extent, so float
-// positions a long way from the origin do not hit their own triangle.
-float RayOffset(const Scene& scene) {
-  float extent = 0.0f;
-  for (const glm::vec3& p : scene.mesh.positions)
-    extent = std::max(extent, std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z))));
-  return kRayOffsetScale * std::max(extent, 1.0f);
-}
-
 // The light whose visibility the reference reports (the frame's shadowed light), or none.
 size_t FirstShadowLight(const std::vector<SampledLight>& lights) {
   for (size_t i = 0; i < lights.size(); ++i)
@@ -481,7 +248,7 @@ class Shader {
   // Direct light leaving `s` towards `toViewer` (unit), each light sampled `samples` times. When
   // `visibleSamples` is given, it receives how many samples of the first shadow-casting light are
   // unoccluded (each of them is traced, whatever the BRDF there).
-  glm::vec3 DirectLight(const Surface& s, const glm::vec3& toViewer, int samples, Pcg32& rng, Counters& counters,
+  glm::vec3 DirectLight(const RaySurface& s, const glm::vec3& toViewer, int samples, Pcg32& rng, Counters& counters,
                         int* visibleSamples) const {
     glm::vec3 radiance(0.0f);
     for (size_t i = 0; i < lights_.size(); ++i) {
@@ -515,7 +282,7 @@ class Shader {
   // visible normals, weight F G2 / G1(v) (Heitz 2018, "Sampling the GGX Distribution of Visible
   // Normals", JCGT 7(4); G2 the height-correlated Smith of core/brdf.h). The
   // specular lobe only: the screen-space path reflects with the split-sum specular weight alone.
-  glm::vec3 SpecularBounce(const Surface& s, const glm::vec3& toViewer, Pcg32& rng, Counters& counters) const {
+  glm::vec3 SpecularBounce(const RaySurface& s, const glm::vec3& toViewer, Pcg32& rng, Counters& counters) const {
     const int samples = params_.bounceSamples;
     const Basis frame(s.normal);
     const glm::vec3 v = frame.ToLocal(toViewer);
@@ -544,7 +311,7 @@ class Shader {
         sum += weight * params_.environment.Radiance(direction);
         continue;
       }
-      const Surface next = ResolveSurface(scene_, hit, direction);
+      const RaySurface next = ResolveRaySurface(scene_, hit, direction);
       sum += weight * DirectLight(next, -direction, params_.bounceLightSamples, rng, counters, nullptr);
     }
     return sum / float(samples);
@@ -572,7 +339,7 @@ class Shader {
  private:
   // The start of a ray leaving `s` along `direction`: off the triangle's plane on the side the
   // ray goes, so it cannot hit its own triangle again (including rays into the surface).
-  glm::vec3 OffsetOrigin(const Surface& s, const glm::vec3& direction) const {
+  glm::vec3 OffsetOrigin(const RaySurface& s, const glm::vec3& direction) const {
     return s.position + s.faceNormal * (glm::dot(s.faceNormal, direction) >= 0.0f ? rayOffset_ : -rayOffset_);
   }
 
@@ -612,7 +379,7 @@ class PathTracer {
 
   // How many of `samples` light samples of the first shadow-casting light seen from `s` reach it
   // (each traced, whatever the BRDF there): the visibility the shadow filter estimates.
-  int VisibleSamples(const Surface& s, int samples, Pcg32& rng, Counters& counters) const {
+  int VisibleSamples(const RaySurface& s, int samples, Pcg32& rng, Counters& counters) const {
     const SampledLight& light = lights_[firstShadowLight_];
     int visible = 0;
     for (int k = 0; k < samples; ++k) {
@@ -631,7 +398,7 @@ class PathTracer {
     PathRadiance out;
     const Environment& environment = params_.environment;
     const bool environmentLights = !environment.IsBlack();
-    Surface s = ResolveSurface(scene_, cameraHit, cameraDirection);
+    RaySurface s = ResolveRaySurface(scene_, cameraHit, cameraDirection);
     glm::vec3 toViewer = -cameraDirection;
     glm::vec3 throughput(1.0f);
     for (int depth = 0;; ++depth) {
@@ -701,7 +468,7 @@ class PathTracer {
       }
       // The last vertex's ray only gathers what it sees at infinity and on the emitters.
       if (depth == params_.bounces) break;
-      s = ResolveSurface(scene_, hit, direction);
+      s = ResolveRaySurface(scene_, hit, direction);
       toViewer = -direction;
     }
     return out;
@@ -714,14 +481,14 @@ class PathTracer {
 
   // The BRDF times n.l at `s` for unit v (to the viewer) and l (to the light): core/brdf.h's, the
   // one every path of the renderer shades with.
-  static glm::vec3 Reflected(const Surface& s, const glm::vec3& v, const glm::vec3& l) {
+  static glm::vec3 Reflected(const RaySurface& s, const glm::vec3& v, const glm::vec3& l) {
     return BrdfCosine(s.material, s.alpha, s.normal, v, l);
   }
 
   // The probability of sampling the specular lobe: its share of the surface's estimated
   // directional albedo, the diffuse lobe's albedo (1 - metallic) against the specular lobe's
   // F0 A + B from the split-sum table (core/brdf.h).
-  static float SpecularProbability(const Surface& s, float nDotV) {
+  static float SpecularProbability(const RaySurface& s, float nDotV) {
     const float diffuse = Luminance(s.material.albedo) * (1.0f - s.material.metallic);
     const float specular = Luminance(SpecularWeight(SpecularF0(s.material), nDotV, s.material.roughness));
     return specular + diffuse > 0.0f ? specular / (specular + diffuse) : 1.0f;
@@ -731,13 +498,13 @@ class PathTracer {
   // probabilities times the cosine density n.l / pi and the GGX visible-normal density
   // D_v(h) / (4 v.h) = G1(v) D(h) / (4 n.v) = D(h) / (2 (n.v + Lv)) (Heitz 2018, eq. 17, with
   // G1(v) = 2 n.v / (n.v + Lv), Lv = sqrt(a^2 + (1 - a^2) n.v^2)).
-  static float BsdfPdf(const Surface& s, const glm::vec3& v, const glm::vec3& l) {
+  static float BsdfPdf(const RaySurface& s, const glm::vec3& v, const glm::vec3& l) {
     const float nDotV = glm::dot(s.normal, v);
     const float nDotL = glm::dot(s.normal, l);
     if (!(nDotV > 0.0f) || !(nDotL > 0.0f)) return 0.0f;
     return MixturePdf(s, nDotV, nDotL, glm::dot(s.normal, glm::normalize(v + l)), SpecularProbability(s, nDotV));
   }
-  static float MixturePdf(const Surface& s, float nDotV, float nDotL, float nDotH, float specularProbability) {
+  static float MixturePdf(const RaySurface& s, float nDotV, float nDotL, float nDotH, float specularProbability) {
     const float a2 = s.alpha * s.alpha;
     const float lambdaV = std::sqrt(a2 + (1.0f - a2) * nDotV * nDotV);
     const float specular = GgxDistribution(std::clamp(nDotH, 0.0f, 1.0f), s.alpha) / (2.0f * (nDotV + lambdaV));
@@ -748,7 +515,7 @@ class PathTracer {
   // visible normals (Heitz 2018); else the diffuse lobe, cosine-weighted (Malley's method, PBR 4th
   // ed., §A.5.3). The weight is the whole BRDF's BrdfCosine over the mixture density (PBR 4th ed.,
   // §13.4: one-sample model of the lobes). False when the direction is below the surface.
-  bool SampleBsdf(const Surface& s, const glm::vec3& v, float uLobe, float u1, float u2, BsdfSample& out) const {
+  bool SampleBsdf(const RaySurface& s, const glm::vec3& v, float uLobe, float u1, float u2, BsdfSample& out) const {
     const Basis frame(s.normal);
     const glm::vec3 vLocal = frame.ToLocal(v);
     if (!(vLocal.z > 0.0f)) return false;  // the BRDF is 0 for a viewer below the surface
@@ -774,14 +541,14 @@ class PathTracer {
     return std::isfinite(out.weight.x) && std::isfinite(out.weight.y) && std::isfinite(out.weight.z);
   }
 
-  bool Occluded(const Surface& s, const LightSample& sample) const {
+  bool Occluded(const RaySurface& s, const LightSample& sample) const {
     // A spot's shadow ray ends just before the emitter point it aims at.
     const float tfar = std::isinf(sample.distance) ? kInfinity : std::max(0.0f, sample.distance - rayOffset_);
     return tracer_.Occluded(OffsetOrigin(s, sample.toLight), sample.toLight, 0.0f, tfar);
   }
 
   // As Shader::OffsetOrigin: off the triangle's plane on the side the ray goes.
-  glm::vec3 OffsetOrigin(const Surface& s, const glm::vec3& direction) const {
+  glm::vec3 OffsetOrigin(const RaySurface& s, const glm::vec3& direction) const {
     return s.position + s.faceNormal * (glm::dot(s.faceNormal, direction) >= 0.0f ? rayOffset_ : -rayOffset_);
   }
 
@@ -867,7 +634,7 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
             depth[x] = centreHit.t;
             if (pathTracer.HasShadowLight()) {
               Pcg32 visibilityRng(Mix64((uint64_t(params.seed) << 32) ^ pixel), pixel | (uint64_t(1) << 62));
-              const Surface s = ResolveSurface(scene, centreHit, glm::normalize(centreDirection));
+              const RaySurface s = ResolveRaySurface(scene, centreHit, glm::normalize(centreDirection));
               visibility[x] =
                   float(pathTracer.VisibleSamples(s, params.samplesPerPixel, visibilityRng, counters[band])) /
                   float(params.samplesPerPixel);
@@ -924,7 +691,7 @@ ReferenceOutputs RenderReference(const Scene& scene, const ReferenceParams& para
         if (tracer.Intersect(RayKind::kCamera, cameraPosition, rayDirection, view.nearPlane, kInfinity, hit)) {
           ++covered[band];
           const glm::vec3 unitDirection = glm::normalize(rayDirection);
-          const Surface s = ResolveSurface(scene, hit, unitDirection);
+          const RaySurface s = ResolveRaySurface(scene, hit, unitDirection);
           int visible = 0;
           directLight = shader.DirectLight(s, -unitDirection, params.lightSamples, rng, counters[band], &visible);
           indirectLight = shader.SpecularBounce(s, -unitDirection, rng, counters[band]);
