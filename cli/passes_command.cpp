@@ -32,7 +32,7 @@ struct PassesOptions {
 // and the sky visibility volume (TakeSkyVolume).
 ExrChannelFilter LayersBefore(FramePass from) {
   return [from](const std::string& part, const std::string& name) {
-    if (part == DumpPartName(DumpPart::kSkyVolume, 0) && name == "k") return true;
+    if (part == DumpPartName(DumpPart::kSkyVolume, 0)) return true;
     for (const DumpLayer& layer : DumpLayers()) {
       if (layer.pass >= from || layer.name != name) continue;
       switch (layer.part) {
@@ -69,6 +69,28 @@ void TakeSkyVolume(const ExrFile& dump, const Scene& scene, const FrameConfig& c
   volume.coefficients.resize(layer->samples.size());
   std::memcpy(volume.coefficients.data(), layer->samples.data(), layer->samples.size() * sizeof(float));
   volume.meshHash = SceneGeometryHash(scene);
+  // The interreflection volume on its grid, where the dump holds one.
+  WorldBounceVolume interreflection;
+  bool complete = config.interreflection.directions > 0;
+  for (int c = 0; c < 3 && complete; ++c) {
+    const ExrLayer* channel =
+        dump.Find(DumpPartName(DumpPart::kSkyVolume, 0), std::string("interreflection.") + "RGB"[c]);
+    complete =
+        channel != nullptr && channel->width == layer->width && channel->height == layer->height && !channel->isUint;
+    if (complete) {
+      std::vector<float>& coefficients = interreflection.coefficients[size_t(c)];
+      coefficients.resize(channel->samples.size());
+      std::memcpy(coefficients.data(), channel->samples.data(), channel->samples.size() * sizeof(float));
+    }
+  }
+  if (complete) {
+    interreflection.meshHash = volume.meshHash;
+    interreflection.lights = PrepareLights(scene, glm::mat4(1.0f));
+    interreflection.environment = config.environment;
+    interreflection.grid = config.skyVisibility;
+    interreflection.params = config.interreflection;
+    frame.interreflection = std::move(interreflection);
+  }
   frame.skyVolume = std::move(volume);
 }
 

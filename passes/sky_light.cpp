@@ -10,6 +10,7 @@
 #include "core/raster/raster.h"
 #include "core/raster/scene_raster_input.h"
 #include "core/stopwatch.h"
+#include "passes/world_bounce.h"
 
 namespace ssgi {
 namespace {
@@ -147,33 +148,47 @@ SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityPa
   return volume;
 }
 
-float SkyVisibility(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal) {
+VolumeSample SampleVolume(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal) {
   const float offset = 0.5f * volume.cellSize;
   const glm::vec3 q = (position + normal * offset - volume.origin) * volume.inverseCellSize - 0.5f;
   const int cells[3] = {volume.cellsX, volume.cellsY, volume.cellsZ};
   int i0[3], i1[3];
-  float f[3];
+  VolumeSample sample;
   for (int a = 0; a < 3; ++a) {
     const float c = std::clamp(q[a], 0.0f, float(cells[a] - 1));
     i0[a] = int(c);
     i1[a] = std::min(i0[a] + 1, cells[a] - 1);
-    f[a] = c - float(i0[a]);
+    sample.f[a] = c - float(i0[a]);
   }
   const auto at = [&](int x, int y, int z) {
-    return &volume.coefficients[((size_t(z) * size_t(volume.cellsY) + size_t(y)) * size_t(volume.cellsX) + size_t(x)) * 4];
+    return ((size_t(z) * size_t(volume.cellsY) + size_t(y)) * size_t(volume.cellsX) + size_t(x)) * 4;
   };
+  for (int corner = 0; corner < 8; ++corner)
+    sample.corner[corner] = at(corner & 1 ? i1[0] : i0[0], corner & 2 ? i1[1] : i0[1], corner & 4 ? i1[2] : i0[2]);
+  sample.normal = normal;
+  return sample;
+}
+
+float ReadVolume(const float* coefficients, const VolumeSample& sample) {
+  const float* f = sample.f;
   float v[4];
   for (int k = 0; k < 4; ++k) {
+    const auto at = [&](int corner) { return coefficients[sample.corner[corner] + size_t(k)]; };
     // x, then y, then z.
-    const float x00 = at(i0[0], i0[1], i0[2])[k] * (1.0f - f[0]) + at(i1[0], i0[1], i0[2])[k] * f[0];
-    const float x10 = at(i0[0], i1[1], i0[2])[k] * (1.0f - f[0]) + at(i1[0], i1[1], i0[2])[k] * f[0];
-    const float x01 = at(i0[0], i0[1], i1[2])[k] * (1.0f - f[0]) + at(i1[0], i0[1], i1[2])[k] * f[0];
-    const float x11 = at(i0[0], i1[1], i1[2])[k] * (1.0f - f[0]) + at(i1[0], i1[1], i1[2])[k] * f[0];
+    const float x00 = at(0) * (1.0f - f[0]) + at(1) * f[0];
+    const float x10 = at(2) * (1.0f - f[0]) + at(3) * f[0];
+    const float x01 = at(4) * (1.0f - f[0]) + at(5) * f[0];
+    const float x11 = at(6) * (1.0f - f[0]) + at(7) * f[0];
     const float y0 = x00 * (1.0f - f[1]) + x10 * f[1];
     const float y1 = x01 * (1.0f - f[1]) + x11 * f[1];
     v[k] = y0 * (1.0f - f[2]) + y1 * f[2];
   }
-  return std::clamp(v[0] + v[1] * normal.x + v[2] * normal.y + v[3] * normal.z, 0.0f, 1.0f);
+  const glm::vec3& n = sample.normal;
+  return v[0] + v[1] * n.x + v[2] * n.y + v[3] * n.z;
+}
+
+float SkyVisibility(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal) {
+  return std::clamp(ReadVolume(volume.coefficients.data(), SampleVolume(volume, position, normal)), 0.0f, 1.0f);
 }
 
 void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, size_t y, int width) {
@@ -203,12 +218,22 @@ void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, s
     const glm::vec3 position =
         ((glm::vec3(m[0]) * viewPosition.x + glm::vec3(m[1]) * viewPosition.y) + glm::vec3(m[2]) * viewPosition.z) +
         glm::vec3(m[3]);
-    const float visibility = context.visibility ? SkyVisibility(*context.visibility, position, normal) : 1.0f;
+    float visibility = 1.0f;
+    glm::vec3 interreflected(0.0f);
+    if (context.visibility) {
+      const VolumeSample sample = SampleVolume(*context.visibility, position, normal);
+      visibility = std::clamp(ReadVolume(context.visibility->coefficients.data(), sample), 0.0f, 1.0f);
+      if (context.interreflection)
+        for (int c = 0; c < 3; ++c)
+          interreflected[c] =
+              std::max(ReadVolume(context.interreflection->coefficients[size_t(c)].data(), sample), 0.0f);
+    }
     const glm::vec3 irradiance = EnvironmentIrradiance(context.environment, normal);
     const float metallic = UnpackMetallic(row.word0[x]);
     const glm::vec3 albedo = UnpackAlbedo(row.word0[x]) * (1.0f - metallic);
     for (int c = 0; c < 3; ++c) {
-      const float diffuse = albedo[c] * irradiance[c] * visibility;
+      float diffuse = albedo[c] * irradiance[c] * visibility;
+      if (context.interreflection) diffuse = diffuse + albedo[c] * interreflected[c];
       row.diffuse[c][x] = diffuse;
       row.lit[c][x] = row.direct[c][x] + diffuse;
     }
@@ -224,8 +249,12 @@ SkyLightStats RunSkyLight(const SkyLightInputs& in, const SkyLightParams&, SkyLi
   if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
     out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
   const PixelRayTables rays = MakePixelRayTables(in.view, size_t(width), size_t(height));
-  const SkyLightContext context{glm::inverse(in.view.view), in.gbuffer.normalEncoding, rays, in.environment,
-                                in.visibility};
+  const SkyLightContext context{glm::inverse(in.view.view),
+                                in.gbuffer.normalEncoding,
+                                rays,
+                                in.environment,
+                                in.visibility,
+                                in.visibility ? in.interreflection : nullptr};
   const auto kernel = kernels == KernelPath::kSimd ? SkyLightRowSimd : SkyLightRowScalar;
   ParallelForRowBands("sky_light", size_t(height), [&](size_t, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {

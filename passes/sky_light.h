@@ -67,12 +67,30 @@ SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityPa
 // surface reads the cells in front of it, not those inside the wall it lies on.
 float SkyVisibility(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal);
 
+// Where a point and normal read a volume of the grid (the visibility's, and the interreflection's of
+// passes/world_bounce.h, which shares it): the eight cells around p + n cellSize / 2 (corner bit 0:
+// the next cell in x, bit 1 in y, bit 2 in z; as offsets of their first coefficient) and the
+// trilinear weights.
+struct VolumeSample {
+  size_t corner[8];
+  float f[3];
+  glm::vec3 normal;
+};
+VolumeSample SampleVolume(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal);
+// k0 + k.n of a table of four coefficients per cell, read trilinearly (x, then y, then z), unclamped.
+float ReadVolume(const float* coefficients, const VolumeSample& sample);
+
+struct WorldBounceVolume;  // passes/world_bounce.h
+
 struct SkyLightInputs {
   const GBuffer& gbuffer;                   // words 0 (albedo, metallic), 1 (normal), 2 (depth)
   const ViewProjection& view;               // perspective
   const EnvironmentLighting& environment;
   const SkyVisibilityVolume* visibility;    // null: the sky is open everywhere (V = 1)
   const Plane3<float>& direct;              // linear RGB radiance
+  // The scene's light interreflected off screen, on the visibility volume's grid (null: none; needs
+  // `visibility`): diffuse gains albedo (1 - metallic) max(E_w(p, n) / pi, 0) per channel.
+  const WorldBounceVolume* interreflection = nullptr;
 };
 
 struct SkyLightParams {};
@@ -99,6 +117,7 @@ struct SkyLightContext {
   const PixelRayTables& rays;
   const EnvironmentLighting& environment;
   const SkyVisibilityVolume* visibility;
+  const WorldBounceVolume* interreflection;  // only with `visibility`
 };
 
 struct SkyLightRow {

@@ -13,15 +13,26 @@
 #include "core/gbuffer-inl.h"
 #include "core/row-inl.h"
 #include "passes/sky_light.h"
+#include "passes/world_bounce.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// SkyVisibility(volume, position, normal).
+// SampleVolume(volume, position, normal) per lane: each corner's first coefficient, the weights.
 template <class D>
-hn::Vec<D> SkyVisibilityV(D d, const SkyVisibilityVolume& volume, const Vec3V<D>& position, const Vec3V<D>& normal) {
+struct VolumeSampleV {
+  hn::Vec<hn::RebindToSigned<D>> corner[8];
+  hn::Vec<D> f[3];
+  // Every lane reads the same cells (neighbouring pixels mostly lie in one): their values are
+  // loaded once and broadcast instead of gathered.
+  bool oneCell;
+};
+
+template <class D>
+VolumeSampleV<D> SampleVolumeV(D d, const SkyVisibilityVolume& volume, const Vec3V<D>& position,
+                               const Vec3V<D>& normal) {
   const hn::RebindToSigned<D> di;
   const auto offset = hn::Set(d, 0.5f * volume.cellSize);
   const auto inverse = hn::Set(d, volume.inverseCellSize);
@@ -34,61 +45,60 @@ hn::Vec<D> SkyVisibilityV(D d, const SkyVisibilityVolume& volume, const Vec3V<D>
                             q(position.z, normal.z, origin.z)};
   const int cells[3] = {volume.cellsX, volume.cellsY, volume.cellsZ};
   hn::Vec<decltype(di)> i0[3], i1[3];
-  hn::Vec<D> f[3];
+  VolumeSampleV<D> sample;
   for (int a = 0; a < 3; ++a) {
     const auto c = ClampStd(qs[a], hn::Zero(d), hn::Set(d, float(cells[a] - 1)));
     i0[a] = hn::ConvertTo(di, c);
     i1[a] = hn::Min(hn::Add(i0[a], hn::Set(di, 1)), hn::Set(di, cells[a] - 1));
-    f[a] = hn::Sub(c, hn::ConvertTo(d, i0[a]));
+    sample.f[a] = hn::Sub(c, hn::ConvertTo(d, i0[a]));
   }
   const auto rowStride = hn::Set(di, volume.cellsX);
   const auto sliceStride = hn::Set(di, volume.cellsX * volume.cellsY);
-  const auto base = [&](const hn::Vec<decltype(di)>& x, const hn::Vec<decltype(di)>& y,
-                        const hn::Vec<decltype(di)>& z) {
-    return hn::ShiftLeft<2>(hn::Add(hn::Add(hn::Mul(z, sliceStride), hn::Mul(y, rowStride)), x));
-  };
-  const hn::Vec<decltype(di)> corner[8] = {
-      base(i0[0], i0[1], i0[2]), base(i1[0], i0[1], i0[2]), base(i0[0], i1[1], i0[2]), base(i1[0], i1[1], i0[2]),
-      base(i0[0], i0[1], i1[2]), base(i1[0], i0[1], i1[2]), base(i0[0], i1[1], i1[2]), base(i1[0], i1[1], i1[2])};
-  const float* table = volume.coefficients.data();
-  const auto one = hn::Set(d, 1.0f);
-  // Neighbouring pixels mostly lie in one cell: then every lane reads the same 32 values, loaded
-  // once and broadcast instead of gathered. Else they mostly lie in cells side by side along x, whose
-  // coefficients are neighbours in the table: a corner whose lanes' four coefficients all lie in one
-  // window takes them from one load (GatherWindow, core/math-inl.h). The same values on every path,
-  // so the same bits.
-  const int32_t firstCorner = hn::GetLane(corner[0]);
-  const bool oneCell = hn::AllTrue(di, hn::Eq(corner[0], hn::Set(di, firstCorner))) &&
-                       hn::AllTrue(di, hn::Eq(corner[7], hn::Set(di, hn::GetLane(corner[7]))));
-  const int32_t tableSize = int32_t(volume.coefficients.size());
+  for (int corner = 0; corner < 8; ++corner) {
+    const auto x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
+    sample.corner[corner] = hn::ShiftLeft<2>(hn::Add(hn::Add(hn::Mul(z, sliceStride), hn::Mul(y, rowStride)), x));
+  }
+  sample.oneCell = hn::AllTrue(di, hn::Eq(sample.corner[0], hn::Set(di, hn::GetLane(sample.corner[0])))) &&
+                   hn::AllTrue(di, hn::Eq(sample.corner[7], hn::Set(di, hn::GetLane(sample.corner[7]))));
+  return sample;
+}
+
+// ReadVolume(coefficients, sample) per lane. Besides the broadcast of one cell, lanes mostly lie in
+// cells side by side along x, whose coefficients are neighbours in the table: a corner whose lanes'
+// four coefficients all lie in one window takes them from one load (GatherWindow,
+// core/math-inl.h). The same values on every path, so the same bits.
+template <class D>
+hn::Vec<D> ReadVolumeV(D d, const float* table, int32_t tableSize, const VolumeSampleV<D>& sample,
+                       const Vec3V<D>& normal) {
+  const hn::RebindToSigned<D> di;
   hn::Vec<D> t[4][8];  // coefficient k of corner i
   for (int i = 0; i < 8; ++i) {
-    if (oneCell) {
-      const int32_t index = hn::GetLane(corner[i]);
+    if (sample.oneCell) {
+      const int32_t index = hn::GetLane(sample.corner[i]);
       for (int k = 0; k < 4; ++k) t[k][i] = hn::Set(d, table[index + k]);
       continue;
     }
-    const GatherWindow<D> window = WindowFromLowest(d, tableSize, corner[i], 3);
+    const GatherWindow<D> window = WindowFromLowest(d, tableSize, sample.corner[i], 3);
     if (window.holdsAll) {
       const auto values = hn::LoadU(d, table + window.first);
       for (int k = 0; k < 4; ++k)
         t[k][i] = hn::TableLookupLanes(values, hn::IndicesFromVec(d, hn::Add(window.place, hn::Set(di, k))));
     } else {
-      for (int k = 0; k < 4; ++k) t[k][i] = hn::GatherIndex(d, table, hn::Add(corner[i], hn::Set(di, k)));
+      for (int k = 0; k < 4; ++k) t[k][i] = hn::GatherIndex(d, table, hn::Add(sample.corner[i], hn::Set(di, k)));
     }
   }
+  const auto one = hn::Set(d, 1.0f);
+  const auto lerp = [&](hn::Vec<D> a, hn::Vec<D> b, hn::Vec<D> w) {
+    return hn::Add(hn::Mul(a, hn::Sub(one, w)), hn::Mul(b, w));
+  };
+  const hn::Vec<D>* f = sample.f;
   hn::Vec<D> v[4];
   for (int k = 0; k < 4; ++k) {
-    const auto lerp = [&](hn::Vec<D> a, hn::Vec<D> b, hn::Vec<D> w) {
-      return hn::Add(hn::Mul(a, hn::Sub(one, w)), hn::Mul(b, w));
-    };
     const auto x00 = lerp(t[k][0], t[k][1], f[0]), x10 = lerp(t[k][2], t[k][3], f[0]);
     const auto x01 = lerp(t[k][4], t[k][5], f[0]), x11 = lerp(t[k][6], t[k][7], f[0]);
     v[k] = lerp(lerp(x00, x10, f[1]), lerp(x01, x11, f[1]), f[2]);
   }
-  const auto sum =
-      hn::Add(hn::Add(hn::Add(v[0], hn::Mul(v[1], normal.x)), hn::Mul(v[2], normal.y)), hn::Mul(v[3], normal.z));
-  return ClampStd(sum, hn::Zero(d), one);
+  return hn::Add(hn::Add(hn::Add(v[0], hn::Mul(v[1], normal.x)), hn::Mul(v[2], normal.y)), hn::Mul(v[3], normal.z));
 }
 
 void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, const SkyLightRow& row, size_t y,
@@ -119,12 +129,26 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
                                    hn::Mul(rayY, safeDepth), hn::Neg(safeDepth)};
       const Vec3V<DF> position =
           Add3(Add3(Add3(Scale3(m0, viewPosition.x), Scale3(m1, viewPosition.y)), Scale3(m2, viewPosition.z)), m3);
-      if (context.visibility) visibility = SkyVisibilityV(d, *context.visibility, position, normal);
+      Vec3V<DF> interreflected{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+      if (context.visibility) {
+        const VolumeSampleV<DF> sample = SampleVolumeV(d, *context.visibility, position, normal);
+        const int32_t tableSize = int32_t(context.visibility->coefficients.size());
+        visibility = ClampStd(ReadVolumeV(d, context.visibility->coefficients.data(), tableSize, sample, normal),
+                              hn::Zero(d), one);
+        if (context.interreflection) {
+          hn::Vec<DF>* channel[3] = {&interreflected.x, &interreflected.y, &interreflected.z};
+          for (int c = 0; c < 3; ++c)
+            *channel[c] = MaxStd(
+                ReadVolumeV(d, context.interreflection->coefficients[size_t(c)].data(), tableSize, sample, normal),
+                hn::Zero(d));
+        }
+      }
       const Vec3V<DF> irradiance =
           context.environment.constant ? constant : EnvironmentIrradianceV(d, context.environment.irradianceSh, normal);
       const auto metallic = UnpackMetallicV(d, word0);
       const Vec3V<DF> albedo = Scale3(UnpackAlbedoV(d, word0, srgbDecode), hn::Sub(one, metallic));
       diffuse = Scale3(Mul3(albedo, irradiance), visibility);
+      if (context.interreflection) diffuse = Add3(diffuse, Mul3(albedo, interreflected));
       diffuse = IfThenElse3(background, Vec3V<DF>{hn::Zero(d), hn::Zero(d), hn::Zero(d)}, diffuse);
       visibility = hn::IfThenElse(background, one, visibility);
     }

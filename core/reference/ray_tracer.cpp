@@ -23,11 +23,6 @@ glm::vec2 InterpolateUv(const Mesh& mesh, const uint32_t* idx, float u, float v)
   return uv0 + (mesh.uvs[idx[1]] - uv0) * u + (mesh.uvs[idx[2]] - uv0) * v;
 }
 
-glm::vec3 FaceNormal(const Mesh& mesh, const uint32_t* idx) {
-  const glm::vec3& p0 = mesh.positions[idx[0]];
-  return glm::cross(mesh.positions[idx[1]] - p0, mesh.positions[idx[2]] - p0);
-}
-
 // Rejects a candidate hit on a cut-out texel, and for camera rays on a culled back face. Embree
 // then continues the traversal past it, so the closest accepted hit wins whatever the BVH order.
 void FilterHits(const RTCFilterFunctionNArguments* args) {
@@ -56,6 +51,11 @@ void FilterHits(const RTCFilterFunctionNArguments* args) {
 }
 
 }  // namespace
+
+glm::vec3 FaceNormal(const Mesh& mesh, const uint32_t* idx) {
+  const glm::vec3& p0 = mesh.positions[idx[0]];
+  return glm::cross(mesh.positions[idx[1]] - p0, mesh.positions[idx[2]] - p0);
+}
 
 RayTracer::RayTracer(const Scene& scene) : scene_(scene) {
   device_ = rtcNewDevice(nullptr);

@@ -109,6 +109,9 @@ class RayTracer {
   RTCScene embreeScene_ = nullptr;
 };
 
+// The triangle's geometric normal, unnormalised: (p1 - p0) x (p2 - p0) of its indices `idx`.
+glm::vec3 FaceNormal(const Mesh& mesh, const uint32_t* idx);
+
 // A shaded point: what the G-buffer resolve computes, unquantised and in world space.
 struct RaySurface {
   glm::vec3 position;

@@ -186,6 +186,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "the sky off screen (0 = none: the sky reaches every surface the screen does not show blocked).",
       0, 1024, {"0", "16", "96"}, [](auto& c) -> auto& { return c.skyVisibility.directions; }));
   table.push_back(IntegerSetting(
+      "interreflection_directions", "--interreflection-directions",
+      "Rays from each cell of the sky visibility volume's grid that find the surfaces around it, made once per "
+      "scene and lights: the scene's light interreflected off screen, which the sky light adds to every surface "
+      "(0 = none; needs the sky visibility volume).",
+      0, 1024, {"0", "32", "128"}, [](auto& c) -> auto& { return c.interreflection.directions; }));
+  table.push_back(IntegerSetting(
       "sky_cells", "--sky-cells", "Cells of the sky visibility volume along the scene's longest side.", 4, 512,
       {"16", "32", "96"}, [](auto& c) -> auto& { return c.skyVisibility.cellsOnLongestAxis; }));
   table.push_back(ChoiceSetting<ShadowFilter>(

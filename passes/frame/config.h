@@ -23,6 +23,7 @@
 #include "passes/ssr_cone.h"
 #include "passes/ssr_trace.h"
 #include "passes/tonemap.h"
+#include "passes/world_bounce.h"
 
 namespace ssgi {
 
@@ -41,6 +42,7 @@ struct FrameConfig {
   Environment environment;
   DirectLightParams directLight;
   SkyVisibilityParams skyVisibility;
+  WorldBounceParams interreflection;
   BounceParams diffuseBounce;
   SsrTraceParams ssrTrace;
   SsrConeParams ssrCone;

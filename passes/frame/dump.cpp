@@ -233,11 +233,17 @@ void DumpSink::AddDisplay(const TonemapOutputs& display) {
   for (int c = 0; c < 3; ++c) AddOwned(DumpPart::kImage, 0, std::string("display.") + kRgb[c], std::move(codes.c[c]));
 }
 
-void DumpSink::AddSkyVolume(const SkyVisibilityVolume& volume) {
+void DumpSink::AddSkyVolume(const SkyVisibilityVolume& volume, const WorldBounceVolume* interreflection) {
   const size_t width = size_t(volume.cellsX) * 4, height = size_t(volume.cellsY) * size_t(volume.cellsZ);
-  Plane<float> rows = MakePlane<float>(width, height, 0.0f);
-  for (size_t y = 0; y < height; ++y) std::copy_n(&volume.coefficients[y * width], width, rows.MutableRow(y));
-  AddOwned(DumpPart::kSkyVolume, 0, "k", std::move(rows));
+  const auto add = [&](const std::string& name, const std::vector<float>& coefficients) {
+    Plane<float> rows = MakePlane<float>(width, height, 0.0f);
+    for (size_t y = 0; y < height; ++y) std::copy_n(&coefficients[y * width], width, rows.MutableRow(y));
+    AddOwned(DumpPart::kSkyVolume, 0, name, std::move(rows));
+  };
+  add("k", volume.coefficients);
+  if (interreflection)
+    for (int c = 0; c < 3; ++c)
+      add(std::string("interreflection.") + kRgb[c], interreflection->coefficients[size_t(c)]);
 }
 
 ExrPart& DumpSink::PartFor(DumpPart part, int level, size_t width, size_t height) {

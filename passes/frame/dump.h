@@ -62,7 +62,9 @@ class DumpSink {
   void AddGBufferWords(const GBuffer& gbuffer);
   void AddShadowTerm(const Plane<uint32_t>& word3);
   void AddDisplay(const TonemapOutputs& display);
-  void AddSkyVolume(const SkyVisibilityVolume& volume);
+  // The sky visibility volume (layer k) and, where the frame made one, the interreflection volume on
+  // its grid (layers interreflection.R, .G, .B), each as rows of 4 * cellsX floats, rows y then z.
+  void AddSkyVolume(const SkyVisibilityVolume& volume, const WorldBounceVolume* interreflection);
   const std::vector<ExrPart>& Parts() const { return parts_; }
 
  private:

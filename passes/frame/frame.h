@@ -39,6 +39,7 @@ struct FrameStats {
   std::optional<DirectLightStats> directLight;
   std::optional<SkyLightStats> skyLight;
   std::optional<double> skyVisibilityMs;  // made this frame (a kept frame keeps it for its scene)
+  std::optional<double> interreflectionMs;  // likewise
   std::optional<BounceStats> bounce;
   std::optional<HiZStats> hiz;
   std::optional<ColorPyramidStats> colorPyramid;
@@ -89,6 +90,9 @@ struct Frame {
   bool sky = false;
   EnvironmentLighting environment;               // the frame's environment, as the passes read it
   std::optional<SkyVisibilityVolume> skyVolume;  // the scene's, kept while its geometry is the same
+  // The scene's interreflection on the volume's grid, kept while the scene, its lights and the
+  // environment are the same.
+  std::optional<WorldBounceVolume> interreflection;
   SkyLightOutputs skyLight;
   // Whether the diffuse bounce belongs to this frame (something on screen is lit), and its outputs.
   bool bounce = false;

@@ -1,6 +1,8 @@
 // The frame's memory, estimated from the pass registry.
 #include "passes/frame/memory.h"
 
+#include <algorithm>
+
 #include "core/plane.h"
 #include "passes/frame/dump.h"
 #include "passes/frame/registry.h"
@@ -16,8 +18,10 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   shape.handOver = release;
   shape.edgeCoverage = config.antialiasing == Antialiasing::kEdge;
   if (config.sky != EffectMode::kOff) {
-    shape.skyVolumeBytes = SkyVisibilityBytes(scene, config.skyVisibility);
-    shape.skyVolumeBuildBytes = SkyVisibilityBuildBytes(scene, config.skyVisibility);
+    shape.skyVolumeBytes = SkyVisibilityBytes(scene, config.skyVisibility) +
+                           WorldBounceBytes(scene, config.skyVisibility, config.interreflection);
+    shape.skyVolumeBuildBytes = std::max(SkyVisibilityBuildBytes(scene, config.skyVisibility),
+                                         WorldBounceBuildBytes(scene, config.skyVisibility, config.interreflection));
   }
   const auto mayRun = [&](FrameEffect effect) {
     switch (effect) {

@@ -361,13 +361,25 @@ void SkyLightStep(FrameStep& s) {
     f.skyVolume = BuildSkyVisibility(s.scene, s.config.skyVisibility);
     f.stats.skyVisibilityMs = build.Lap();
   }
+  if (!f.skyVolume || s.config.interreflection.directions == 0) {
+    f.interreflection.reset();
+  } else if (!f.interreflection ||
+             !WorldBounceHolds(*f.interreflection, s.scene, *f.skyVolume, f.environment, s.config.interreflection)) {
+    Stopwatch build;
+    f.interreflection = BuildWorldBounce(s.scene, *f.skyVolume, f.environment, s.config.interreflection);
+    f.stats.interreflectionMs = build.Lap();
+  }
   // Freeing early, `lit` is written over the direct image: each pixel is read before it is written.
   if (s.Releases()) f.skyLight.lit = std::exchange(f.direct.radiance, {});
   const Plane3<float>& direct = s.Releases() ? f.skyLight.lit : f.direct.radiance;
-  f.stats.skyLight = RunSkyLight(
-      {f.gbuffer.gbuffer, f.view, f.environment, f.skyVolume ? &*f.skyVolume : nullptr, direct}, {}, f.skyLight);
+  f.stats.skyLight = RunSkyLight({f.gbuffer.gbuffer, f.view, f.environment, f.skyVolume ? &*f.skyVolume : nullptr,
+                                  direct, f.interreflection ? &*f.interreflection : nullptr},
+                                 {}, f.skyLight);
 }
 
+const char kInterreflectionMeaning[] =
+    "interreflection volume (passes/world_bounce.h), one channel: per cell k0, kx, ky, kz (E(n) / pi = k0 + k.n), "
+    "laid out as the sky visibility volume";
 const char kSkyDiffuseMeaning[] =
     "the sky's diffuse light: albedo (1 - metallic) E(n) / pi V, linear RGB, >= 0; 0 on background";
 const char kLitMeaning[] = "direct + the sky's diffuse light, linear RGB, >= 0: what the pyramid and composite read";
@@ -383,13 +395,23 @@ PassDeclaration SkyLightPass() {
        .bytes = [](const FrameShape& s) { return s.skyVolumeBytes; },
        .layers = {{"k", P::kSkyLight, false, DumpPart::kSkyVolume, false,
                    "sky visibility volume: per cell k0, kx, ky, kz (V(n) = k0 + k.n), cells x fastest, 4 "
-                   "floats a cell along a row of 4 * cellsX; rows y, then z"}},
+                   "floats a cell along a row of 4 * cellsX; rows y, then z"},
+                  {"interreflection.R", P::kSkyLight, false, DumpPart::kSkyVolume, false, kInterreflectionMeaning},
+                  {"interreflection.G", P::kSkyLight, false, DumpPart::kSkyVolume, false, kInterreflectionMeaning},
+                  {"interreflection.B", P::kSkyLight, false, DumpPart::kSkyVolume, false, kInterreflectionMeaning}},
        .heldBytes =
-           [](const Frame& f) { return f.skyVolume ? f.skyVolume->coefficients.capacity() * sizeof(float) : 0; },
+           [](const Frame& f) {
+             size_t bytes = f.skyVolume ? f.skyVolume->coefficients.capacity() * sizeof(float) : 0;
+             if (f.interreflection)
+               for (const std::vector<float>& channel : f.interreflection->coefficients)
+                 bytes += channel.capacity() * sizeof(float);
+             return bytes;
+           },
        .release = nullptr,
        .dump =
            [](const Frame& f, DumpSink& sink) {
-             if (f.sky && f.skyVolume) sink.AddSkyVolume(*f.skyVolume);
+             if (f.sky && f.skyVolume)
+               sink.AddSkyVolume(*f.skyVolume, f.interreflection ? &*f.interreflection : nullptr);
            }},
       {.id = B::kSkyDiffuse,
        .name = "sky light",
@@ -441,6 +463,11 @@ PassDeclaration SkyLightPass() {
        [](const FrameStats& s) -> std::optional<StageStats> {
          if (!s.skyVisibilityMs) return std::nullopt;
          return Row(*s.skyVisibilityMs, 0.0, "");
+       }},
+      {"interreflection volume",
+       [](const FrameStats& s) -> std::optional<StageStats> {
+         if (!s.interreflectionMs) return std::nullopt;
+         return Row(*s.interreflectionMs, 0.0, "");
        }},
       {"sky light",
        [](const FrameStats& s) -> std::optional<StageStats> {

@@ -8,6 +8,7 @@
 #include "core/parallel.h"
 #include "core/procedural_mesh.h"
 #include "passes/gbuffer.h"
+#include "passes/world_bounce.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
 
@@ -144,14 +145,19 @@ TEST_CASE("sky light: the SIMD kernel gives the scalar bytes on every target", "
   sky.sunDirection = glm::normalize(glm::vec3(0.3f, 0.5f, -0.8f));
   const EnvironmentLighting lighting = PrepareEnvironmentLighting(MakeSkyEnvironment(sky), {32, 16, 16});
   const EnvironmentLighting constant = PrepareEnvironmentLighting(ConstantEnvironment(glm::vec3(0.3f)));
+  const WorldBounceVolume interreflection = BuildWorldBounce(defaults.scene, volume, lighting, {16});
   for (const auto& [width, height] : {std::pair{173, 91}, {1, 1}}) {
     const Frame frame = defaults.Render(width, height);
     for (const EnvironmentLighting* environment : {static_cast<const EnvironmentLighting*>(&lighting), &constant}) {
-      for (const SkyVisibilityVolume* v : {&volume, static_cast<const SkyVisibilityVolume*>(nullptr)}) {
-        CAPTURE(width, height, environment->constant, v != nullptr);
+      for (const auto& [v, world] :
+           {std::pair{&volume, &interreflection},
+            {&volume, nullptr},
+            {static_cast<const SkyVisibilityVolume*>(nullptr), static_cast<const WorldBounceVolume*>(nullptr)}}) {
+        CAPTURE(width, height, environment->constant, v != nullptr, world != nullptr);
         const auto run = [&](KernelPath kernels) {
           SkyLightOutputs out;
-          RunSkyLight({frame.gbuffer.gbuffer, frame.view, *environment, v, frame.direct.radiance}, {}, out, kernels);
+          RunSkyLight({frame.gbuffer.gbuffer, frame.view, *environment, v, frame.direct.radiance, world}, {}, out,
+                      kernels);
           return out;
         };
         const auto same = [](const SkyLightOutputs& a, const SkyLightOutputs& b) {

@@ -242,8 +242,8 @@ struct SkyLightOutput {
 
 // §Sky light: `volume` the oracle's sky visibility volume (its grid is the scene's).
 SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolume& grid, const Buffer& volume,
-                           const EnvironmentTables& environment, const std::vector<Buffer>& words,
-                           const Buffer& direct) {
+                           const Buffer* interreflection, const EnvironmentTables& environment,
+                           const std::vector<Buffer>& words, const Buffer& direct) {
   const Program program("sky_light.comp");
   SetFrameConstants(program, frame);
   SetViewToWorld(program, frame);
@@ -262,6 +262,9 @@ SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolum
   out.diffuse.Bind(5);
   out.visibility.Bind(6);
   out.lit.Bind(7);
+  program.Set("hasInterreflection", interreflection ? 1 : 0);
+  // Bound either way: a shader's storage buffer must be backed even where it is not read.
+  (interreflection ? *interreflection : volume).Bind(8);
   program.Dispatch(frame.width, frame.height);
   return out;
 }
@@ -736,6 +739,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   // The sky light, where the frame ran it (its volume in the dump): then the passes after it read `lit`.
   std::optional<SkyLightOutput> sky;
   std::optional<ExrLayer> skyVolume;  // the port's, where it built one
+  std::vector<ExrLayer> interreflectionLayers;  // the oracle's, passed on
   const EnvironmentTables environment(config.environment);
   if (const ExrLayer* volume = dump.Find("skyvolume", "k")) {
     const SkyVisibilityVolume grid = SkyVisibilityGrid(scene.scene, config.skyVisibility);
@@ -748,7 +752,21 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
                                     : Buffer(volume->samples.size(), volume->samples.data());
     if (raster != RasterSource::kOracle)
       skyVolume.emplace(ExrLayer{"skyvolume", "k", volume->width, volume->height, false, volumeBuffer.Download()});
-    sky = RunSkyLight(frame, grid, volumeBuffer, environment, words, pick(oracleDirect, direct));
+    // The interreflection volume is made with rays through the scene (Embree): the port takes the
+    // oracle's, as an engine bakes one offline, and passes it on in its dump.
+    std::optional<Buffer> interreflection;
+    std::vector<uint32_t> channels;
+    for (const char* name : {"interreflection.R", "interreflection.G", "interreflection.B"}) {
+      const ExrLayer* channel = dump.Find("skyvolume", name);
+      if (channel == nullptr) break;
+      if (channel->width != volume->width || channel->height != volume->height)
+        throw InputError(input, std::string("layer '") + name + "' of part 'skyvolume' is not the volume's grid");
+      channels.insert(channels.end(), channel->samples.begin(), channel->samples.end());
+      interreflectionLayers.push_back(*channel);
+    }
+    if (interreflectionLayers.size() == 3) interreflection.emplace(channels.size(), channels.data());
+    sky = RunSkyLight(frame, grid, volumeBuffer, interreflection ? &*interreflection : nullptr, environment, words,
+                      pick(oracleDirect, direct));
   }
   const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
   // The diffuse bounce, where the frame ran it (its layers in the dump), on `lit`.
@@ -838,6 +856,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
         ExrLayer{"shadowmap", "depthKey", resolution, resolution, false, shadowMap->depthKey.Download()});
   }
   if (skyVolume) out.layers.push_back(std::move(*skyVolume));
+  if (interreflectionLayers.size() == 3)
+    for (ExrLayer& layer : interreflectionLayers) out.layers.push_back(std::move(layer));
   if (bounce) AddBounceHalfLayers(*bounce, (frame.width + 1) / 2, (frame.height + 1) / 2, out);
   for (size_t k = 0; k < frame.levels.size(); ++k) {
     const int w = int(frame.levels[k].width), h = int(frame.levels[k].height);
