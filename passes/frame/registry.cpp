@@ -385,8 +385,10 @@ const char kSkyDiffuseMeaning[] =
 const char kLitMeaning[] = "direct + the sky's diffuse light, linear RGB, >= 0: what the pyramid and composite read";
 
 PassDeclaration SkyLightPass() {
-  PassDeclaration pass{P::kSkyLight, "sky_light",
-                       "the environment's diffuse light times a world-space sky visibility; lit = direct + it"};
+  PassDeclaration pass{
+      P::kSkyLight, "sky_light",
+      "the environment's diffuse light times a world-space sky visibility, and the scene's light interreflected off "
+      "screen; lit = direct + both"};
   pass.effect = FrameEffect::kSky;
   pass.makes = {
       {.id = B::kSkyVolume,
