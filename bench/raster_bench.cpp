@@ -67,8 +67,9 @@ void RasterizeOnly(benchmark::State& state, const BenchScene& bench) {
 }
 
 // The whole G-buffer pass: RunGBuffer as a renderer keeping its buffers calls it, raster + resolve
-// + packing into the G-buffer and visibility buffer of the previous iteration.
-void GBufferPass(benchmark::State& state, const BenchScene& bench) {
+// + packing into the G-buffer and visibility buffer of the previous iteration, with specular
+// anti-aliasing's `specularAaKappa`.
+void GBufferPass(benchmark::State& state, const BenchScene& bench, float specularAaKappa) {
   if (!Begin(state, bench)) return;
   const ThreadLimit threads(int(state.range(2)));
   const Scene& scene = bench.scene;
@@ -78,7 +79,8 @@ void GBufferPass(benchmark::State& state, const BenchScene& bench) {
   GBufferOutputs out;  // kept from frame to frame, as a renderer keeps its G-buffer
   for (auto _ : state) {
     if (state.range(3) == 1) out = GBufferOutputs{};  // fresh pages: new buffers, as a one-frame run
-    const GBufferStats stats = RunGBuffer({scene, view}, GBufferParams{}, out, Kernels(state));
+    const GBufferStats stats =
+        RunGBuffer({scene, view}, {NormalEncoding::kOct24, false, specularAaKappa}, out, Kernels(state));
     rasterMs += stats.rasterMs;
     resolveMs += stats.resolveMs;
     covered = stats.coveredPixels;
@@ -93,7 +95,11 @@ void GBufferPass(benchmark::State& state, const BenchScene& bench) {
 // range(0): the kernel path (Kernels); range(1): the scene (BenchSceneOf); range(2): threads (0 =
 // oneTBB's default, all cores); range(3): 1 = fresh pages every frame (UseFreshPages).
 void BM_Rasterize(benchmark::State& state) { RasterizeOnly(state, BenchSceneOf(state.range(1))); }
-void BM_GBuffer(benchmark::State& state) { GBufferPass(state, BenchSceneOf(state.range(1))); }
+void BM_GBuffer(benchmark::State& state) { GBufferPass(state, BenchSceneOf(state.range(1)), 0.0f); }
+// With specular anti-aliasing on: its cost is the ratio to BM_GBuffer's in the same run.
+void BM_GBufferSpecularAa(benchmark::State& state) {
+  GBufferPass(state, BenchSceneOf(state.range(1)), kSpecularAaKappa);
+}
 
 void Configure(benchmark::internal::Benchmark* b) {
   const std::vector<int64_t> scenes = {-1, 0, 10000, 100000, 1000000};
@@ -106,6 +112,7 @@ void Configure(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_Rasterize)->Apply(Configure);
 BENCHMARK(BM_GBuffer)->Apply(Configure);
+BENCHMARK(BM_GBufferSpecularAa)->Apply(Configure);
 
 }  // namespace
 }  // namespace ssgi

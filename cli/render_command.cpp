@@ -122,7 +122,7 @@ int Render(const RenderOptions& options) {
     const Plane<uint32_t>* edgeCoverage = &frame.gbuffer.edgeCoverage;
     GBufferOutputs again;
     if (config.antialiasing == Antialiasing::kEdge && edgeCoverage->xsize() == 0) {
-      RunGBuffer({scene, frame.view}, {config.normalEncoding, true}, again);
+      RunGBuffer({scene, frame.view}, {config.normalEncoding, true, config.specularAaKappa}, again);
       edgeCoverage = &again.edgeCoverage;
     }
     std::printf("%s",

@@ -24,17 +24,17 @@ bool RayPlaneBarycentrics(const ViewProjection::Ray& ray, const glm::vec3& p0, c
 
 }  // namespace
 
-glm::vec3 NormalMapped(const Scene& scene, const Material& material, const uint32_t* idx, const glm::vec3& weights,
-                       const glm::vec3& normal, glm::vec2 uv, float footprint) {
+MappedNormal NormalMapped(const Scene& scene, const Material& material, const uint32_t* idx, const glm::vec3& weights,
+                          const glm::vec3& normal, glm::vec2 uv, float footprint) {
   const std::vector<glm::vec4>& tangents = scene.mesh.tangents;
   const glm::vec3 tangent = glm::vec3(tangents[idx[0]]) * weights.x + glm::vec3(tangents[idx[1]]) * weights.y +
                             glm::vec3(tangents[idx[2]]) * weights.z;
   const glm::vec3 bitangent = glm::cross(normal, tangent) * tangents[idx[0]].w;
-  const glm::vec4 texel = SampleTexture(scene.textures[material.normalTexture], uv, footprint);
+  const glm::vec4 texel = SampleNormalTexture(scene.textures[material.normalTexture], uv, footprint);
   const float mx = (texel.x * 2.0f - 1.0f) * material.normalScale;
   const float my = (texel.y * 2.0f - 1.0f) * material.normalScale;
   const float mz = texel.z * 2.0f - 1.0f;
-  return tangent * mx + bitangent * my + normal * mz;
+  return {tangent * mx + bitangent * my + normal * mz, texel.w};
 }
 
 SurfaceResolver::SurfaceResolver(const Scene& scene, const ViewProjection& view) : scene_(scene), view_(view) {
@@ -48,7 +48,7 @@ SurfaceResolver::SurfaceResolver(const Scene& scene, const ViewProjection& view)
   });
 }
 
-SurfacePoint SurfaceResolver::At(uint32_t triangle, int px, int py, bool withFootprint) const {
+SurfacePoint SurfaceResolver::At(uint32_t triangle, int px, int py, bool withSteps) const {
   const uint32_t* idx = &scene_.mesh.indices[3 * size_t(triangle)];
   const glm::vec3& p0 = viewPositions_[idx[0]];
   const glm::vec3 e1 = viewPositions_[idx[1]] - p0;
@@ -66,13 +66,16 @@ SurfacePoint SurfaceResolver::At(uint32_t triangle, int px, int py, bool withFoo
   const glm::vec2 uv0 = uvs[idx[0]], du1 = uvs[idx[1]] - uv0, du2 = uvs[idx[2]] - uv0;
   s.uv = uv0 + du1 * b.x + du2 * b.y;
   s.uvFootprint = 0.0f;
+  s.baryStepX = s.baryStepY = glm::vec2(0.0f);
   glm::vec2 bx, by;
-  // Unclamped here: the footprint is a derivative of the plane's parameterisation.
-  if (withFootprint && hit) {
+  // Unclamped here: the steps are derivatives of the plane's parameterisation.
+  if (withSteps && hit) {
     if (RayPlaneBarycentrics(view_.PixelRay(cx + 1.0f, cy), p0, e1, e2, bx) &&
         RayPlaneBarycentrics(view_.PixelRay(cx, cy + 1.0f), p0, e1, e2, by)) {
-      const glm::vec2 ddx = du1 * (bx.x - center.x) + du2 * (bx.y - center.y);
-      const glm::vec2 ddy = du1 * (by.x - center.x) + du2 * (by.y - center.y);
+      s.baryStepX = bx - center;
+      s.baryStepY = by - center;
+      const glm::vec2 ddx = du1 * s.baryStepX.x + du2 * s.baryStepX.y;
+      const glm::vec2 ddy = du1 * s.baryStepY.x + du2 * s.baryStepY.y;
       const float footprint = std::max(glm::length(ddx), glm::length(ddy));
       s.uvFootprint = std::isfinite(footprint) ? footprint : 0.0f;
     }

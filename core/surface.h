@@ -20,16 +20,25 @@ struct SurfacePoint {
   glm::vec3 weights;  // barycentric weights of the triangle's three vertices, in [0, 1], sum 1
   glm::vec2 uv;
   float uvFootprint;  // larger UV step to the next pixel right or down
+  // The barycentrics' (b1, b2) steps to the rays of the next pixel right and down, on the triangle's
+  // plane (unclamped): the attributes' derivatives per pixel. 0 where a ray misses the plane.
+  glm::vec2 baryStepX, baryStepY;
 };
 
 // The normal-mapped normal (docs/pipeline.md §G-buffer, "Normal mapping") of a point of the triangle
 // with corners `idx` at barycentric `weights`, for a material with a normal texture: the texel at
-// `uv` (trilinear at `footprint`) as a tangent-space normal with x and y scaled by normalScale, in
+// `uv` (SampleNormalTexture at `footprint`) as a tangent-space normal with x and y scaled by normalScale, in
 // the frame of the interpolated, unnormalised tangent and `normal` (the interpolated vertex normal,
 // in the mesh's space) with MikkTSpace's per-pixel bitangent w0 cross(normal, tangent). Not
 // normalised.
-glm::vec3 NormalMapped(const Scene& scene, const Material& material, const uint32_t* idx, const glm::vec3& weights,
-                       const glm::vec3& normal, glm::vec2 uv, float footprint);
+struct MappedNormal {
+  glm::vec3 normal;
+  // The texels' normal lengths |s * 2 - 1| (before normalScale) filtered as the texel
+  // (SampleNormalTexture): below 1 where a coarse level averaged normals that disagree (Toksvig 2005).
+  float texelLength;
+};
+MappedNormal NormalMapped(const Scene& scene, const Material& material, const uint32_t* idx, const glm::vec3& weights,
+                          const glm::vec3& normal, glm::vec2 uv, float footprint);
 
 // The mesh's vertex colours interpolated at `weights` (for a material with vertexColors).
 inline glm::vec3 InterpolatedColor(const Mesh& mesh, const uint32_t* idx, const glm::vec3& weights) {
@@ -46,8 +55,9 @@ class SurfaceResolver {
   const glm::vec3* ViewPositions() const { return viewPositions_.get(); }
 
   // The surface point of `triangle` under the centre of pixel (px, py), which the triangle covers.
-  // uvFootprint is 0 unless `withFootprint` (texture lookups need it, untextured shading does not).
-  SurfacePoint At(uint32_t triangle, int px, int py, bool withFootprint) const;
+  // uvFootprint and the barycentric steps are 0 unless `withSteps` (texture lookups and specular
+  // anti-aliasing need them, the rest of the shading does not).
+  SurfacePoint At(uint32_t triangle, int px, int py, bool withSteps) const;
 
  private:
   const Scene& scene_;

@@ -85,6 +85,8 @@ int EdgeIndex(int i, int size, TextureWrap wrap) {
 struct TexelDecoding {
   const float* colour;  // per code: DecodeColor(code, encoding)
   const float* alpha;   // per code: code / 255
+  // A normal map's: alpha replaced by the length of the texel's normal, rgb * 2 - 1.
+  bool normalLengthInAlpha = false;
 };
 
 TexelDecoding DecodingOf(TextureEncoding encoding) {
@@ -93,12 +95,14 @@ TexelDecoding DecodingOf(TextureEncoding encoding) {
     for (int code = 0; code < 256; ++code) table[size_t(code)] = float(code) / 255.0f;
     return table;
   }();
-  return {encoding == TextureEncoding::kSrgb ? SrgbDecodeTableForKernels() : unorm.data(), unorm.data()};
+  return {encoding == TextureEncoding::kSrgb ? SrgbDecodeTableForKernels() : unorm.data(), unorm.data(), false};
 }
 
 glm::vec4 Texel(const uint8_t* levelTexels, const TextureLevel& level, int x, int y, const TexelDecoding& decoding) {
   const uint8_t* t = levelTexels + (size_t(y) * size_t(level.width) + size_t(x)) * 4;
-  return {decoding.colour[t[0]], decoding.colour[t[1]], decoding.colour[t[2]], decoding.alpha[t[3]]};
+  const glm::vec4 texel(decoding.colour[t[0]], decoding.colour[t[1]], decoding.colour[t[2]], decoding.alpha[t[3]]);
+  if (!decoding.normalLengthInAlpha) return texel;
+  return {glm::vec3(texel), glm::length(glm::vec3(texel) * 2.0f - 1.0f)};
 }
 
 // u, v in [0, 1]; texel centres at (i + 0.5) / size, v = 0 at the bottom row.
@@ -206,7 +210,9 @@ TextureView ViewOf(const Texture& texture) {
   return view;
 }
 
-glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
+namespace {
+
+glm::vec4 SampleTrilinear(const Texture& texture, glm::vec2 uv, float footprint, const TexelDecoding& decoding) {
   const TextureLevel& base = texture.levels.front();
   const int lastLevel = int(texture.levels.size()) - 1;
   const float scaled = footprint * float(std::max(base.width, base.height));
@@ -220,11 +226,22 @@ glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
   const float v = WrapCoordinate(uv.y, texture.wrapV);
   const int level = int(lambda);
   const float blend = lambda - float(level);
-  const TexelDecoding decoding = DecodingOf(texture.encoding);
   const glm::vec4 fine = SampleBilinear(texture, texture.levels[level], u, v, decoding);
   if (blend == 0.0f) return fine;
   const glm::vec4 coarse = SampleBilinear(texture, texture.levels[level + 1], u, v, decoding);
   return fine * (1.0f - blend) + coarse * blend;
+}
+
+}  // namespace
+
+glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint) {
+  return SampleTrilinear(texture, uv, footprint, DecodingOf(texture.encoding));
+}
+
+glm::vec4 SampleNormalTexture(const Texture& texture, glm::vec2 uv, float footprint) {
+  TexelDecoding decoding = DecodingOf(texture.encoding);
+  decoding.normalLengthInAlpha = true;
+  return SampleTrilinear(texture, uv, footprint, decoding);
 }
 
 }  // namespace ssgi

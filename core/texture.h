@@ -66,5 +66,11 @@ TextureView ViewOf(const Texture& texture);
 // Trilinear sample with the texture's addressing (repeat unless set). `footprint` is the larger screen-pixel footprint
 // of the lookup in UV units (max of |dUV/dx|, |dUV/dy|); it picks the mip level. Returns linear values.
 glm::vec4 SampleTexture(const Texture& texture, glm::vec2 uv, float footprint);
+// A normal map's sample: SampleTexture's r, g, b, and in a, instead of alpha, each texel's own
+// normal length |rgb * 2 - 1| filtered alike. A coarse level's texel is the mean of the normals
+// below it, shorter where they disagree (Toksvig's |N|); level 0's are unit but for their codes'
+// rounding. Filtering the lengths, unlike the length of the filtered normal, does not take the
+// bilinear blend of two texels under a magnified pixel for a spread of normals within it.
+glm::vec4 SampleNormalTexture(const Texture& texture, glm::vec2 uv, float footprint);
 
 }  // namespace ssgi

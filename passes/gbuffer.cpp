@@ -16,9 +16,9 @@ namespace {
 
 // The material part of a pixel's words: 0 (albedo, metallic) and 1 (normal, roughness) of a pixel of
 // `triangle` at surface point `s` with the unit shading normal `normal`: the material's constants
-// times its textures' samples.
+// times its textures' samples, the roughness widened by the normal's `variance` over the pixel.
 void ResolveMaterial(const GBufferResolveContext& context, uint32_t triangle, const SurfacePoint& s,
-                     const glm::vec3& normal, uint32_t& word0, uint32_t& word1) {
+                     const glm::vec3& normal, float variance, uint32_t& word0, uint32_t& word1) {
   const Scene& scene = context.scene;
   const uint32_t materialIndex = scene.mesh.materials[triangle];
   const Material& material = scene.materials[materialIndex];
@@ -35,30 +35,61 @@ void ResolveMaterial(const GBufferResolveContext& context, uint32_t triangle, co
       metallic *= SampleTexture(scene.textures[material.metallicTexture], s.uv, s.uvFootprint).x;
     word0 = PackAlbedoMetallic(albedo, metallic);
   }
-  if (material.roughnessTexture == kNoTexture) {
+  const float kappa = context.specularAaKappa;
+  if (material.roughnessTexture == kNoTexture && !(std::min(variance, kappa) > 0.0f)) {
     word1 = EncodeNormal(normal, context.normalEncoding) | context.constantRoughnessBits[materialIndex];
   } else {
-    const float roughness =
-        material.roughness * SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
-    word1 = PackNormalRoughness(normal, roughness, context.normalEncoding);
+    float roughness = material.roughness;
+    if (material.roughnessTexture != kNoTexture)
+      roughness *= SampleTexture(scene.textures[material.roughnessTexture], s.uv, s.uvFootprint).x;
+    word1 = PackNormalRoughness(normal, WidenedRoughness(roughness, variance, kappa), context.normalEncoding);
   }
 }
 
 }  // namespace
+
+float NormalVariance(const glm::vec3& m, const glm::vec3& stepX, const glm::vec3& stepY) {
+  const float lengthSquared = glm::dot(m, m);
+  const glm::vec3 acrossX = stepX - m * (glm::dot(m, stepX) / lengthSquared);
+  const glm::vec3 acrossY = stepY - m * (glm::dot(m, stepY) / lengthSquared);
+  return (glm::dot(acrossX, acrossX) + glm::dot(acrossY, acrossY)) / lengthSquared * kSpecularAaKernelVariance;
+}
+
+float ToksvigVariance(float texelLength) {
+  const float length = std::min(texelLength + kNormalTexelLengthTolerance, 1.0f);
+  return 2.0f * ((1.0f - length) / length);
+}
+
+float WidenedRoughness(float roughness, float variance, float kappa) {
+  const float added = std::min(variance, kappa);
+  if (!(added > 0.0f)) return roughness;
+  const float alpha = roughness * roughness;
+  return std::sqrt(std::sqrt(std::min(alpha * alpha + added, 1.0f)));
+}
 
 void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t triangle, float depthKey, int x, int y,
                                uint32_t& word0, uint32_t& word1, uint32_t& word2) {
   const Scene& scene = context.scene;
   const SurfaceResolver& resolver = context.resolver;
   const uint32_t materialIndex = scene.mesh.materials[triangle];
-  const SurfacePoint s = resolver.At(triangle, x, y, context.textured[materialIndex] != 0);
+  const bool specularAa = context.specularAaKappa > 0.0f;
+  const SurfacePoint s = resolver.At(triangle, x, y, context.textured[materialIndex] != 0 || specularAa);
   const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
   const std::vector<glm::vec3>& normals = scene.mesh.normals;
   glm::vec3 interpolated =
       normals[idx[0]] * s.weights.x + normals[idx[1]] * s.weights.y + normals[idx[2]] * s.weights.z;
+  float variance = 0.0f;
+  if (specularAa) {
+    const glm::vec3 edge1 = normals[idx[1]] - normals[idx[0]], edge2 = normals[idx[2]] - normals[idx[0]];
+    variance = NormalVariance(interpolated, edge1 * s.baryStepX.x + edge2 * s.baryStepX.y,
+                              edge1 * s.baryStepY.x + edge2 * s.baryStepY.y);
+  }
   const Material& material = scene.materials[materialIndex];
-  if (material.normalTexture != kNoTexture)
-    interpolated = NormalMapped(scene, material, idx, s.weights, interpolated, s.uv, s.uvFootprint);
+  if (material.normalTexture != kNoTexture) {
+    const MappedNormal mapped = NormalMapped(scene, material, idx, s.weights, interpolated, s.uv, s.uvFootprint);
+    interpolated = mapped.normal;
+    if (specularAa) variance = variance + ToksvigVariance(mapped.texelLength);
+  }
   glm::vec3 normal = context.normalToView * interpolated;
   const float length = glm::length(normal);
   const glm::vec3& p0 = resolver.ViewPosition(idx[0]);
@@ -67,7 +98,7 @@ void GBufferResolvePixelScalar(const GBufferResolveContext& context, uint32_t tr
   // A two-sided surface seen from behind shades with the side that faces the camera.
   const glm::vec3 toPoint = context.view.PixelRay(float(x) + 0.5f, float(y) + 0.5f).direction;
   if (glm::dot(faceNormal, toPoint) > 0.0f) normal = -normal;
-  ResolveMaterial(context, triangle, s, normal, word0, word1);
+  ResolveMaterial(context, triangle, s, normal, variance, word0, word1);
   word2 = PackDepth(context.view.DepthFromKey(depthKey));
 }
 
@@ -122,11 +153,13 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
   // the roughness byte of word 1 without a roughness texture.
   const size_t materials = scene.materials.size();
   std::vector<uint32_t> constantWord0(materials), constantRoughnessBits(materials);
+  std::vector<float> constantRoughness(materials);
   std::vector<uint32_t> textured(materials);
   for (size_t m = 0; m < materials; ++m) {
     const Material& material = scene.materials[m];
     constantWord0[m] = PackAlbedoMetallic(material.baseColor, material.metallic);
     constantRoughnessBits[m] = uint32_t(UnormCode8(material.roughness)) << 24;
+    constantRoughness[m] = material.roughness;
     textured[m] = material.normalTexture != kNoTexture || material.vertexColors ? kGBufferResolvedPerPixel
                   : material.baseColorTexture != kNoTexture || material.metallicTexture != kNoTexture ||
                           material.roughnessTexture != kNoTexture
@@ -140,9 +173,11 @@ GBufferStats RunGBuffer(const GBufferInputs& in, const GBufferParams& params, GB
       raster.Resolver(),
       constantWord0.data(),
       constantRoughnessBits.data(),
+      constantRoughness.data(),
       textured.data(),
       glm::mat3(view.view),  // lookAt is a rotation plus a translation
       params.normalEncoding,
+      params.specularAaKappa,
       rays.x.data(),
       rays.y.data(),
   };

@@ -17,10 +17,40 @@
 
 namespace ssgi {
 
+// Specular anti-aliasing (docs/pipeline.md §G-buffer "Specular anti-aliasing"): the roughness is
+// widened by the shading normal's variance over the pixel, GGX alpha^2 += min(variance, kappa)
+// (Kaplanyan, Hill, Patney & Lefohn 2016, in the isotropic form of Tokuyoshi & Kaplanyan 2019):
+// variance from the interpolated vertex normal's change to the next pixel right and down, plus
+// Toksvig's from a normal map's filtered texel. Off by default: against the supersampled truth the
+// wider lobes' GGX tails spread a sun's highlight over the pixels around it, and the display error
+// grows (README "Anti-aliasing"). kSpecularAaKappa is Tokuyoshi & Kaplanyan's bound, to turn it on with.
+inline constexpr float kSpecularAaKappa = 0.18f;
+// Tokuyoshi & Kaplanyan's 2 sigma^2 of the pixel's filter kernel, sigma^2 = 1 / (2 pi).
+inline constexpr float kSpecularAaKernelVariance = 0.31830988f;
+// How far from unit length a unit normal stored as three 8-bit codes may decode (each component
+// within 1/255): a filtered texel no shorter than 1 minus this has no variance Toksvig could tell.
+inline constexpr float kNormalTexelLengthTolerance = 0.0067923561f;  // sqrt(3) / 255
+
+// The GGX alpha^2 variance of the unit shading normal over a pixel, from the interpolated vertex
+// normal `m` (not normalised) and its steps to the next pixel right and down: the steps' parts
+// across m, divided by |m| (the derivative of m / |m|), as squared lengths times
+// kSpecularAaKernelVariance. NaN where m is zero.
+float NormalVariance(const glm::vec3& m, const glm::vec3& stepX, const glm::vec3& stepY);
+// Toksvig's (2005) alpha^2 variance 2 (1 - |N|) / |N| of a normal map's filtered texel, whose decoded
+// tangent-space normal has length `texelLength`, with |N| = min(texelLength +
+// kNormalTexelLengthTolerance, 1).
+float ToksvigVariance(float texelLength);
+// The perceptual roughness `roughness` (GGX alpha = roughness^2) widened by `variance`: alpha^2 +
+// min(variance, kappa), at most 1, back to a perceptual roughness by two square roots. `roughness`
+// itself, bit for bit, where min(variance, kappa) is not positive (kappa 0 is off; NaN adds nothing).
+float WidenedRoughness(float roughness, float variance, float kappa);
+
 struct GBufferParams {
   NormalEncoding normalEncoding = NormalEncoding::kOct24;
   // Also write the edge coverage (GBufferOutputs::edgeCoverage), which the edge anti-aliasing reads.
   bool edgeCoverage = false;
+  // The most the normal's variance may add to GGX alpha^2 (specular anti-aliasing); 0 = off.
+  float specularAaKappa = 0.0f;
 };
 
 struct GBufferInputs {
@@ -61,10 +91,12 @@ struct GBufferResolveContext {
   // Per material: bits 24-31 of word 1 (the roughness code) when it has no roughness texture, and
   // whether any texture feeds word 0 or 1 (the SIMD kernel then also samples the pixel's textures).
   const uint32_t* constantRoughnessBits;
+  const float* constantRoughness;  // per material: its roughness factor (what the bits above encode)
   // 0, 1, or kGBufferResolvedPerPixel for a material with a normal texture or vertex colours.
   const uint32_t* textured;
   glm::mat3 normalToView;           // world -> view for normals: view.view's rotation
   NormalEncoding normalEncoding;
+  float specularAaKappa;  // GBufferParams'
   // The view's PixelRayTables, for the twin, which would otherwise divide for them in every vector;
   // kGBufferRayPadding more than the image's width and height (the rays one pixel right and down,
   // and the image edges' blocks).

@@ -41,10 +41,12 @@ struct GBufferResolveInputs {
   const uint32_t* materials;       // per triangle
   const uint32_t* constantWord0;   // per material (GBufferResolveContext)
   const uint32_t* constantRoughnessBits;
+  const float* constantRoughness;
   const uint32_t* textured;
   bool prefetchVertices;  // the mesh's vertex data is larger than the caches keep near (kGBufferCachedVertexBytes)
   glm::mat3 normalToView;
   NormalEncoding encoding;
+  float specularAaKappa;
 };
 
 // The rows of a call of the twin: the first kGBufferResolveRowsPerCall are those it resolves (the
@@ -92,11 +94,12 @@ HWY_INLINE PlaneTerms PlaneTermsOf(const Vec3V<DF> position[3]) {
 }
 
 // What the resolve reads of each lane's triangle: its material's constant words (word 0, the
-// roughness byte of word 1, whether it is textured), per vertex the world-space normal, and the
+// roughness byte of word 1, whether it is textured) and roughness, per vertex the world-space normal, and the
 // terms of its plane (of its vertices' view-space positions, which are not kept: fewer vectors for
 // the registers).
 struct TriangleData {
   hn::Vec<DU> word0, roughnessBits, textured;
+  VF roughness;
   Vec3V<DF> normal[3];
   PlaneTerms terms;
 };
@@ -111,6 +114,7 @@ HWY_INLINE void BroadcastTriangle(const GBufferResolveInputs& in, uint32_t trian
   data.word0 = hn::Set(du, in.constantWord0[material]);
   data.roughnessBits = hn::Set(du, in.constantRoughnessBits[material]);
   data.textured = hn::Set(du, in.textured[material]);
+  data.roughness = hn::Set(df, in.constantRoughness[material]);
   for (int v = 0; v < 3; ++v) {
     const size_t vertex = in.indices[3 * size_t(triangle) + size_t(v)];
     const float* p = in.viewPositions + 3 * vertex;
@@ -199,6 +203,7 @@ TriangleData LoadTriangles(const GBufferResolveInputs& in, const uint32_t* trian
     data.word0 = hn::IfThenElse(covers, more.word0, data.word0);
     data.roughnessBits = hn::IfThenElse(covers, more.roughnessBits, data.roughnessBits);
     data.textured = hn::IfThenElse(covers, more.textured, data.textured);
+    data.roughness = hn::IfThenElse(lanes, more.roughness, data.roughness);
     for (int v = 0; v < 3; ++v) {
       position[v] = IfThenElse3(lanes, morePosition[v], position[v]);
       data.normal[v] = IfThenElse3(lanes, more.normal[v], data.normal[v]);
@@ -258,6 +263,25 @@ HWY_INLINE RayPlaneLanes RayPlaneBarycentricsV(const Vec3V<DF>& direction, const
   return lanes;
 }
 
+// NormalVariance (passes/gbuffer.cpp) in its operations and order.
+HWY_INLINE VF NormalVarianceV(const Vec3V<DF>& m, const Vec3V<DF>& stepX, const Vec3V<DF>& stepY) {
+  const DF df;
+  const VF lengthSquared = Dot3(m, m);
+  const Vec3V<DF> acrossX = Sub3(stepX, Scale3(m, hn::Div(Dot3(m, stepX), lengthSquared)));
+  const Vec3V<DF> acrossY = Sub3(stepY, Scale3(m, hn::Div(Dot3(m, stepY), lengthSquared)));
+  return hn::Mul(hn::Div(hn::Add(Dot3(acrossX, acrossX), Dot3(acrossY, acrossY)), lengthSquared),
+                 hn::Set(df, kSpecularAaKernelVariance));
+}
+
+// WidenedRoughness (passes/gbuffer.cpp) in its operations and order.
+HWY_INLINE VF WidenedRoughnessV(VF roughness, VF variance, VF kappa) {
+  const DF df;
+  const VF added = MinStd(variance, kappa);
+  const VF alpha = hn::Mul(roughness, roughness);
+  const VF widened = hn::Sqrt(hn::Sqrt(MinStd(hn::Add(hn::Mul(alpha, alpha), added), hn::Set(df, 1.0f))));
+  return hn::IfThenElse(hn::Gt(added, hn::Zero(df)), widened, roughness);
+}
+
 // The last texture a row's resolve sampled, kept for its next textured vector.
 struct TextureCache {
   int32_t texture = kNoTexture;
@@ -267,10 +291,10 @@ struct TextureCache {
 // The words 0 and 1 of a vector's lanes `texturedLanes` (`triangles` and `triangle` the vector's
 // ids, directionX and directionY their rays' (z is -1), rightX and downY the x of the rays one pixel
 // right and the y of those one pixel down, the rest as GBufferResolveBlocks computes them): the
-// constant words with the textures' samples packed in. Out of line: inlined, its sampler's registers
-// and stack slots slow the untextured vectors of the resolve. Its aggregates are taken by value and
-// its words returned: an object whose address a call takes stays in memory throughout the loop, its
-// vectors stored and loaded again.
+// constant words with the textures' samples packed in, a sampled roughness widened by `variance`. Out of line: inlined,
+// its sampler's registers and stack slots slow the untextured vectors of the resolve. Its aggregates are taken by value
+// and its words returned: an object whose address a call takes stays in memory throughout the loop, its vectors stored
+// and loaded again.
 struct Words01 {
   hn::Vec<DU> word0, word1;
 };
@@ -278,7 +302,7 @@ struct Words01 {
 HWY_NOINLINE Words01 TexturedWords(const GBufferResolveInputs& in, const uint32_t* triangles, hn::Vec<DU> triangle,
                                    hn::Mask<DU> texturedLanes, VF directionX, VF directionY, VF rightX, VF downY,
                                    PlaneTerms terms, RayPlaneLanes center, VF centerB1, VF centerB2, VF b1, VF b2,
-                                   hn::Vec<DU> normalCode, TextureCache& cache, hn::Vec<DU> words0,
+                                   hn::Vec<DU> normalCode, VF variance, TextureCache& cache, hn::Vec<DU> words0,
                                    hn::Vec<DU> words1) {
   const DF df;
   const DI di;
@@ -346,7 +370,9 @@ HWY_NOINLINE Words01 TexturedWords(const GBufferResolveInputs& in, const uint32_
       hn::Or(hn::Or(srgb(times(0, 0, sample[0].r)), hn::ShiftLeft<8>(srgb(times(0, 1, sample[0].g)))),
              hn::Or(hn::ShiftLeft<16>(srgb(times(0, 2, sample[0].b))),
                     hn::ShiftLeft<24>(UnormCode8V(times(1, 3, sample[1].r)))));
-  const VI roughness = hn::ShiftLeft<24>(UnormCode8V(hn::Mul(hn::Load(df, constant[4]), sample[2].r)));
+  const VF sampledRoughness = hn::Mul(hn::Load(df, constant[4]), sample[2].r);
+  const VI roughness =
+      hn::ShiftLeft<24>(UnormCode8V(WidenedRoughnessV(sampledRoughness, variance, hn::Set(df, in.specularAaKappa))));
   return {hn::IfThenElse(hn::RebindMask(du, hn::Or(has[0], has[1])), hn::BitCast(du, albedoMetallic), words0),
           hn::IfThenElse(hn::RebindMask(du, has[2]), hn::Or(normalCode, hn::BitCast(du, roughness)), words1)};
 }
@@ -484,9 +510,37 @@ size_t GBufferResolveBlocks(const GBufferResolveInputs& in, const GBufferResolve
 
       const auto depthKey = LoadBlock(df, depthKeyRows, rowCount, x, width, 1.0f);
       const auto depth = hn::Div(hn::Set(df, in.view->nearPlane), depthKey);  // ViewProjection::DepthFromKey
+      // Specular anti-aliasing: the normal's variance over the pixel from the barycentrics' steps to
+      // the rays one pixel right and down (SurfaceResolver::At's, 0 where a ray misses the plane).
+      // A flat triangle's is 0 (or NaN where its normals are 0), which widens nothing: not computed.
+      VF variance = zero;
+      auto roughnessBits = data.roughnessBits;
+      if (in.specularAaKappa > 0.0f) {
+        const Vec3V<DF> normalEdge1 = Sub3(data.normal[1], data.normal[0]);
+        const Vec3V<DF> normalEdge2 = Sub3(data.normal[2], data.normal[0]);
+        const auto curved = hn::Or(hn::Or(hn::Or(hn::Ne(normalEdge1.x, zero), hn::Ne(normalEdge1.y, zero)),
+                                          hn::Or(hn::Ne(normalEdge1.z, zero), hn::Ne(normalEdge2.x, zero))),
+                                   hn::Or(hn::Ne(normalEdge2.y, zero), hn::Ne(normalEdge2.z, zero)));
+        if (!hn::AllFalse(df, hn::And(curved, hn::RebindMask(df, drawn)))) {
+          const VF kappa = hn::Set(df, in.specularAaKappa), directionZ = hn::Set(df, -1.0f);
+          const RayPlaneLanes right =
+              RayPlaneBarycentricsV({hn::LoadDup128(df, in.rayDirectionX + x + 1), direction.y, directionZ}, terms);
+          const RayPlaneLanes down = RayPlaneBarycentricsV({direction.x, downY, directionZ}, terms);
+          const auto stepsHit = hn::And(center.hit, hn::And(right.hit, down.hit));
+          const VF stepX1 = hn::IfThenElseZero(stepsHit, hn::Sub(right.b1, centerB1));
+          const VF stepX2 = hn::IfThenElseZero(stepsHit, hn::Sub(right.b2, centerB2));
+          const VF stepY1 = hn::IfThenElseZero(stepsHit, hn::Sub(down.b1, centerB1));
+          const VF stepY2 = hn::IfThenElseZero(stepsHit, hn::Sub(down.b2, centerB2));
+          variance = NormalVarianceV(interpolated, Add3(Scale3(normalEdge1, stepX1), Scale3(normalEdge2, stepX2)),
+                                     Add3(Scale3(normalEdge1, stepY1), Scale3(normalEdge2, stepY2)));
+          const VF widened = WidenedRoughnessV(data.roughness, variance, kappa);
+          roughnessBits = hn::IfThenElse(hn::RebindMask(du, hn::Gt(MinStd(variance, kappa), zero)),
+                                         hn::ShiftLeft<24>(hn::BitCast(du, UnormCode8V(widened))), roughnessBits);
+        }
+      }
       const auto words0 = hn::IfThenElseZero(drawn, data.word0);
       const auto normalCode = EncodeNormalV(df, unit, in.encoding);
-      const auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, data.roughnessBits));
+      const auto words1 = hn::IfThenElseZero(drawn, hn::Or(normalCode, roughnessBits));
       const auto words2 = hn::IfThenElse(drawn, hn::BitCast(du, depth), background);
       const auto texturedLanes = hn::And(hn::Ne(data.textured, hn::Zero(du)), drawn);
       if (hn::AllFalse(du, texturedLanes)) {
@@ -496,7 +550,7 @@ size_t GBufferResolveBlocks(const GBufferResolveInputs& in, const GBufferResolve
       const Words01 textured =
           TexturedWords(in, triangles, triangle, texturedLanes, direction.x, direction.y,
                         hn::LoadDup128(df, in.rayDirectionX + x + 1), downY, terms, center, centerB1, centerB2, b1, b2,
-                        normalCode, textureCache, words0, words1);
+                        normalCode, variance, textureCache, words0, words1);
       const auto perPixel = hn::And(hn::Eq(data.textured, hn::Set(du, kGBufferResolvedPerPixel)), drawn);
       if (hn::AllFalse(du, perPixel)) {
         storeWords(textured.word0, textured.word1, words2);
@@ -549,10 +603,12 @@ size_t GBufferResolveRowsSimd(const GBufferResolveContext& context, const Visibi
       mesh.materials.data(),
       context.constantWord0,
       context.constantRoughnessBits,
+      context.constantRoughness,
       context.textured,
       mesh.positions.size() * 2 * sizeof(glm::vec3) > kGBufferCachedVertexBytes,
       context.normalToView,
       context.normalEncoding,
+      context.specularAaKappa,
   };
   GBufferResolveRows rows{y, rowCount, context.view.width, {}, {}, {}};
   const size_t last = visibility.triangle.ysize() - 1;

@@ -117,7 +117,7 @@ RaySurface ResolveRaySurface(const Scene& scene, const Hit& hit, const glm::vec3
   const Material& material = scene.materials[mesh.materials[hit.triangle]];
   const glm::vec2 uv = InterpolateUv(mesh, idx, hit.u, hit.v);
   if (material.normalTexture != kNoTexture)
-    normal = NormalMapped(scene, material, idx, glm::vec3(w0, hit.u, hit.v), normal, uv, 0.0f);
+    normal = NormalMapped(scene, material, idx, glm::vec3(w0, hit.u, hit.v), normal, uv, 0.0f).normal;
   const float length = glm::length(normal);
   normal = length > 0.0f && std::isfinite(length) ? normal / length : faceNormal;
   // A two-sided surface seen from behind shades with the side that faces the ray.

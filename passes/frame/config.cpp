@@ -160,6 +160,14 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "G-buffer normal encoding: oct24 (octahedral 2x12 bits) or xyz8 (3x8 bits, the paper's).",
       {{"oct24", NormalEncoding::kOct24}, {"xyz8", NormalEncoding::kXyz8}}, {"xyz8"},
       [](auto& c) -> auto& { return c.normalEncoding; }));
+  table.push_back(NumberSetting(
+      "specular_aa", "--specular-aa",
+      "Specular anti-aliasing: the most the shading normal's variance over a pixel (curvature, a normal map's "
+      "filtered texels) may add to GGX alpha^2 = roughness^4, so a highlight does not sparkle where the normal "
+      "turns faster than a pixel (Kaplanyan et al. 2016's kappa; 0 = off, the default, 0.18 Tokuyoshi & Kaplanyan's "
+      "bound). It steadies highlights, but against a supersampled truth it measures worse on screen (README "
+      "'Anti-aliasing').",
+      0.0, 1.0, {"0", "0.05", "0.5"}, [](auto& c) -> auto& { return c.specularAaKappa; }));
   const std::vector<std::pair<std::string_view, EffectMode>> effectModes = {
       {"auto", EffectMode::kAuto}, {"on", EffectMode::kOn}, {"off", EffectMode::kOff}};
   table.push_back(ChoiceSetting<EffectMode>(

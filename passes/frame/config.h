@@ -17,6 +17,7 @@
 #include "core/scene.h"
 #include "passes/bounce.h"
 #include "passes/direct_light.h"
+#include "passes/gbuffer.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
 #include "passes/sky_light.h"
@@ -31,6 +32,7 @@ struct FrameConfig {
   int width = kDefaultImageSide;  // image size in pixels, [1, kMaxImageSize] each
   int height = kDefaultImageSide;
   NormalEncoding normalEncoding = NormalEncoding::kOct24;  // of G-buffer word 1
+  float specularAaKappa = GBufferParams{}.specularAaKappa;  // G-buffer word 1's roughness widening
   EffectMode shadows = EffectMode::kAuto;
   EffectMode reflections = EffectMode::kAuto;
   EffectMode sky = EffectMode::kAuto;

@@ -76,8 +76,9 @@ void DumpLevels(DumpPart part, const Levels& levels, DumpSink& sink) {
 void GBufferStep(FrameStep& s) {
   Frame& f = s.frame;
   if (s.Runs(P::kGBuffer))
-    f.stats.gbuffer = RunGBuffer({s.scene, f.view},
-                                 {s.config.normalEncoding, s.config.antialiasing == Antialiasing::kEdge}, f.gbuffer);
+    f.stats.gbuffer = RunGBuffer(
+        {s.scene, f.view},
+        {s.config.normalEncoding, s.config.antialiasing == Antialiasing::kEdge, s.config.specularAaKappa}, f.gbuffer);
 }
 
 const char kWord0Meaning[] = "albedo R, G, B 8-bit sRGB codes (bits 0-23), metallic code (24-31)";

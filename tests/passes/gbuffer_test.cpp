@@ -92,9 +92,11 @@ void CheckKernelPathsAgree(const Scene& scene,
   for (const glm::ivec2 size : sizes) {
     const ViewProjection view = MakePerspective(scene.camera, size.x, size.y);
     for (const NormalEncoding encoding : {NormalEncoding::kOct24, NormalEncoding::kXyz8}) {
+      // Specular anti-aliasing on with one encoding, off with the other: both paths of the resolve.
+      const float kappa = encoding == NormalEncoding::kOct24 ? kSpecularAaKappa : 0.0f;
       const auto run = [&](KernelPath kernels) {
         GBufferOutputs out;
-        RunGBuffer({scene, view}, {encoding}, out, kernels);
+        RunGBuffer({scene, view}, {encoding, false, kappa}, out, kernels);
         return out;
       };
       const auto same = [](const GBufferOutputs& a, const GBufferOutputs& b) {
@@ -103,7 +105,7 @@ void CheckKernelPathsAgree(const Scene& scene,
         return test::SameBytes(a.visibility.triangle, b.visibility.triangle) &&
                test::SameBytes(a.visibility.depthKey, b.visibility.depthKey);
       };
-      CAPTURE(size.x, size.y, int(encoding));
+      CAPTURE(size.x, size.y, int(encoding), kappa);
       CHECK(test::TargetsWhereKernelPathsDiffer(run, same) == "");
       if (!threadCounts) continue;
       const GBufferOutputs reference = run(KernelPath::kSimd);
@@ -233,6 +235,138 @@ TEST_CASE(
   GBufferOutputs flat;
   RunGBuffer({scene, view}, {}, flat);
   CHECK_FALSE(test::SameBytes(mapped.gbuffer.word[1], flat.gbuffer.word[1]));
+}
+
+// The roughness byte of word 1 as GGX alpha^2 = roughness^4, at the bottom of its code's interval:
+// the least the packed roughness can have been.
+double LeastAlphaSquared(uint32_t word1) {
+  const double least = std::max(0.0, (double(word1 >> 24) - 0.5) / 255.0);
+  return least * least * least * least;
+}
+
+TEST_CASE(
+    "g-buffer: specular anti-aliasing raises a distant sphere's roughness most where its normal turns fastest, by "
+    "at most kappa, and flat faces and kappa 0 keep the material's code",
+    "[gbuffer]") {
+  // The default scene from three times as far: its spheres and chess pieces are a few dozen pixels
+  // across, their normals turning by degrees per pixel; the board and the boxes are flat.
+  Scene scene = test::LoadDefaultScene().scene;
+  scene.camera.position = scene.camera.target + (scene.camera.position - scene.camera.target) * 3.0f;
+  constexpr int kWidth = 256, kHeight = 192;
+  const ViewProjection view = MakePerspective(scene.camera, kWidth, kHeight);
+  const float kappa = kSpecularAaKappa;
+  GBufferOutputs on, off;
+  RunGBuffer({scene, view}, {NormalEncoding::kOct24, false, kappa}, on);
+  RunGBuffer({scene, view}, {NormalEncoding::kOct24, false, 0.0f}, off);
+  size_t curvedPixels = 0, raised = 0, atKappa = 0;
+  double facingSum = 0.0, grazingSum = 0.0;
+  size_t facing = 0, grazing = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      CAPTURE(x, y);
+      const uint32_t triangle = on.visibility.triangle.ConstRow(size_t(y))[x];
+      const uint32_t w1 = on.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x];
+      const uint32_t w1Off = off.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x];
+      // Off: every word the same but the roughness byte, which is the material's.
+      for (const int w : {0, 2, 3})
+        CHECK(on.gbuffer.word[w].ConstRow(size_t(y))[x] == off.gbuffer.word[w].ConstRow(size_t(y))[x]);
+      CHECK((w1 & 0xFFFFFFu) == (w1Off & 0xFFFFFFu));
+      if (triangle == kNoTriangle) continue;
+      const Material& material = scene.materials[scene.mesh.materials[triangle]];
+      REQUIRE((w1Off >> 24) == UnormCode8(material.roughness));
+      const uint32_t* idx = &scene.mesh.indices[3 * size_t(triangle)];
+      const bool flat = scene.mesh.normals[idx[0]] == scene.mesh.normals[idx[1]] &&
+                        scene.mesh.normals[idx[0]] == scene.mesh.normals[idx[2]];
+      if (flat) {
+        CHECK(w1 == w1Off);
+        continue;
+      }
+      ++curvedPixels;
+      CHECK((w1 >> 24) >= (w1Off >> 24));
+      raised += (w1 >> 24) > (w1Off >> 24);
+      const double r = material.roughness, added = LeastAlphaSquared(w1) - r * r * r * r;
+      CHECK(added <= double(kappa) + 1e-6);
+      atKappa += (w1 >> 24) == UnormCode8(WidenedRoughness(material.roughness, 1.0f, kappa));
+      // Where the view-space normal faces the camera the sphere turns slowest across a pixel; toward
+      // the silhouette fastest.
+      const float towardCamera = UnpackNormal(w1, NormalEncoding::kOct24).z;
+      const double widened = double(w1 >> 24) - double(w1Off >> 24);
+      if (towardCamera > 0.9f) facingSum += widened, ++facing;
+      if (towardCamera < 0.4f) grazingSum += widened, ++grazing;
+    }
+  }
+  CHECK(curvedPixels > 400);
+  CHECK(raised > curvedPixels / 4);
+  CHECK(atKappa > 0);
+  REQUIRE(facing > 50);
+  REQUIRE(grazing > 50);
+  CHECK(facingSum > 0.0);
+  CHECK(grazingSum / double(grazing) > 1.2 * (facingSum / double(facing)));
+}
+
+TEST_CASE(
+    "g-buffer: specular anti-aliasing raises a noisy normal map's roughness where its coarse mips average the "
+    "texels (Toksvig), and leaves a flat map's",
+    "[gbuffer]") {
+  // A ground plane, flat (no curvature), under a 64x64 normal map of random directions in the upper
+  // hemisphere, 16 texels per metre: near the camera a texel covers pixels (level 0), toward the
+  // horizon a pixel covers many texels (coarse levels, whose texels are averages, shorter than unit).
+  CameraDesc camera;
+  camera.position = {0.0f, 1.0f, 3.0f};
+  camera.target = {0.0f, 0.0f, -4.0f};
+  constexpr int kWidth = 96, kHeight = 72;
+  test::TestScene scene = test::MakeScene(camera, kWidth, kHeight);
+  scene.materials[0].roughness = 0.2f;
+  test::AddGround(scene.mesh, 20.0f);
+  for (size_t i = 0; i < scene.mesh.positions.size(); ++i)
+    scene.mesh.uvs[i] = {0.25f * scene.mesh.positions[i].x, 0.25f * scene.mesh.positions[i].z};
+  GenerateTangents(scene.mesh);
+  std::mt19937 rng(3);
+  std::vector<uint8_t> noisy(64 * 64 * 4), level(64 * 64 * 4);
+  for (size_t i = 0; i < noisy.size(); i += 4) {
+    const glm::vec3 n =
+        glm::normalize(glm::vec3(float(rng() % 201) / 100.0f - 1.0f, float(rng() % 201) / 100.0f - 1.0f, 1.2f));
+    for (int c = 0; c < 3; ++c) noisy[i + size_t(c)] = uint8_t(std::lround((n[c] * 0.5f + 0.5f) * 255.0f));
+    noisy[i + 3] = 255;
+    level[i] = level[i + 1] = 128, level[i + 2] = 255, level[i + 3] = 255;
+  }
+  scene.textures.push_back(MakeTexture(64, 64, std::move(noisy), TextureEncoding::kLinear));
+  scene.textures.push_back(MakeTexture(64, 64, std::move(level), TextureEncoding::kLinear));
+  const ViewProjection view = MakePerspective(scene.camera, kWidth, kHeight);
+  const float kappa = kSpecularAaKappa;
+  const auto roughnessCodes = [&](int32_t normalTexture) {
+    scene.materials[0].normalTexture = normalTexture;
+    GBufferOutputs out;
+    RunGBuffer({scene, view}, {NormalEncoding::kOct24, false, kappa}, out);
+    std::vector<int> codes;  // per pixel, -1 on the background
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        codes.push_back(out.visibility.triangle.ConstRow(size_t(y))[x] == kNoTriangle
+                            ? -1
+                            : int(out.gbuffer.word[GBufferWord::kNormalRoughness].ConstRow(size_t(y))[x] >> 24));
+    return codes;
+  };
+  const int materialCode = UnormCode8(0.2f);
+  for (const int code : roughnessCodes(1)) CHECK((code == -1 || code == materialCode));
+  const std::vector<int> codes = roughnessCodes(0);
+  const int mostCode = UnormCode8(WidenedRoughness(0.2f, 1.0f, kappa));
+  // The rows near the horizon (coarse mips) against those at the bottom (level 0), with the plane.
+  double farSum = 0.0, nearSum = 0.0;
+  size_t farCount = 0, nearCount = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const int code = codes[size_t(y * kWidth + x)];
+      if (code < 0) continue;
+      CHECK(code >= materialCode);
+      CHECK(code <= mostCode);
+      if (y < kHeight / 2) farSum += code - materialCode, ++farCount;
+      if (y >= kHeight - 8) nearSum += code - materialCode, ++nearCount;
+    }
+  }
+  REQUIRE(farCount > 0);
+  REQUIRE(nearCount > 0);
+  CHECK(farSum / double(farCount) > 2.0 * nearSum / double(nearCount));
+  CHECK(farSum / double(farCount) > 10.0);
 }
 
 }  // namespace

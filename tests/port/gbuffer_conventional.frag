@@ -28,7 +28,11 @@ void main() {
   precise vec3 normal = viewNormal / length;
   // A two-sided surface seen from behind shades with the side that faces the camera.
   if (!gl_FrontFacing) normal = -normal;
-  const uvec2 material01 = MaterialWords(material, normal, uv, footprint);
+  // Specular anti-aliasing from the interpolated normal's fine derivatives (its steps within the
+  // quad) in place of the steps to the rays of the next pixels.
+  const float variance =
+      specularAaKappa > 0.0 ? NormalVariance(viewNormal, dFdxFine(viewNormal), dFdyFine(viewNormal)) : 0.0;
+  const uvec2 material01 = MaterialWords(material, normal, uv, footprint, variance);
   precise float depth = viewDepth;
   words = uvec4(material01, floatBitsToUint(depth), 0u);
   triangleOut = triangle;

@@ -59,9 +59,32 @@ vec3 MeshNormal(uint vertex) {
   return vec3(normals[3u * vertex], normals[3u * vertex + 1u], normals[3u * vertex + 2u]);
 }
 
+// §G-buffer "Specular anti-aliasing": the most the normal's variance adds to GGX alpha^2 (0: off).
+uniform float specularAaKappa;
+
+// NormalVariance: the steps of the interpolated normal `m` across it, over |m|, as alpha^2.
+float NormalVariance(vec3 m, vec3 stepX, vec3 stepY) {
+  const float lengthSquared = Dot3(m, m);
+  precise vec3 acrossX = stepX - m * (Dot3(m, stepX) / lengthSquared);
+  precise vec3 acrossY = stepY - m * (Dot3(m, stepY) / lengthSquared);
+  precise float variance = (Dot3(acrossX, acrossX) + Dot3(acrossY, acrossY)) / lengthSquared * 0.31830988;
+  return variance;
+}
+
+// WidenedRoughness: alpha^2 + min(variance, kappa), at most 1, back by two square roots; the
+// roughness itself where nothing is added (std::min(a, b) = b < a ? b : a).
+float WidenedRoughness(float roughness, float variance) {
+  const float added = specularAaKappa < variance ? specularAaKappa : variance;
+  if (!(added > 0.0)) return roughness;
+  precise float alpha = roughness * roughness;
+  precise float widened = alpha * alpha + added;
+  return sqrt(sqrt(1.0 < widened ? 1.0 : widened));
+}
+
 // Words 0 and 1 of a pixel of `material` with the unit view-space `normal`, its textures sampled at
-// `uv` with the UV `footprint` (unused by an untextured material).
-uvec2 MaterialWords(Material material, vec3 normal, vec2 uv, float footprint) {
+// `uv` with the UV `footprint` (unused by an untextured material), the roughness widened by the
+// normal's `variance` over the pixel.
+uvec2 MaterialWords(Material material, vec3 normal, vec2 uv, float footprint, float variance) {
   const ivec4 maps = material.textures;  // base colour, metallic, roughness, alpha
   uint word0;
   if (maps.x < 0 && maps.y < 0) {
@@ -75,5 +98,5 @@ uvec2 MaterialWords(Material material, vec3 normal, vec2 uv, float footprint) {
   }
   precise float roughness = material.roughnessCutoffTwoSided.x;
   if (maps.z >= 0) roughness = roughness * SampleTexture(maps.z, uv, footprint).x;
-  return uvec2(word0, EncodeNormal(normal) | UnormCode8(roughness) << 24);
+  return uvec2(word0, EncodeNormal(normal) | UnormCode8(WidenedRoughness(roughness, variance)) << 24);
 }

@@ -24,12 +24,21 @@ void main() {
   const Material material = materials[triangleMaterial[triangle]];
   const ivec4 maps = material.textures;  // base colour, metallic, roughness, alpha
   const bool textured = maps.x >= 0 || maps.y >= 0 || maps.z >= 0;
-  const SurfacePoint s = SurfaceAt(triangle, pixel, textured);
+  const SurfacePoint s = SurfaceAt(triangle, pixel, textured || specularAaKappa > 0.0);
 
   // The shading normal: the vertex normals blended, rotated to view space, normalised; the
   // geometric normal where the blend is zero or not finite; towards the camera on a back face.
   const uint i0 = indices[3u * triangle], i1 = indices[3u * triangle + 1u], i2 = indices[3u * triangle + 2u];
   precise vec3 blend = MeshNormal(i0) * s.weights.x + MeshNormal(i1) * s.weights.y + MeshNormal(i2) * s.weights.z;
+  // Specular anti-aliasing: the blend's steps to the next pixel right and down.
+  float variance = 0.0;
+  if (specularAaKappa > 0.0) {
+    precise vec3 edge1 = MeshNormal(i1) - MeshNormal(i0);
+    precise vec3 edge2 = MeshNormal(i2) - MeshNormal(i0);
+    precise vec3 stepX = edge1 * s.baryStepX.x + edge2 * s.baryStepX.y;
+    precise vec3 stepY = edge1 * s.baryStepY.x + edge2 * s.baryStepY.y;
+    variance = NormalVariance(blend, stepX, stepY);
+  }
   const mat3 rotation = mat3(surfaceView);
   precise vec3 rotated = rotation[0] * blend.x + rotation[1] * blend.y;
   precise vec3 normal = rotated + rotation[2] * blend.z;
@@ -46,7 +55,7 @@ void main() {
   }
   if (Dot3(faceNormal, PixelRayDirection(vec2(pixel) + 0.5)) > 0.0) normal = -normal;
 
-  const uvec2 words = MaterialWords(material, normal, s.uv, s.uvFootprint);
+  const uvec2 words = MaterialWords(material, normal, s.uv, s.uvFootprint, variance);
   word0[i] = words.x;
   word1[i] = words.y;
   precise float depth = nearPlane / depthKey[i];

@@ -655,7 +655,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   if (raster != RasterSource::kOracle) {
     sceneBuffers.emplace(scene.scene);
     gbuffer = RunGBufferPass(
-        *sceneBuffers, frame.view, frame.normalEncoding,
+        *sceneBuffers, frame.view, frame.normalEncoding, config.specularAaKappa,
         raster == RasterSource::kVisibility ? GBufferForm::kVisibility : GBufferForm::kConventional, subpixelBits);
   }
   std::vector<Buffer> words;

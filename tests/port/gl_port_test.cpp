@@ -247,6 +247,9 @@ TEST_CASE("the port's G-buffer pass on GL's rasterizer differs from the oracle o
   // 16 sky volume maps: fewer to build, and a flipped direction weighs three times the default's.
   CheckRasterPort(test::SourceDir() / "data" / "default.json", 333, 197, 16);
   CheckConventionalPort(test::SourceDir() / "data" / "default.json", 160, 120);
+  // Specular anti-aliasing on (the scene's render block): small curved metals.
+  CheckRasterPort(test::SourceDir() / "data" / "specular_aa.json", 160, 120);
+  CheckConventionalPort(test::SourceDir() / "data" / "specular_aa.json", 160, 120);
 }
 
 TEST_CASE("the GLSL port matches the oracle on the default scene", "[port]") {
@@ -262,7 +265,7 @@ TEST_CASE("the GLSL port matches the oracle on the default scene", "[port]") {
 TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed spot, xyz8 normals and SSPCSS",
           "[port]") {
   // What the default scene does not have: a spot light (and a second light), the paper's normal
-  // encoding, a smooth metal that reflects the spot's highlight.
+  // encoding, a smooth metal that reflects the spot's highlight, specular anti-aliasing.
   const test::ScratchDir scratch("gl-port-scene");
   const std::string data = (test::SourceDir() / "data").string();
   const std::string scene = R"({
@@ -281,7 +284,7 @@ TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed s
       "materials": { "*": { "base_color": [0.3, 0.5, 0.8], "metallic": 0, "roughness": 0.35 } } }
   ],
   "render": )";
-  test::WriteText(scratch / "scene.json", scene + R"({ "normal_encoding": "xyz8" } })");
+  test::WriteText(scratch / "scene.json", scene + R"({ "normal_encoding": "xyz8", "specular_aa": 0.18 } })");
   CheckPort(scratch / "scene.json", 96, 72);
   // The other filters, tap counts and an odd map size of the shadow passes, on the same scene.
   test::WriteText(

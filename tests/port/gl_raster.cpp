@@ -245,13 +245,14 @@ VisibilityTargets RunVisibilityPass(const SceneBuffers& scene, const ViewProject
 namespace {
 
 PortGBuffer ResolveGBuffer(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
-                           int snapBits) {
+                           float specularAaKappa, int snapBits) {
   PortGBuffer out{{}, RunVisibilityPass(scene, camera, true, RasterKind::kVisibility, snapBits)};
   const size_t pixels = size_t(camera.width) * size_t(camera.height);
   for (int w = 0; w < 3; ++w) out.words.emplace_back(pixels);
   const Program resolve("gbuffer_resolve.comp", {"surface.glsl", "gbuffer_pack.glsl"});
   SetSurfaceView(resolve, camera);
   resolve.Set("normalEncoding", encoding == NormalEncoding::kXyz8 ? 0 : 1);
+  resolve.Set("specularAaKappa", specularAaKappa);
   resolve.Set("nearPlane", camera.nearPlane);
   const Buffer thresholds(255, SrgbEncodeThresholds());
   thresholds.Bind(kSrgbThresholds);
@@ -264,7 +265,7 @@ PortGBuffer ResolveGBuffer(const SceneBuffers& scene, const ViewProjection& came
 }
 
 PortGBuffer ConventionalGBuffer(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
-                                int snapBits) {
+                                float specularAaKappa, int snapBits) {
   scene.Bind();
   const Buffer thresholds(255, SrgbEncodeThresholds());
   thresholds.Bind(kSrgbThresholds);
@@ -273,6 +274,7 @@ PortGBuffer ConventionalGBuffer(const SceneBuffers& scene, const ViewProjection&
   SetRasterView(draw, camera, snapBits);
   draw.Set("cullBackFaces", 1);
   draw.Set("normalEncoding", encoding == NormalEncoding::kXyz8 ? 0 : 1);
+  draw.Set("specularAaKappa", specularAaKappa);
   const Framebuffer target({GL_RGBA32UI, GL_R32UI}, camera.width, camera.height);
   target.Clear(0, {0u, 0u, 0x7F800000u, 0u});  // background: words 0, 0, +inf, lit
   target.Clear(1, {kNoTriangle, 0u, 0u, 0u});
@@ -286,9 +288,9 @@ PortGBuffer ConventionalGBuffer(const SceneBuffers& scene, const ViewProjection&
 }  // namespace
 
 PortGBuffer RunGBufferPass(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
-                           GBufferForm form, int snapBits) {
-  return form == GBufferForm::kVisibility ? ResolveGBuffer(scene, camera, encoding, snapBits)
-                                          : ConventionalGBuffer(scene, camera, encoding, snapBits);
+                           float specularAaKappa, GBufferForm form, int snapBits) {
+  return form == GBufferForm::kVisibility ? ResolveGBuffer(scene, camera, encoding, specularAaKappa, snapBits)
+                                          : ConventionalGBuffer(scene, camera, encoding, specularAaKappa, snapBits);
 }
 
 }  // namespace ssgi::port

@@ -57,6 +57,6 @@ struct PortGBuffer {
 enum class GBufferForm { kVisibility, kConventional };
 
 PortGBuffer RunGBufferPass(const SceneBuffers& scene, const ViewProjection& camera, NormalEncoding encoding,
-                           GBufferForm form, int snapBits);
+                           float specularAaKappa, GBufferForm form, int snapBits);
 
 }  // namespace ssgi::port

@@ -91,6 +91,7 @@ struct SurfacePoint {
   vec3 weights;
   vec2 uv;
   float uvFootprint;
+  vec2 baryStepX, baryStepY;  // to the rays one pixel right and down (unclamped); 0 where one misses
 };
 
 float Length2(vec2 v) {
@@ -98,7 +99,7 @@ float Length2(vec2 v) {
   return sqrt(d);
 }
 
-SurfacePoint SurfaceAt(uint triangle, ivec2 pixel, bool withFootprint) {
+SurfacePoint SurfaceAt(uint triangle, ivec2 pixel, bool withSteps) {
   const uint i0 = indices[3u * triangle], i1 = indices[3u * triangle + 1u], i2 = indices[3u * triangle + 2u];
   const vec3 p0 = ViewPosition(i0);
   precise vec3 e1 = ViewPosition(i1) - p0;
@@ -121,15 +122,21 @@ SurfacePoint SurfaceAt(uint triangle, ivec2 pixel, bool withFootprint) {
   precise vec2 uv = uv0 + du1 * b.x + du2 * b.y;
   s.uv = uv;
   s.uvFootprint = 0.0;
+  s.baryStepX = vec2(0.0);
+  s.baryStepY = vec2(0.0);
   vec2 bx = vec2(0.0), by = vec2(0.0);
   vec3 ox, dx, oy, dy;
   ViewRay(c + vec2(1.0, 0.0), ox, dx);
   ViewRay(c + vec2(0.0, 1.0), oy, dy);
-  // Unclamped: the footprint is a derivative of the plane's parameterisation.
-  if (withFootprint && hit && RayPlaneBarycentrics(ox, dx, p0, e1, e2, bx) &&
+  // Unclamped: the steps are derivatives of the plane's parameterisation.
+  if (withSteps && hit && RayPlaneBarycentrics(ox, dx, p0, e1, e2, bx) &&
       RayPlaneBarycentrics(oy, dy, p0, e1, e2, by)) {
-    precise vec2 ddx = du1 * (bx.x - centre.x) + du2 * (bx.y - centre.y);
-    precise vec2 ddy = du1 * (by.x - centre.x) + du2 * (by.y - centre.y);
+    precise vec2 stepX = bx - centre;
+    precise vec2 stepY = by - centre;
+    s.baryStepX = stepX;
+    s.baryStepY = stepY;
+    precise vec2 ddx = du1 * stepX.x + du2 * stepX.y;
+    precise vec2 ddy = du1 * stepY.x + du2 * stepY.y;
     const float footprint = max(Length2(ddx), Length2(ddy));
     s.uvFootprint = IsFinite(footprint) ? footprint : 0.0;
   }
