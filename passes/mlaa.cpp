@@ -1,0 +1,219 @@
+#include "passes/mlaa.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/check.h"
+#include "core/color.h"
+#include "core/edge_coverage.h"
+#include "core/parallel.h"
+#include "core/stopwatch.h"
+
+namespace ssgi {
+
+namespace {
+
+// The vertical runs are followed down columns in bands of this many columns: each band keeps its
+// columns' open runs and reads the edge rows in order.
+constexpr size_t kColumnsPerBand = 64;
+
+// A run's end: the silhouette's height there, +1 (half a pixel toward the first side), -1 (toward
+// the second) or 0, from the edges that cross the run there on each side.
+int EndHeight(bool crossesFirstSide, bool crossesSecondSide) {
+  if (crossesFirstSide == crossesSecondSide) return 0;
+  return crossesFirstSide ? 1 : -1;
+}
+
+// The area numerator (in 1/(8 n)) under one half of a run's silhouette, the line from height 1/2 at the
+// run's end to 0 at its middle n/2, over the pixel `k` pixels from that end: with a = 2k and
+// b = min(2k + 2, n), the integral of (1/2)(1 - 2u/n) from a/2 to b/2 is (2 (b - a) n - (b^2 - a^2)) /
+// (8 n). 0 beyond the middle.
+uint64_t HalfRunArea(uint64_t n, uint64_t k) {
+  const uint64_t a = 2 * k;
+  if (a >= n) return 0;
+  const uint64_t b = std::min(a + 2, n);
+  return 2 * (b - a) * n - (b * b - a * a);
+}
+
+// Writes a run's weights: `store(i, codes)` for each of its n pixels.
+template <class Store>
+void WeighRun(uint32_t n, int startHeight, int endHeight, Store&& store) {
+  if (startHeight == 0 && endHeight == 0) return;  // no crossing: the edge is straight, nothing to blend
+  for (uint32_t k = 0; k < n; ++k) {
+    uint32_t codes[2];
+    MlaaRunWeights(n, k, startHeight, endHeight, codes);
+    store(k, codes);
+  }
+}
+
+}  // namespace
+
+void MlaaLumaRowScalar(const float* const rgb[3], size_t width, float exposureScale, float* luma) {
+  for (size_t x = 0; x < width; ++x) {
+    const float y = (0.2126f * rgb[0][x] + 0.7152f * rgb[1][x]) + 0.0722f * rgb[2][x];
+    const float t = SanitizeRadiance(y * exposureScale);
+    luma[x] = std::sqrt(t / (1.0f + t));
+  }
+}
+
+void MlaaEdgeRowScalar(const float* const rows[4], size_t width, float threshold, uint32_t* edges) {
+  MlaaEdgePixelsScalar(rows, width, threshold, 0, width, edges);
+}
+
+void MlaaEdgePixelsScalar(const float* const rows[4], size_t width, float threshold, size_t begin, size_t end,
+                          uint32_t* edges) {
+  const float* upUp = rows[0];
+  const float* up = rows[1];
+  const float* row = rows[2];
+  const float* down = rows[3];
+  for (size_t x = begin; x < end; ++x) {
+    const size_t left = x > 0 ? x - 1 : x, leftLeft = x > 1 ? x - 2 : left, right = x + 1 < width ? x + 1 : x;
+    const float l = row[x];
+    const float toLeft = std::abs(l - row[left]), toUp = std::abs(l - up[x]);
+    const float toRight = std::abs(l - row[right]), toDown = std::abs(l - down[x]);
+    const float leftToLeft = std::abs(row[left] - row[leftLeft]), upToUp = std::abs(up[x] - upUp[x]);
+    const float largest =
+        std::max(std::max(std::max(toLeft, toUp), std::max(toRight, toDown)), std::max(leftToLeft, upToUp));
+    // SMAA's local contrast adaptation: a step next to a much larger one is part of that edge's
+    // shading, not an edge of its own.
+    const bool leftEdge = toLeft >= threshold && largest <= 2.0f * toLeft;
+    const bool topEdge = toUp >= threshold && largest <= 2.0f * toUp;
+    edges[x] = (leftEdge ? kMlaaLeftEdge : 0u) | (topEdge ? kMlaaTopEdge : 0u);
+  }
+}
+
+void MlaaRunWeights(uint32_t n, uint32_t k, int startHeight, int endHeight, uint32_t codes[2]) {
+  uint64_t area[2] = {0, 0};  // numerators in 1/(8 n): the first side's, the second side's
+  if (startHeight != 0) area[startHeight > 0 ? 0 : 1] += HalfRunArea(n, k);
+  if (endHeight != 0) area[endHeight > 0 ? 0 : 1] += HalfRunArea(n, n - 1 - k);
+  // round(256 area / (8 n)) = floor((64 area + n) / (2 n)).
+  for (int side = 0; side < 2; ++side) codes[side] = uint32_t((64 * area[side] + n) / (2 * uint64_t(n)));
+}
+
+MlaaStats RunMlaa(const MlaaInputs& in, const MlaaParams& params, MlaaOutputs& out, KernelPath kernels) {
+  Stopwatch stopwatch;
+  const size_t width = in.image.c[0].xsize(), height = in.image.c[0].ysize();
+  SSGI_CHECK(params.threshold > 0.0f);
+  const auto resize = [&](auto& plane, auto fill) {
+    if (plane.xsize() != width || plane.ysize() != height) plane = MakePlane(width, height, fill);
+  };
+  resize(out.luma, 0.0f);
+  resize(out.edges, 0u);
+  resize(out.weights, 0u);
+  resize(out.coverage, 0u);
+  const bool simd = kernels == KernelPath::kSimd;
+  const float exposureScale = std::exp2(params.exposureEv);
+
+  ParallelForRowBands("mlaa.luma", height, [&](size_t, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const float* const rgb[3] = {in.image.c[0].ConstRow(y), in.image.c[1].ConstRow(y), in.image.c[2].ConstRow(y)};
+      (simd ? MlaaLumaRowSimd : MlaaLumaRowScalar)(rgb, width, exposureScale, out.luma.MutableRow(y));
+    }
+  });
+
+  std::vector<size_t> edgePixelsPerBand(RowBandCount(height), 0);
+  ParallelForRowBands("mlaa.edges", height, [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const size_t up = y > 0 ? y - 1 : y, upUp = y > 1 ? y - 2 : up, down = y + 1 < height ? y + 1 : y;
+      const float* const rows[4] = {out.luma.ConstRow(upUp), out.luma.ConstRow(up), out.luma.ConstRow(y),
+                                    out.luma.ConstRow(down)};
+      uint32_t* edges = out.edges.MutableRow(y);
+      (simd ? MlaaEdgeRowSimd : MlaaEdgeRowScalar)(rows, width, params.threshold, edges);
+      edgePixelsPerBand[band] += size_t(std::count_if(edges, edges + width, [](uint32_t e) { return e != 0; }));
+    }
+  });
+
+  // Horizontal edges (a pixel's top edge), followed along their row: bytes 2 and 3 of `weights`,
+  // whose other bytes the vertical runs fill next.
+  ParallelForRowBands("mlaa.rows", height, [&](size_t, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      uint32_t* weights = out.weights.MutableRow(y);
+      std::fill_n(weights, width, 0u);
+      if (y == 0) continue;
+      const uint32_t* above = out.edges.ConstRow(y - 1);
+      const uint32_t* row = out.edges.ConstRow(y);
+      // The edges crossing the row's edge at the left border of pixel x, above and below it.
+      const auto crossing = [&](size_t x, bool& first, bool& second) {
+        first = x < width && (above[x] & kMlaaLeftEdge);
+        second = x < width && (row[x] & kMlaaLeftEdge);
+      };
+      for (size_t x = 0; x < width;) {
+        if (!(row[x] & kMlaaTopEdge)) {
+          ++x;
+          continue;
+        }
+        const size_t start = x;
+        bool first, second;
+        do {
+          ++x;
+          crossing(x, first, second);
+        } while (x < width && (row[x] & kMlaaTopEdge) && !first && !second);
+        const int endHeight = EndHeight(first, second);
+        crossing(start, first, second);
+        WeighRun(uint32_t(x - start), EndHeight(first, second), endHeight,
+                 [&](uint32_t k, const uint32_t codes[2]) { weights[start + k] = codes[0] << 16 | codes[1] << 24; });
+      }
+    }
+  });
+
+  // Vertical edges (a pixel's left edge), followed down their column: bytes 0 and 1 of `weights`.
+  const size_t columnBands = (width + kColumnsPerBand - 1) / kColumnsPerBand;
+  ParallelFor("mlaa.columns", columnBands, [&](size_t band) {
+    const size_t x0 = std::max<size_t>(band * kColumnsPerBand, 1), x1 = std::min(width, (band + 1) * kColumnsPerBand);
+    if (x0 >= x1) return;
+    // Per column, the first row of its open run and the silhouette's height at its start.
+    std::vector<size_t> runStart(x1 - x0, 0);
+    std::vector<int> startHeight(x1 - x0, 0);
+    std::vector<bool> open(x1 - x0, false);
+    const auto close = [&](size_t x, size_t end, int endHeight) {
+      const size_t i = x - x0, start = runStart[i];
+      open[i] = false;
+      WeighRun(uint32_t(end - start), startHeight[i], endHeight, [&](uint32_t k, const uint32_t codes[2]) {
+        out.weights.MutableRow(start + k)[x] |= codes[0] | codes[1] << 8;
+      });
+    };
+    for (size_t y = 0; y <= height; ++y) {
+      const uint32_t* row = y < height ? out.edges.ConstRow(y) : nullptr;
+      for (size_t x = x0; x < x1; ++x) {
+        // The edges crossing the column's edge at the top border of row y, left and right of it.
+        const bool first = row && (row[x - 1] & kMlaaTopEdge), second = row && (row[x] & kMlaaTopEdge);
+        const bool edge = row && (row[x] & kMlaaLeftEdge);
+        const size_t i = x - x0;
+        if (open[i] && (!edge || first || second)) close(x, y, EndHeight(first, second));
+        if (edge && !open[i]) {
+          open[i] = true;
+          runStart[i] = y;
+          startHeight[i] = EndHeight(first, second);
+        }
+      }
+    }
+  });
+
+  std::vector<size_t> blendPixelsPerBand(RowBandCount(height), 0);
+  ParallelForRowBands("mlaa.coverage", height, [&](size_t band, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const uint32_t* weights = out.weights.ConstRow(y);
+      const uint32_t* below = y + 1 < height ? out.weights.ConstRow(y + 1) : nullptr;
+      uint32_t* coverage = out.coverage.MutableRow(y);
+      for (size_t x = 0; x < width; ++x) {
+        const uint32_t left = (weights[x] >> 8) & 255u, right = x + 1 < width ? weights[x + 1] & 255u : 0u;
+        const uint32_t up = weights[x] >> 24, down = below ? (below[x] >> 16) & 255u : 0u;
+        // One axis only, the one with the larger share (SMAA's neighbourhood blending): where a run
+        // meets the short crossing edge at its end, both weigh the same corner of the silhouette.
+        // Each share is at most 128, so the two left sum to at most 256.
+        const bool horizontal = std::max(left, right) > std::max(up, down);
+        coverage[x] = horizontal ? EdgeCoverageWord(left, right, 0, 0) : EdgeCoverageWord(0, 0, up, down);
+        blendPixelsPerBand[band] += coverage[x] != 0;
+      }
+    }
+  });
+
+  MlaaStats stats;
+  for (size_t n : edgePixelsPerBand) stats.edgePixels += n;
+  for (size_t n : blendPixelsPerBand) stats.blendPixels += n;
+  stats.ms = stopwatch.Lap();
+  return stats;
+}
+
+}  // namespace ssgi
