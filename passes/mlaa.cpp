@@ -19,10 +19,13 @@ namespace {
 constexpr size_t kColumnsPerBand = 64;
 
 // A run's end: the silhouette's height there, +1 (half a pixel toward the first side), -1 (toward
-// the second) or 0, from the edges that cross the run there on each side.
-int EndHeight(bool crossesFirstSide, bool crossesSecondSide) {
-  if (crossesFirstSide == crossesSecondSide) return 0;
-  return crossesFirstSide ? 1 : -1;
+// the second) or 0, from whether the edge steps there to the first side's row (column) or the
+// second's: an edge crosses the run's end on that side and the edge goes on from it, one row
+// (column) over. A crossing edge without the edge going on is a corner or a T-junction of straight
+// edges, which a stair step's silhouette would blur.
+int EndHeight(bool stepsToFirstSide, bool stepsToSecondSide) {
+  if (stepsToFirstSide == stepsToSecondSide) return 0;
+  return stepsToFirstSide ? 1 : -1;
 }
 
 // The area numerator (in 1/(8 n)) under one half of a run's silhouette, the line from height 1/2 at the
@@ -133,10 +136,18 @@ MlaaStats RunMlaa(const MlaaInputs& in, const MlaaParams& params, MlaaOutputs& o
       if (y == 0) continue;
       const uint32_t* above = out.edges.ConstRow(y - 1);
       const uint32_t* row = out.edges.ConstRow(y);
-      // The edges crossing the row's edge at the left border of pixel x, above and below it.
-      const auto crossing = [&](size_t x, bool& first, bool& second) {
-        first = x < width && (above[x] & kMlaaLeftEdge);
-        second = x < width && (row[x] & kMlaaLeftEdge);
+      const uint32_t* below = y + 1 < height ? out.edges.ConstRow(y + 1) : nullptr;
+      // Whether an edge crosses the row's edge at the left border of pixel x.
+      const auto crosses = [&](size_t x) { return ((above[x] | row[x]) & kMlaaLeftEdge) != 0; };
+      // The height of a run's end at the left border of pixel x (0 < x < width), `beyond` the column
+      // past the end (x at the run's end, x - 1 at its start): a step up is an edge crossing above
+      // and the top edge of pixel (beyond, y - 1); a step down one crossing below and the top edge
+      // of (beyond, y + 1).
+      const auto endHeight = [&](size_t x, size_t beyond) {
+        if (x == 0 || x >= width) return 0;
+        const bool up = (above[x] & kMlaaLeftEdge) && (above[beyond] & kMlaaTopEdge);
+        const bool down = (row[x] & kMlaaLeftEdge) && below && (below[beyond] & kMlaaTopEdge);
+        return EndHeight(up, down);
       };
       for (size_t x = 0; x < width;) {
         if (!(row[x] & kMlaaTopEdge)) {
@@ -144,14 +155,9 @@ MlaaStats RunMlaa(const MlaaInputs& in, const MlaaParams& params, MlaaOutputs& o
           continue;
         }
         const size_t start = x;
-        bool first, second;
-        do {
-          ++x;
-          crossing(x, first, second);
-        } while (x < width && (row[x] & kMlaaTopEdge) && !first && !second);
-        const int endHeight = EndHeight(first, second);
-        crossing(start, first, second);
-        WeighRun(uint32_t(x - start), EndHeight(first, second), endHeight,
+        do ++x;
+        while (x < width && (row[x] & kMlaaTopEdge) && !crosses(x));
+        WeighRun(uint32_t(x - start), endHeight(start, start - 1), endHeight(x, x),
                  [&](uint32_t k, const uint32_t codes[2]) { weights[start + k] = codes[0] << 16 | codes[1] << 24; });
       }
     }
@@ -173,18 +179,29 @@ MlaaStats RunMlaa(const MlaaInputs& in, const MlaaParams& params, MlaaOutputs& o
         out.weights.MutableRow(start + k)[x] |= codes[0] | codes[1] << 8;
       });
     };
+    // The height of a run's end at the top border of row `boundary` in column x, `beyond` the row
+    // past the end (the boundary's row at the run's end, the row above at its start): a step left
+    // is an edge crossing on the left and the left edge of pixel (x - 1, beyond); a step right one
+    // crossing on the right and the left edge of (x + 1, beyond).
+    const auto endHeight = [&](const uint32_t* boundary, const uint32_t* beyond, size_t x) {
+      if (!boundary || !beyond) return 0;
+      const bool left = (boundary[x - 1] & kMlaaTopEdge) && (beyond[x - 1] & kMlaaLeftEdge);
+      const bool right = (boundary[x] & kMlaaTopEdge) && x + 1 < width && (beyond[x + 1] & kMlaaLeftEdge);
+      return EndHeight(left, right);
+    };
     for (size_t y = 0; y <= height; ++y) {
       const uint32_t* row = y < height ? out.edges.ConstRow(y) : nullptr;
+      const uint32_t* above = y > 0 ? out.edges.ConstRow(y - 1) : nullptr;
       for (size_t x = x0; x < x1; ++x) {
-        // The edges crossing the column's edge at the top border of row y, left and right of it.
-        const bool first = row && (row[x - 1] & kMlaaTopEdge), second = row && (row[x] & kMlaaTopEdge);
+        // Whether an edge crosses the column's edge at the top border of row y.
+        const bool crossed = row && ((row[x - 1] | row[x]) & kMlaaTopEdge);
         const bool edge = row && (row[x] & kMlaaLeftEdge);
         const size_t i = x - x0;
-        if (open[i] && (!edge || first || second)) close(x, y, EndHeight(first, second));
+        if (open[i] && (!edge || crossed)) close(x, y, endHeight(row, row, x));
         if (edge && !open[i]) {
           open[i] = true;
           runStart[i] = y;
-          startHeight[i] = EndHeight(first, second);
+          startHeight[i] = endHeight(row, above, x);
         }
       }
     }

@@ -9,10 +9,10 @@
 //   2. edges: between 4-neighbours whose luma differs by at least `threshold` and by at least half the
 //      largest difference around (SMAA's local contrast adaptation);
 //   3. blend weights: each horizontal (vertical) edge followed along its whole run, which ends where
-//      the edge ends or an edge crosses it; the ends' crossing edges give the silhouette's shape (L, Z
-//      or U), a line from half a pixel on the crossing's side to the run's middle, and each pixel along
-//      the run gets the exact area between that line and the edge, in integers (no area texture, no
-//      search limit);
+//      the edge ends or an edge crosses it; where the edge steps at an end to the next row (column),
+//      the silhouette there is half a pixel off the edge on that side, which gives its shape (L, Z or
+//      U: a line from each stepping end to the run's middle), and each pixel along the run gets the
+//      exact area between that line and the edge, in integers (no area texture, no search limit);
 //   4. coverage: per pixel, the weights of its four edges as an edge coverage word.
 // What SMAA 1x adds and this does not: diagonal patterns, corner rounding and the search's bilinear
 // tricks. The luma and the edges have a scalar definition (mlaa.cpp) and a Highway twin
