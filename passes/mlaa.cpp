@@ -14,10 +14,6 @@ namespace ssgi {
 
 namespace {
 
-// The vertical runs are followed down columns in bands of this many columns: each band keeps its
-// columns' open runs and reads the edge rows in order.
-constexpr size_t kColumnsPerBand = 64;
-
 // A run's end: the silhouette's height there, +1 (half a pixel toward the first side), -1 (toward
 // the second) or 0, from whether the edge steps there to the first side's row (column) or the
 // second's: an edge crosses the run's end on that side and the edge goes on from it, one row
@@ -84,6 +80,26 @@ void MlaaEdgePixelsScalar(const float* const rows[4], size_t width, float thresh
     const bool topEdge = toUp >= threshold && largest <= 2.0f * toUp;
     edges[x] = (leftEdge ? kMlaaLeftEdge : 0u) | (topEdge ? kMlaaTopEdge : 0u);
   }
+}
+
+size_t MlaaCoverageRowScalar(const uint32_t* weights, const uint32_t* below, size_t width, uint32_t* coverage) {
+  return MlaaCoveragePixelsScalar(weights, below, width, 0, width, coverage);
+}
+
+size_t MlaaCoveragePixelsScalar(const uint32_t* weights, const uint32_t* below, size_t width, size_t begin, size_t end,
+                                uint32_t* coverage) {
+  size_t blended = 0;
+  for (size_t x = begin; x < end; ++x) {
+    const uint32_t left = (weights[x] >> 8) & 255u, right = x + 1 < width ? weights[x + 1] & 255u : 0u;
+    const uint32_t up = weights[x] >> 24, down = (below[x] >> 16) & 255u;
+    // One axis only, the one with the larger share (SMAA's neighbourhood blending): where a run meets
+    // the short crossing edge at its end, both weigh the same corner of the silhouette. Each share is
+    // at most 128, so the two kept sum to at most 256.
+    const bool horizontal = std::max(left, right) > std::max(up, down);
+    coverage[x] = horizontal ? EdgeCoverageWord(left, right, 0, 0) : EdgeCoverageWord(0, 0, up, down);
+    blended += coverage[x] != 0;
+  }
+  return blended;
 }
 
 void MlaaRunWeights(uint32_t n, uint32_t k, int startHeight, int endHeight, uint32_t codes[2]) {
@@ -163,66 +179,44 @@ MlaaStats RunMlaa(const MlaaInputs& in, const MlaaParams& params, MlaaOutputs& o
     }
   });
 
-  // Vertical edges (a pixel's left edge), followed down their column: bytes 0 and 1 of `weights`.
-  const size_t columnBands = (width + kColumnsPerBand - 1) / kColumnsPerBand;
-  ParallelFor("mlaa.columns", columnBands, [&](size_t band) {
-    const size_t x0 = std::max<size_t>(band * kColumnsPerBand, 1), x1 = std::min(width, (band + 1) * kColumnsPerBand);
-    if (x0 >= x1) return;
-    // Per column, the first row of its open run and the silhouette's height at its start.
-    std::vector<size_t> runStart(x1 - x0, 0);
-    std::vector<int> startHeight(x1 - x0, 0);
-    std::vector<bool> open(x1 - x0, false);
-    const auto close = [&](size_t x, size_t end, int endHeight) {
-      const size_t i = x - x0, start = runStart[i];
-      open[i] = false;
-      WeighRun(uint32_t(end - start), startHeight[i], endHeight, [&](uint32_t k, const uint32_t codes[2]) {
-        out.weights.MutableRow(start + k)[x] |= codes[0] | codes[1] << 8;
-      });
-    };
-    // The height of a run's end at the top border of row `boundary` in column x, `beyond` the row
-    // past the end (the boundary's row at the run's end, the row above at its start): a step left
-    // is an edge crossing on the left and the left edge of pixel (x - 1, beyond); a step right one
-    // crossing on the right and the left edge of (x + 1, beyond).
-    const auto endHeight = [&](const uint32_t* boundary, const uint32_t* beyond, size_t x) {
-      if (!boundary || !beyond) return 0;
-      const bool left = (boundary[x - 1] & kMlaaTopEdge) && (beyond[x - 1] & kMlaaLeftEdge);
-      const bool right = (boundary[x] & kMlaaTopEdge) && x + 1 < width && (beyond[x + 1] & kMlaaLeftEdge);
-      return EndHeight(left, right);
-    };
-    for (size_t y = 0; y <= height; ++y) {
-      const uint32_t* row = y < height ? out.edges.ConstRow(y) : nullptr;
+  // Vertical edges (a pixel's left edge), followed down their column from the row where the run
+  // starts: bytes 0 and 1 of `weights`. Each run is written by the band of its first row alone.
+  const auto edgeAt = [&](size_t x, size_t y) { return out.edges.ConstRow(y)[x]; };
+  // Whether an edge crosses the column's edge x at the top border of row y.
+  const auto crossed = [&](size_t x, size_t y) { return ((edgeAt(x - 1, y) | edgeAt(x, y)) & kMlaaTopEdge) != 0; };
+  // The height of a run's end at the top border of row `boundary` (0 < boundary < height) in column
+  // x, `beyond` the row past the end (the boundary's row at the run's end, the row above at its
+  // start): a step left is an edge crossing on the left and the left edge of pixel (x - 1, beyond);
+  // a step right one crossing on the right and the left edge of (x + 1, beyond).
+  const auto endHeight = [&](size_t x, size_t boundary, size_t beyond) {
+    if (boundary == 0 || boundary >= height) return 0;
+    const bool left = (edgeAt(x - 1, boundary) & kMlaaTopEdge) && (edgeAt(x - 1, beyond) & kMlaaLeftEdge);
+    const bool right = (edgeAt(x, boundary) & kMlaaTopEdge) && x + 1 < width && (edgeAt(x + 1, beyond) & kMlaaLeftEdge);
+    return EndHeight(left, right);
+  };
+  ParallelForRowBands("mlaa.columns", height, [&](size_t, size_t yBegin, size_t yEnd) {
+    for (size_t y = yBegin; y < yEnd; ++y) {
+      const uint32_t* row = out.edges.ConstRow(y);
       const uint32_t* above = y > 0 ? out.edges.ConstRow(y - 1) : nullptr;
-      for (size_t x = x0; x < x1; ++x) {
-        // Whether an edge crosses the column's edge at the top border of row y.
-        const bool crossed = row && ((row[x - 1] | row[x]) & kMlaaTopEdge);
-        const bool edge = row && (row[x] & kMlaaLeftEdge);
-        const size_t i = x - x0;
-        if (open[i] && (!edge || crossed)) close(x, y, endHeight(row, row, x));
-        if (edge && !open[i]) {
-          open[i] = true;
-          runStart[i] = y;
-          startHeight[i] = endHeight(row, above, x);
-        }
+      for (size_t x = 1; x < width; ++x) {
+        if (!(row[x] & kMlaaLeftEdge)) continue;
+        if (above && (above[x] & kMlaaLeftEdge) && !crossed(x, y)) continue;  // not the run's first row
+        size_t end = y + 1;
+        while (end < height && (edgeAt(x, end) & kMlaaLeftEdge) && !crossed(x, end)) ++end;
+        WeighRun(
+            uint32_t(end - y), endHeight(x, y, y - 1), endHeight(x, end, end),
+            [&](uint32_t k, const uint32_t codes[2]) { out.weights.MutableRow(y + k)[x] |= codes[0] | codes[1] << 8; });
       }
     }
   });
 
   std::vector<size_t> blendPixelsPerBand(RowBandCount(height), 0);
+  const std::vector<uint32_t> noWeights(width, 0u);  // below the last row
   ParallelForRowBands("mlaa.coverage", height, [&](size_t band, size_t yBegin, size_t yEnd) {
     for (size_t y = yBegin; y < yEnd; ++y) {
-      const uint32_t* weights = out.weights.ConstRow(y);
-      const uint32_t* below = y + 1 < height ? out.weights.ConstRow(y + 1) : nullptr;
-      uint32_t* coverage = out.coverage.MutableRow(y);
-      for (size_t x = 0; x < width; ++x) {
-        const uint32_t left = (weights[x] >> 8) & 255u, right = x + 1 < width ? weights[x + 1] & 255u : 0u;
-        const uint32_t up = weights[x] >> 24, down = below ? (below[x] >> 16) & 255u : 0u;
-        // One axis only, the one with the larger share (SMAA's neighbourhood blending): where a run
-        // meets the short crossing edge at its end, both weigh the same corner of the silhouette.
-        // Each share is at most 128, so the two left sum to at most 256.
-        const bool horizontal = std::max(left, right) > std::max(up, down);
-        coverage[x] = horizontal ? EdgeCoverageWord(left, right, 0, 0) : EdgeCoverageWord(0, 0, up, down);
-        blendPixelsPerBand[band] += coverage[x] != 0;
-      }
+      const uint32_t* below = y + 1 < height ? out.weights.ConstRow(y + 1) : noWeights.data();
+      blendPixelsPerBand[band] += (simd ? MlaaCoverageRowSimd : MlaaCoverageRowScalar)(
+          out.weights.ConstRow(y), below, width, out.coverage.MutableRow(y));
     }
   });
 

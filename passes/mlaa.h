@@ -15,8 +15,8 @@
 //      exact area between that line and the edge, in integers (no area texture, no search limit);
 //   4. coverage: per pixel, the weights of its four edges as an edge coverage word.
 // What SMAA 1x adds and this does not: diagonal patterns, corner rounding and the search's bilinear
-// tricks. The luma and the edges have a scalar definition (mlaa.cpp) and a Highway twin
-// (mlaa_simd.cpp) that gives the same bytes on every target; weights and coverage are integer.
+// tricks. The luma, the edges and the coverage have a scalar definition (mlaa.cpp) and a Highway twin
+// (mlaa_simd.cpp) that gives the same bytes on every target; the runs are scalar, in integers.
 #pragma once
 
 #include <cstddef>
@@ -76,6 +76,14 @@ void MlaaEdgeRowScalar(const float* const rows[4], size_t width, float threshold
 void MlaaEdgePixelsScalar(const float* const rows[4], size_t width, float threshold, size_t begin, size_t end,
                           uint32_t* edges);
 void MlaaEdgeRowSimd(const float* const rows[4], size_t width, float threshold, uint32_t* edges);
+
+// One row of coverage words from rows of weights (`below`: the next row's, zeros below the last
+// row), for x in [0, width); returns the words that are not 0.
+size_t MlaaCoverageRowScalar(const uint32_t* weights, const uint32_t* below, size_t width, uint32_t* coverage);
+// The same for x in [begin, end) only (the twin's tail).
+size_t MlaaCoveragePixelsScalar(const uint32_t* weights, const uint32_t* below, size_t width, size_t begin, size_t end,
+                                uint32_t* coverage);
+size_t MlaaCoverageRowSimd(const uint32_t* weights, const uint32_t* below, size_t width, uint32_t* coverage);
 
 // The weight codes of a pixel `k` pixels into a run of `n` edge pixels whose ends' silhouette heights
 // are `startHeight` and `endHeight` (+1: half a pixel toward the edge's first side, the upper or left

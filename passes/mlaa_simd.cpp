@@ -1,7 +1,8 @@
-// The Highway twins of MlaaLumaRowScalar and MlaaEdgeRowScalar (mlaa.cpp): the same products, sums,
-// divisions and square roots in the same order (Mul then Add, never a fused MulAdd; Div and Sqrt are
-// correctly rounded on every target), on vectors of pixels. The edge row's first two pixels and its
-// tail, whose neighbours the vectors cannot load, go to the scalar definition.
+// The Highway twins of MlaaLumaRowScalar, MlaaEdgeRowScalar and MlaaCoverageRowScalar (mlaa.cpp): the
+// same products, sums, divisions and square roots in the same order (Mul then Add, never a fused
+// MulAdd; Div and Sqrt are correctly rounded on every target), and the same integer operations, on
+// vectors of pixels. The pixels whose neighbours the vectors cannot load (the edge row's first two,
+// each row's tail) go to the scalar definition.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "passes/mlaa_simd.cpp"
 #include "hwy/foreach_target.h"  // IWYU pragma: keep
@@ -62,6 +63,26 @@ void MlaaEdgeRow(const float* const rows[4], size_t width, float threshold, uint
   MlaaEdgePixelsScalar(rows, width, threshold, x, width, edges);
 }
 
+size_t MlaaCoverageRow(const uint32_t* weights, const uint32_t* below, size_t width, uint32_t* coverage) {
+  const DU du;
+  const DI di;
+  const size_t lanes = hn::Lanes(du);
+  const auto byte = hn::Set(du, 255u);
+  size_t x = 0, blended = 0;
+  for (; x + lanes < width; x += lanes) {
+    const auto own = hn::LoadU(du, weights + x);
+    const auto left = hn::And(hn::ShiftRight<8>(own), byte), right = hn::And(hn::LoadU(du, weights + x + 1), byte);
+    const auto up = hn::ShiftRight<24>(own), down = hn::And(hn::ShiftRight<16>(hn::LoadU(du, below + x)), byte);
+    // Shares are at most 255: signed comparisons of them are the scalar's unsigned ones.
+    const auto horizontal = hn::Gt(hn::BitCast(di, hn::Max(left, right)), hn::BitCast(di, hn::Max(up, down)));
+    const auto word = hn::IfThenElse(hn::RebindMask(du, horizontal), hn::Or(left, hn::ShiftLeft<8>(right)),
+                                     hn::Or(hn::ShiftLeft<16>(up), hn::ShiftLeft<24>(down)));
+    hn::StoreU(word, du, coverage + x);
+    blended += hn::CountTrue(du, hn::Ne(word, hn::Zero(du)));
+  }
+  return blended + MlaaCoveragePixelsScalar(weights, below, width, x, width, coverage);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ssgi
 HWY_AFTER_NAMESPACE();
@@ -71,6 +92,7 @@ namespace ssgi {
 
 HWY_EXPORT(MlaaLumaRow);
 HWY_EXPORT(MlaaEdgeRow);
+HWY_EXPORT(MlaaCoverageRow);
 
 void MlaaLumaRowSimd(const float* const rgb[3], size_t width, float exposureScale, float* luma) {
   HWY_DYNAMIC_DISPATCH(MlaaLumaRow)(rgb, width, exposureScale, luma);
@@ -78,6 +100,10 @@ void MlaaLumaRowSimd(const float* const rgb[3], size_t width, float exposureScal
 
 void MlaaEdgeRowSimd(const float* const rows[4], size_t width, float threshold, uint32_t* edges) {
   HWY_DYNAMIC_DISPATCH(MlaaEdgeRow)(rows, width, threshold, edges);
+}
+
+size_t MlaaCoverageRowSimd(const uint32_t* weights, const uint32_t* below, size_t width, uint32_t* coverage) {
+  return HWY_DYNAMIC_DISPATCH(MlaaCoverageRow)(weights, below, width, coverage);
 }
 
 }  // namespace ssgi

@@ -39,7 +39,8 @@ Plane3<float> Grey(size_t width, size_t height, const std::function<float(size_t
   return image;
 }
 
-TEST_CASE("mlaa: the luma and edge row twins equal their scalar definitions on every target", "[mlaa][simd]") {
+TEST_CASE("mlaa: the luma, edge and coverage row twins equal their scalar definitions on every target",
+          "[mlaa][simd]") {
   std::mt19937 rng(5);
   const std::vector<float> special = test::SpecialFloats();
   std::uniform_real_distribution<float> radiance(0.0f, 8.0f), luma(0.0f, 1.0f);
@@ -66,6 +67,22 @@ TEST_CASE("mlaa: the luma and edge row twins equal their scalar definitions on e
       MlaaEdgeRowSimd(lumaRows, width, 0.1f, simd.data());
       CAPTURE(target);
       CHECK(simd == scalar);
+    });
+    // Weights with shares of every size, ties between the axes among them.
+    std::vector<uint32_t> weights(width), below(width);
+    const auto randomWeights = [&] {
+      const uint32_t kind = rng() % 3;
+      return kind == 0 ? 0u : kind == 1 ? rng() & 0xFFFFFFFFu : (rng() & 0x80808080u) >> (rng() % 2);
+    };
+    for (uint32_t& w : weights) w = randomWeights();
+    for (uint32_t& w : below) w = randomWeights();
+    std::vector<uint32_t> scalarCoverage(width + 1, 7u);
+    const size_t scalarCount = MlaaCoverageRowScalar(weights.data(), below.data(), width, scalarCoverage.data());
+    test::ForEachSimdTarget([&](const char* target) {
+      std::vector<uint32_t> simd(width + 1, 7u);
+      CAPTURE(target);
+      CHECK(MlaaCoverageRowSimd(weights.data(), below.data(), width, simd.data()) == scalarCount);
+      CHECK(simd == scalarCoverage);
     });
   }
 }
