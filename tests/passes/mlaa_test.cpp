@@ -170,7 +170,7 @@ TEST_CASE("mlaa: a stair-step edge is blended toward each pixel's covered share"
   }
 }
 
-TEST_CASE("mlaa: a flat image and a smooth gradient keep their bytes; HDR stays finite", "[mlaa]") {
+TEST_CASE("mlaa: a flat image and a smooth gradient keep their bytes, and HDR stays finite", "[mlaa]") {
   for (const auto& value : std::vector<std::function<float(size_t, size_t)>>{
            [](size_t, size_t) { return 0.5f; },
            [](size_t x, size_t y) { return 0.2f + 0.03f * float(x) + 0.01f * float(y); }}) {
