@@ -35,10 +35,10 @@ uint64_t HalfRunArea(uint64_t n, uint64_t k) {
   return 2 * (b - a) * n - (b * b - a * a);
 }
 
-// Writes a run's weights: `store(i, codes)` for each of its n pixels.
+// Writes a run's weights: `store(k, codes)` for each of its n pixels.
 template <class Store>
 void WeighRun(uint32_t n, int startHeight, int endHeight, Store&& store) {
-  if (startHeight == 0 && endHeight == 0) return;  // no crossing: the edge is straight, nothing to blend
+  if (startHeight == 0 && endHeight == 0) return;  // no step at either end: nothing to blend
   for (uint32_t k = 0; k < n; ++k) {
     uint32_t codes[2];
     MlaaRunWeights(n, k, startHeight, endHeight, codes);

@@ -87,7 +87,7 @@ size_t MlaaCoverageRowSimd(const uint32_t* weights, const uint32_t* below, size_
 
 // The weight codes of a pixel `k` pixels into a run of `n` edge pixels whose ends' silhouette heights
 // are `startHeight` and `endHeight` (+1: half a pixel toward the edge's first side, the upper or left
-// neighbour; -1: toward its second side; 0: no crossing, or one on each side): the area between the
+// neighbour; -1: toward its second side; 0: no step, or a step to each side): the area between the
 // silhouette and the edge on each side, in 1/256, rounded to nearest. [0] the first side's pixel's
 // share of the second's colour, [1] the reverse.
 void MlaaRunWeights(uint32_t n, uint32_t k, int startHeight, int endHeight, uint32_t codes[2]);
