@@ -134,7 +134,7 @@ BENCHMARK(BM_FramePenumbraShare)->Apply(RegisterPenumbrae);
 // 2 with shadows and reflections (rows 0-2 the paper's pipeline: the effects it does not have, the
 // sky light and the diffuse bounce, switched off), 3 with every effect, on `threads` threads,
 // rendered as Table 1 renders them (into the last frame's buffers), with the anti-aliasing `aa`
-// (0 off, 1 edge; passes/antialias.h).
+// (0 off, 1 edge, 2 mlaa; passes/antialias.h, passes/mlaa.h).
 void BM_Table1Frame(benchmark::State& state) {
   const BenchScene& bench = BenchSceneOf(state.range(2));
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
@@ -150,7 +150,7 @@ void BM_Table1Frame(benchmark::State& state) {
 
 BENCHMARK(BM_Table1Frame)
     ->ArgNames({"row", "threads", "scene", "aa"})
-    ->ArgsProduct({{0, 1, 2, 3}, {2}, {0, -1}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3}, {2}, {0, -1}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

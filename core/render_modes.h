@@ -13,8 +13,9 @@ enum class EffectMode { kAuto, kOn, kOff };
 // The display curve of the tonemap pass (passes/tonemap.h).
 enum class Tonemap { kAces, kClamp };
 
-// The anti-aliasing of the final image (passes/antialias.h): none, or the analytic coverage of the
-// geometric edges the rasterizer found (G-buffer edge coverage, GBAA style).
-enum class Antialiasing { kOff, kEdge };
+// The anti-aliasing of the final image (passes/antialias.h): none, the analytic coverage of the
+// geometric edges the rasterizer found (G-buffer edge coverage, GBAA style), or the coverage of the
+// edges found in the image itself (morphological, passes/mlaa.h).
+enum class Antialiasing { kOff, kEdge, kMlaa };
 
 }  // namespace ssgi

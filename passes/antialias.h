@@ -1,7 +1,7 @@
 // Anti-aliasing pass (docs/pipeline.md §Anti-aliasing): the final linear HDR image, before the
 // tonemap, blended across the geometric edges the rasterizer found. Each pixel with a non-zero
-// edge coverage word (passes/gbuffer.h, EdgeCoverageWord) becomes the coverage-weighted mean of its
-// own colour and its 4-neighbours' colours,
+// edge coverage word (core/edge_coverage.h: from the G-buffer pass or the morphological pass) becomes the
+// coverage-weighted mean of its own colour and its 4-neighbours' colours,
 //   out = (c w0 + left wl + right wr + up wu + down wd) / 256,   w0 = 256 - (wl + wr + wu + wd),
 // each product and sum rounded in float32 in that order. That is the box filter of a pixel cut by a
 // straight edge, where the neighbour across the edge stands for the other surface's colour

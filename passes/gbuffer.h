@@ -9,6 +9,7 @@
 #include <cstddef>
 
 #include "core/camera.h"
+#include "core/edge_coverage.h"
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
 #include "core/raster/raster.h"
@@ -152,12 +153,6 @@ inline constexpr float kEdgeDepthJump = 0.02f;
 // background, their materials differ (`materials`: per triangle) or their depths differ by more than
 // the ratio 1 + kEdgeDepthJump.
 bool GeometricEdge(uint32_t triangleA, uint32_t triangleB, float depthA, float depthB, const uint32_t* materials);
-
-// The edge coverage word of a pixel: bytes 0-3 are the shares of its area, in 1/256, covered by the
-// surface of its left, right, upper and lower neighbour; their sum is at most 256. 0: no edge.
-inline uint32_t EdgeCoverageWord(uint32_t left, uint32_t right, uint32_t up, uint32_t down) {
-  return left | right << 8 | up << 16 | down << 24;
-}
 
 // The share of a unit pixel square on the inside of a line (the box filter's coverage): `distance`
 // is the signed distance of the square's centre from the line, positive inside, in pixels, and

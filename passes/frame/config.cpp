@@ -265,10 +265,12 @@ std::vector<FrameSetting> BuildFrameSettings() {
   }
   table.push_back(ChoiceSetting<Antialiasing>(
       "antialiasing", "--aa",
-      "Anti-aliasing of the final image: edge (each geometric edge's coverage of the pixels it crosses, from "
-      "the rasterizer's triangles, blended in linear HDR before the tonemap) or off.",
-      {{"off", Antialiasing::kOff}, {"edge", Antialiasing::kEdge}}, {"off", "edge"},
-      [](auto& c) -> auto& { return c.antialiasing; }));
+      "Anti-aliasing of the final image, blended in linear HDR before the tonemap: edge (each geometric "
+      "edge's coverage of the pixels it crosses, from the rasterizer's triangles), mlaa (morphological: the "
+      "edges of the image's luma, followed along their runs, and the coverage of the silhouette their ends "
+      "outline) or off.",
+      {{"off", Antialiasing::kOff}, {"edge", Antialiasing::kEdge}, {"mlaa", Antialiasing::kMlaa}},
+      {"off", "edge", "mlaa"}, [](auto& c) -> auto& { return c.antialiasing; }));
   table.push_back(ChoiceSetting<Tonemap>("tonemap", "--tonemap",
                                          "Display curve of PNG output: aces (Narkowicz's filmic fit) or clamp.",
                                          {{"aces", Tonemap::kAces}, {"clamp", Tonemap::kClamp}}, {},

@@ -22,6 +22,7 @@
 #include "passes/frame/registry.h"
 #include "passes/gbuffer.h"
 #include "passes/hiz.h"
+#include "passes/mlaa.h"
 #include "passes/shadow_filter.h"
 #include "passes/shadow_map.h"
 #include "passes/sky_light.h"
@@ -46,6 +47,7 @@ struct FrameStats {
   std::optional<SsrTraceStats> ssrTrace;
   std::optional<SsrConeStats> ssrCone;
   std::optional<CompositeStats> composite;
+  std::optional<MlaaStats> mlaa;
   std::optional<AntialiasStats> antialias;
   std::optional<TonemapStats> tonemap;
   double planMs = 0.0;  // PlanFrame: it runs in every frame, after the G-buffer pass or its dump
@@ -59,10 +61,10 @@ std::vector<StageStats> StageRows(const FrameStats& stats);
 
 // Every pass, in pipeline order.
 inline constexpr FramePass kFramePasses[] = {
-    FramePass::kGBuffer,  FramePass::kShadowMap, FramePass::kShadowFilter, FramePass::kDirectLight,
-    FramePass::kSkyLight, FramePass::kBounce,    FramePass::kHiZ,          FramePass::kColorPyramid,
-    FramePass::kSsrTrace, FramePass::kSsrCone,   FramePass::kComposite,    FramePass::kAntialias,
-    FramePass::kTonemap};
+    FramePass::kGBuffer,   FramePass::kShadowMap, FramePass::kShadowFilter, FramePass::kDirectLight,
+    FramePass::kSkyLight,  FramePass::kBounce,    FramePass::kHiZ,          FramePass::kColorPyramid,
+    FramePass::kSsrTrace,  FramePass::kSsrCone,   FramePass::kComposite,    FramePass::kMlaa,
+    FramePass::kAntialias, FramePass::kTonemap};
 // The pass's registry name: "gbuffer", "shadow_map", ..., "tonemap".
 std::string_view FramePassName(FramePass pass);
 // The pass of that name; throws InputError listing the names for any other.
@@ -104,9 +106,11 @@ struct Frame {
   SsrTraceOutputs ssrTrace;
   SsrConeOutputs ssrCone;
   CompositeOutputs composite;
-  // Whether the anti-aliasing belongs to this frame (it is on and some pixel lies on an edge), and
-  // its image: empty when it works in place on the result (BufferLifetime::kUntilLastReader).
+  // Whether the anti-aliasing belongs to this frame (it is on and some pixel lies on an edge, or
+  // with --aa mlaa some pixel has geometry), the morphological pass's buffers (--aa mlaa), and the
+  // anti-aliased image: empty when it works in place on the result (BufferLifetime::kUntilLastReader).
   bool antialias = false;
+  MlaaOutputs mlaa;
   Plane3<float> antialiased;
   TonemapOutputs display;  // 8-bit sRGB of the final image
   FrameStats stats;

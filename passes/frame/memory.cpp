@@ -17,6 +17,7 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
                    size_t(config.shadowMap.resolution)};
   shape.handOver = release;
   shape.edgeCoverage = config.antialiasing == Antialiasing::kEdge;
+  shape.mlaa = config.antialiasing == Antialiasing::kMlaa;
   if (config.sky != EffectMode::kOff) {
     shape.skyVolumeBytes = SkyVisibilityBytes(scene, config.skyVisibility) +
                            WorldBounceBytes(scene, config.skyVisibility, config.interreflection);

@@ -201,6 +201,15 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
   }
   if (config.antialiasing == Antialiasing::kOff) {
     plan.antialias.why = "switched off";
+  } else if (config.antialiasing == Antialiasing::kMlaa) {
+    // The image's edges are found after the composite, in the image; one without geometry in front of
+    // a constant environment is one colour.
+    const bool constantBackground = config.environment.kind == EnvironmentKind::kConstant;
+    plan.antialias.run = plan.geometryPixels > 0 || !constantBackground;
+    plan.antialias.why = plan.geometryPixels > 0 ? "mlaa searches the image's luma edges (pixels have geometry)"
+                         : plan.antialias.run
+                             ? "mlaa searches the image's luma edges (the environment is not one colour)"
+                             : "no pixel has geometry and the environment is one colour";
   } else {
     // Edge pixels are those with a non-zero edge coverage word (passes/gbuffer.h): the first one
     // decides, unless they are counted (for --explain).

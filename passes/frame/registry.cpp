@@ -1,9 +1,9 @@
 // The pass registry: the frame's passes in pipeline order, each with its buffers, stats rows and
 // step. Read top to bottom, it is the frame: scene -> G-buffer -> shadow map and blocker search ->
 // shadow filter -> direct light -> sky light -> diffuse bounce -> Hi-Z -> colour pyramid -> SSR
-// trace -> cone trace -> composite -> tonemap (docs/design.md §1). A buffer handed on to another is
-// left empty (std::exchange), never moved-from with its old size, which a later reader would take
-// for a filled buffer.
+// trace -> cone trace -> composite -> morphological edges -> anti-aliasing -> tonemap (docs/design.md §1). A buffer
+// handed on to another is left empty (std::exchange), never moved-from with its old size, which a later reader would
+// take for a filled buffer.
 #include "passes/frame/registry.h"
 
 #include <algorithm>
@@ -936,6 +936,68 @@ PassDeclaration CompositePass() {
   return pass;
 }
 
+// ---- Morphological anti-aliasing (passes/mlaa.h) ----
+
+void MlaaStep(FrameStep& s) {
+  Frame& f = s.frame;
+  if (s.config.antialiasing != Antialiasing::kMlaa || !s.Runs(P::kMlaa)) return;
+  f.stats.mlaa = RunMlaa({f.Composed()}, {.exposureEv = s.config.tonemap.exposureEv}, f.mlaa);
+}
+
+const char kMlaaLumaMeaning[] = "the perceptual luma the edges are found in: sqrt(t / (1 + t)), t the luminance x 2^EV";
+const char kMlaaEdgesMeaning[] = "bit 0: a luma edge with the left neighbour, bit 1: with the upper neighbour";
+const char kMlaaWeightsMeaning[] =
+    "the left and top edges' blend weights in 1/256: byte 0 this pixel's colour over the left neighbour, byte 1 "
+    "the left neighbour's over this pixel, bytes 2-3 the same with the upper neighbour";
+const char kMlaaCoverageMeaning[] =
+    "the edge coverage word the weights give: bytes 0-3 the left, right, upper, lower neighbour's share, in 1/256";
+
+PassDeclaration MlaaPass() {
+  PassDeclaration pass{P::kMlaa, "mlaa",
+                       "morphological anti-aliasing: the final image's luma edges and the coverage their runs outline"};
+  pass.effect = FrameEffect::kAntialias;
+  pass.makes = {
+      {.id = B::kMlaa,
+       .name = "morphological edges and coverage",
+       .bytes =
+           [](const FrameShape& s) {
+             return s.mlaa ? PlaneBytes<float>(s.width, s.height) + 3 * PlaneBytes<uint32_t>(s.width, s.height) : 0;
+           },
+       .layers = {{"mlaa.luma", P::kMlaa, false, DumpPart::kImage, false, kMlaaLumaMeaning},
+                  {"mlaa.edges", P::kMlaa, true, DumpPart::kImage, false, kMlaaEdgesMeaning},
+                  {"mlaa.weights", P::kMlaa, true, DumpPart::kImage, false, kMlaaWeightsMeaning},
+                  {"mlaa.coverage", P::kMlaa, true, DumpPart::kImage, false, kMlaaCoverageMeaning}},
+       .heldBytes =
+           [](const Frame& f) {
+             return Held(f.mlaa.luma) + Held(f.mlaa.edges) + Held(f.mlaa.weights) + Held(f.mlaa.coverage);
+           },
+       .release = [](Frame& f) { f.mlaa = {}; },
+       .dump =
+           [](const Frame& f, DumpSink& sink) {
+             if (!ImageSized(f, f.mlaa.coverage)) return;
+             sink.Add(DumpPart::kImage, 0, "mlaa.luma", f.mlaa.luma);
+             sink.Add(DumpPart::kImage, 0, "mlaa.edges", f.mlaa.edges);
+             sink.Add(DumpPart::kImage, 0, "mlaa.weights", f.mlaa.weights);
+             sink.Add(DumpPart::kImage, 0, "mlaa.coverage", f.mlaa.coverage);
+           },
+       .load =
+           [](const DumpSource& source, Frame& f) {
+             if (!source.Has(DumpPart::kImage, 0, "mlaa.coverage")) return;
+             source.Load(DumpPart::kImage, 0, "mlaa.luma", f.mlaa.luma);
+             source.Load(DumpPart::kImage, 0, "mlaa.edges", f.mlaa.edges);
+             source.Load(DumpPart::kImage, 0, "mlaa.weights", f.mlaa.weights);
+             source.Load(DumpPart::kImage, 0, "mlaa.coverage", f.mlaa.coverage);
+           }},
+  };
+  pass.reads = {B::kResult};
+  pass.stats = {{"mlaa", [](const FrameStats& s) -> std::optional<StageStats> {
+                   if (!s.mlaa) return std::nullopt;
+                   return Row(s.mlaa->ms, double(s.mlaa->edgePixels), "pixels");
+                 }}};
+  pass.step = MlaaStep;
+  return pass;
+}
+
 // ---- Anti-aliasing (passes/antialias.h) ----
 
 void AntialiasStep(FrameStep& s) {
@@ -944,15 +1006,19 @@ void AntialiasStep(FrameStep& s) {
   // Where no dump reads the image before the anti-aliasing, in place: nothing else reads it.
   if (s.Undumped()) f.antialiased = {};
   Plane3<float>& out = s.Undumped() ? f.MutableComposed() : f.antialiased;
-  f.stats.antialias = RunAntialias({f.gbuffer.edgeCoverage, f.Composed()}, out);
+  const Plane<uint32_t>& coverage =
+      s.config.antialiasing == Antialiasing::kMlaa ? f.mlaa.coverage : f.gbuffer.edgeCoverage;
+  f.stats.antialias = RunAntialias({coverage, f.Composed()}, out);
 }
 
 const char kAntialiasedMeaning[] =
-    "the final image anti-aliased across geometric edges, linear, >= 0 (result where no pixel is on an edge)";
+    "the final image anti-aliased across geometric edges (--aa edge) or luma edges (--aa mlaa), linear, >= 0 "
+    "(result where no pixel is on an edge)";
 
 PassDeclaration AntialiasPass() {
   PassDeclaration pass{P::kAntialias, "antialias",
-                       "the final image blended across geometric edges by their coverage of each pixel"};
+                       "the final image blended across its edges (geometric or morphological) by their coverage of "
+                       "each pixel"};
   pass.effect = FrameEffect::kAntialias;
   pass.makes = {
       {.id = B::kAntialiased,
@@ -972,7 +1038,7 @@ PassDeclaration AntialiasPass() {
        .load = [](const DumpSource& source,
                   Frame& f) { source.Load3(DumpPart::kImage, 0, "aa.result.", f.antialiased); }},
   };
-  pass.reads = {B::kEdgeCoverage, B::kResult};
+  pass.reads = {B::kEdgeCoverage, B::kMlaa, B::kResult};
   pass.stats = {{"antialias", [](const FrameStats& s) -> std::optional<StageStats> {
                    if (!s.antialias) return std::nullopt;
                    return Row(s.antialias->ms, double(s.antialias->edgePixels), "pixels");
@@ -1015,10 +1081,10 @@ PassDeclaration TonemapPass() {
 }
 
 std::vector<PassDeclaration> MakeRegistry() {
-  std::vector<PassDeclaration> passes = {GBufferPass(),  ShadowMapPass(), ShadowFilterPass(), DirectLightPass(),
-                                         SkyLightPass(), BouncePass(),    HiZPass(),          ColorPyramidPass(),
-                                         SsrTracePass(), SsrConePass(),   CompositePass(),    AntialiasPass(),
-                                         TonemapPass()};
+  std::vector<PassDeclaration> passes = {GBufferPass(),   ShadowMapPass(), ShadowFilterPass(), DirectLightPass(),
+                                         SkyLightPass(),  BouncePass(),    HiZPass(),          ColorPyramidPass(),
+                                         SsrTracePass(),  SsrConePass(),   CompositePass(),    MlaaPass(),
+                                         AntialiasPass(), TonemapPass()};
   for (size_t i = 0; i < passes.size(); ++i) SSGI_CHECK(size_t(passes[i].pass) == i);
   return passes;
 }
@@ -1049,8 +1115,8 @@ const MadeBuffer& FrameBufferDeclaration(FrameBuffer buffer) { return FrameBuffe
 
 const std::vector<FramePass>& FrameSteps() {
   static const std::vector<FramePass> steps = {
-      P::kGBuffer,  P::kShadowMap,    P::kShadowFilter, P::kDirectLight, P::kSkyLight,  P::kBounce, P::kHiZ,
-      P::kSsrTrace, P::kColorPyramid, P::kSsrCone,      P::kComposite,   P::kAntialias, P::kTonemap};
+      P::kGBuffer,  P::kShadowMap,    P::kShadowFilter, P::kDirectLight, P::kSkyLight, P::kBounce,    P::kHiZ,
+      P::kSsrTrace, P::kColorPyramid, P::kSsrCone,      P::kComposite,   P::kMlaa,     P::kAntialias, P::kTonemap};
   return steps;
 }
 

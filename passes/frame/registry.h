@@ -42,6 +42,7 @@ enum class FramePass {
   kSsrTrace,
   kSsrCone,
   kComposite,
+  kMlaa,  // the morphological anti-aliasing's edges and coverage (--aa mlaa)
   kAntialias,
   kTonemap,
 };
@@ -77,6 +78,7 @@ enum class FrameBuffer {
   kIndirect,
   kResult,
   kEdgeCoverage,  // the G-buffer's edge coverage words, for the edge anti-aliasing
+  kMlaa,          // the morphological anti-aliasing's luma, edges, blend weights and coverage words
   kAntialiased,   // the anti-aliased final image
   kDisplay,
 };
@@ -110,6 +112,7 @@ struct FrameShape {
   size_t skyVolumeBytes = 0;       // the sky visibility volume of the scene (SkyVisibilityBytes)
   size_t skyVolumeBuildBytes = 0;  // what making it holds besides the volume
   bool edgeCoverage = false;       // the G-buffer pass writes its edge coverage (--aa edge)
+  bool mlaa = false;               // the morphological anti-aliasing runs (--aa mlaa)
   // The frame frees buffers after their last reader and hands storage on (kUntilLastReader).
   bool handOver = false;
 };

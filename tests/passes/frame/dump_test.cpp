@@ -27,11 +27,13 @@ struct DumpedFrame {
   ExrFile dump;
 };
 
-DumpedFrame RenderAndDump(const fs::path& path, int width, int height) {
+DumpedFrame RenderAndDump(const fs::path& path, int width, int height,
+                          std::optional<Antialiasing> antialiasing = std::nullopt) {
   const test::DefaultScene defaults = test::LoadDefaultScene();
   DumpedFrame d{defaults.scene, defaults.config, {}, {}};
   d.config.width = width;
   d.config.height = height;
+  if (antialiasing) d.config.antialiasing = *antialiasing;
   d.frame = RenderFrame(d.scene, d.config);
   WriteFrameDump(path, d.frame, DumpMetadata("scene.json", d.config));
   d.dump = ReadExrFile(path);
@@ -84,21 +86,32 @@ TEST_CASE("frame dump: every buffer of the frame as its catalogue layer, bit for
   REQUIRE(display != nullptr);
   CHECK(display->isUint);
   for (size_t i = 0; i < display->samples.size(); ++i) CHECK(display->samples[i] == f.display.rgb[i * 3 + 1]);
-  // Every catalogue layer of the main part is in the file: this frame runs every pass.
+  // Every catalogue layer of the main part is in the file: this frame runs every pass but the
+  // morphological one, the alternative to the G-buffer's edge coverage (checked below).
   for (const DumpLayer& layer : DumpLayers()) {
-    if (layer.part != DumpPart::kImage) continue;
+    if (layer.part != DumpPart::kImage || layer.pass == FramePass::kMlaa) continue;
     CAPTURE(layer.name);
     const ExrLayer* found = d.dump.Find("frame", std::string(layer.name));
     REQUIRE(found != nullptr);
     CHECK(found->isUint == layer.isUint);
   }
   CHECK(d.dump.metadata.at("ssgi:scene") == "scene.json");
+  const DumpedFrame m = RenderAndDump(dir / "mlaa.exr", 67, 45, Antialiasing::kMlaa);
+  CHECK(SameAsLayer(m.dump, "frame", "mlaa.luma", m.frame.mlaa.luma));
+  CHECK(SameAsLayer(m.dump, "frame", "mlaa.edges", m.frame.mlaa.edges));
+  CHECK(SameAsLayer(m.dump, "frame", "mlaa.weights", m.frame.mlaa.weights));
+  CHECK(SameAsLayer(m.dump, "frame", "mlaa.coverage", m.frame.mlaa.coverage));
+  CHECK(SameAsLayer(m.dump, "frame", "aa.result.R", m.frame.antialiased.c[0]));
+  CHECK(m.dump.Find("frame", "aa.coverage") == nullptr);
 }
 
 TEST_CASE("frame dump: the pipeline run from any pass on the dump's buffers gives the frame's bytes", "[dump]") {
   test::ScratchDir dir("dump-passes");
-  for (const auto& [width, height] : {std::pair{67, 45}, {1, 1}}) {
-    const DumpedFrame d = RenderAndDump(dir / "frame.exr", width, height);
+  for (const auto& [width, height, antialiasing] :
+       {std::tuple<int, int, std::optional<Antialiasing>>{67, 45, std::nullopt},
+        {1, 1, std::nullopt},
+        {67, 45, Antialiasing::kMlaa}}) {
+    const DumpedFrame d = RenderAndDump(dir / "frame.exr", width, height, antialiasing);
     for (FramePass from : kFramePasses) {
       for (FramePass to : {from, FramePass::kTonemap}) {
         CAPTURE(width, height, FramePassName(from), FramePassName(to));

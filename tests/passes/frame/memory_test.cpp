@@ -30,13 +30,15 @@ std::vector<size_t> EstimatedFrameBytes(const FrameMemoryEstimate& estimate) {
 
 TEST_CASE("the memory estimate and the frame's release schedule agree, step by step", "[frame][memory]") {
   const test::DefaultScene defaults = test::LoadDefaultScene();
-  for (const auto& [width, height] : {std::pair{96, 64}, {67, 45}}) {
+  for (const auto& [width, height, antialiasing] :
+       {std::tuple{96, 64, Antialiasing::kEdge}, {67, 45, Antialiasing::kEdge}, {67, 45, Antialiasing::kMlaa}}) {
     FrameConfig config = defaults.config;
     config.width = width;
     config.height = height;
     config.shadowMap.resolution = 256;
+    config.antialiasing = antialiasing;
     for (BufferLifetime lifetime : {BufferLifetime::kUntilLastReader, BufferLifetime::kKeepAll}) {
-      CAPTURE(width, height, int(lifetime));
+      CAPTURE(width, height, int(antialiasing), int(lifetime));
       const FrameMemoryEstimate estimate = EstimateFrameMemory(defaults.scene, config, lifetime);
       std::vector<size_t> held;
       Frame frame;
@@ -66,26 +68,30 @@ TEST_CASE("every buffer the frame frees early is freed after its last reader and
   config.width = 48;
   config.height = 32;
   config.shadowMap.resolution = 128;
-  std::vector<std::vector<size_t>> heldPerBuffer;
-  Frame frame;
-  RunFramePasses(defaults.scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame,
-                 BufferLifetime::kUntilLastReader, [&](FramePass, const Frame& f) {
-                   std::vector<size_t> held;
-                   for (const MadeBuffer& made : FrameBuffers()) held.push_back(made.buffer->heldBytes(f));
-                   heldPerBuffer.push_back(held);
-                 });
-  for (const MadeBuffer& made : FrameBuffers()) {
-    const BufferDeclaration& buffer = *made.buffer;
-    CAPTURE(buffer.name);
-    const std::optional<size_t> last = LastStepOf(buffer.id);
-    CHECK(last.has_value() == (buffer.release != nullptr));
-    for (size_t step = 0; step < heldPerBuffer.size(); ++step) {
-      const size_t held = heldPerBuffer[step][size_t(buffer.id)];
-      if (step < StepOf(made.maker->pass)) CHECK(held == 0);
-      if (last && step > *last) CHECK(held == 0);
+  for (Antialiasing antialiasing : {Antialiasing::kEdge, Antialiasing::kMlaa}) {
+    CAPTURE(int(antialiasing));
+    config.antialiasing = antialiasing;
+    std::vector<std::vector<size_t>> heldPerBuffer;
+    Frame frame;
+    RunFramePasses(defaults.scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame,
+                   BufferLifetime::kUntilLastReader, [&](FramePass, const Frame& f) {
+                     std::vector<size_t> held;
+                     for (const MadeBuffer& made : FrameBuffers()) held.push_back(made.buffer->heldBytes(f));
+                     heldPerBuffer.push_back(held);
+                   });
+    for (const MadeBuffer& made : FrameBuffers()) {
+      const BufferDeclaration& buffer = *made.buffer;
+      CAPTURE(buffer.name);
+      const std::optional<size_t> last = LastStepOf(buffer.id);
+      CHECK(last.has_value() == (buffer.release != nullptr));
+      for (size_t step = 0; step < heldPerBuffer.size(); ++step) {
+        const size_t held = heldPerBuffer[step][size_t(buffer.id)];
+        if (step < StepOf(made.maker->pass)) CHECK(held == 0);
+        if (last && step > *last) CHECK(held == 0);
+      }
+      // After the frame only the outputs hold memory.
+      CHECK((buffer.heldBytes(frame) > 0) == buffer.frameOutput);
     }
-    // After the frame only the outputs hold memory.
-    CHECK((buffer.heldBytes(frame) > 0) == buffer.frameOutput);
   }
 }
 
