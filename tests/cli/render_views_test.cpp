@@ -289,7 +289,7 @@ pid_t RankProcess(pid_t mpirun, int rank) {
 TEST_CASE("render-views over MPI: a killed rank ends the run, and --resume completes it with the same bytes",
           "[cli][views][mpi]") {
   ScratchDir dir("views-kill");
-  constexpr int kViews = 80;
+  constexpr int kViews = 200;  // enough that a loaded machine does not finish before the kill
   WriteViews(dir / "views.json", ManyViews(kViews));
   const std::string views = DefaultSceneArg() + " --views " + Quote(dir / "views.json") + " --size 200x150 --threads 1";
   const CommandResult whole = Mpirun(2, "render-views " + views + " -o " + Quote(dir / "whole" / "view_%03d.png"));
