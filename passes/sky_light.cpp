@@ -248,6 +248,10 @@ SkyLightStats RunSkyLight(const SkyLightInputs& in, const SkyLightParams&, SkyLi
   ReusePlane3(out.lit, size_t(width), size_t(height));
   if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
     out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
+  // The interreflection is read with the visibility volume's cells and windows: the same grid.
+  if (in.visibility && in.interreflection)
+    for (const std::vector<float>& channel : in.interreflection->coefficients)
+      SSGI_CHECK(channel.size() == in.visibility->coefficients.size());
   const PixelRayTables rays = MakePixelRayTables(in.view, size_t(width), size_t(height));
   const SkyLightContext context{glm::inverse(in.view.view),
                                 in.gbuffer.normalEncoding,

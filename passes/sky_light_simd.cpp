@@ -28,6 +28,14 @@ struct VolumeSampleV {
   // Every lane reads the same cells (neighbouring pixels mostly lie in one): their values are
   // loaded once and broadcast instead of gathered.
   bool oneCell;
+  // Else, per corner (every table of the grid has the same layout, so these serve them all): where
+  // the lanes read two cells only (a run of pixels across one cell boundary), the two cells'
+  // values broadcast and selected by `upper`; else the corner's window of the table, where it holds
+  // every lane's four coefficients, one load gives them.
+  int32_t lowest[8], highest[8];
+  bool twoCells[8];
+  hn::Mask<D> upper[8];
+  GatherWindow<D> window[8];
 };
 
 template <class D>
@@ -60,16 +68,26 @@ VolumeSampleV<D> SampleVolumeV(D d, const SkyVisibilityVolume& volume, const Vec
   }
   sample.oneCell = hn::AllTrue(di, hn::Eq(sample.corner[0], hn::Set(di, hn::GetLane(sample.corner[0])))) &&
                    hn::AllTrue(di, hn::Eq(sample.corner[7], hn::Set(di, hn::GetLane(sample.corner[7]))));
+  if (!sample.oneCell) {
+    const int32_t tableSize = int32_t(volume.coefficients.size());
+    for (int corner = 0; corner < 8; ++corner) {
+      const auto index = sample.corner[corner];
+      const auto lowest = hn::MinOfLanes(di, index), highest = hn::MaxOfLanes(di, index);
+      sample.lowest[corner] = hn::GetLane(lowest);
+      sample.highest[corner] = hn::GetLane(highest);
+      sample.upper[corner] = hn::RebindMask(d, hn::Eq(index, highest));
+      sample.twoCells[corner] = hn::AllTrue(di, hn::Or(hn::Eq(index, lowest), hn::Eq(index, highest)));
+      if (!sample.twoCells[corner]) sample.window[corner] = WindowFromLowest(d, tableSize, index, 3);
+    }
+  }
   return sample;
 }
 
-// ReadVolume(coefficients, sample) per lane. Besides the broadcast of one cell, lanes mostly lie in
-// cells side by side along x, whose coefficients are neighbours in the table: a corner whose lanes'
-// four coefficients all lie in one window takes them from one load (GatherWindow,
-// core/math-inl.h). The same values on every path, so the same bits.
+// ReadVolume(coefficients, sample) per lane: the cells' values broadcast (one or two cells), from a
+// window of the table (lanes in cells side by side along x, GatherWindow in core/math-inl.h), or
+// gathered. The same values on every path, so the same bits.
 template <class D>
-hn::Vec<D> ReadVolumeV(D d, const float* table, int32_t tableSize, const VolumeSampleV<D>& sample,
-                       const Vec3V<D>& normal) {
+hn::Vec<D> ReadVolumeV(D d, const float* table, const VolumeSampleV<D>& sample, const Vec3V<D>& normal) {
   const hn::RebindToSigned<D> di;
   hn::Vec<D> t[4][8];  // coefficient k of corner i
   for (int i = 0; i < 8; ++i) {
@@ -78,7 +96,13 @@ hn::Vec<D> ReadVolumeV(D d, const float* table, int32_t tableSize, const VolumeS
       for (int k = 0; k < 4; ++k) t[k][i] = hn::Set(d, table[index + k]);
       continue;
     }
-    const GatherWindow<D> window = WindowFromLowest(d, tableSize, sample.corner[i], 3);
+    if (sample.twoCells[i]) {
+      for (int k = 0; k < 4; ++k)
+        t[k][i] = hn::IfThenElse(sample.upper[i], hn::Set(d, table[sample.highest[i] + k]),
+                                 hn::Set(d, table[sample.lowest[i] + k]));
+      continue;
+    }
+    const GatherWindow<D>& window = sample.window[i];
     if (window.holdsAll) {
       const auto values = hn::LoadU(d, table + window.first);
       for (int k = 0; k < 4; ++k)
@@ -132,15 +156,13 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
       Vec3V<DF> interreflected{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
       if (context.visibility) {
         const VolumeSampleV<DF> sample = SampleVolumeV(d, *context.visibility, position, normal);
-        const int32_t tableSize = int32_t(context.visibility->coefficients.size());
-        visibility = ClampStd(ReadVolumeV(d, context.visibility->coefficients.data(), tableSize, sample, normal),
-                              hn::Zero(d), one);
+        visibility =
+            ClampStd(ReadVolumeV(d, context.visibility->coefficients.data(), sample, normal), hn::Zero(d), one);
         if (context.interreflection) {
           hn::Vec<DF>* channel[3] = {&interreflected.x, &interreflected.y, &interreflected.z};
           for (int c = 0; c < 3; ++c)
             *channel[c] = MaxStd(
-                ReadVolumeV(d, context.interreflection->coefficients[size_t(c)].data(), tableSize, sample, normal),
-                hn::Zero(d));
+                ReadVolumeV(d, context.interreflection->coefficients[size_t(c)].data(), sample, normal), hn::Zero(d));
         }
       }
       const Vec3V<DF> irradiance =
