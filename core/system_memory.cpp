@@ -1,13 +1,14 @@
 #include "core/system_memory.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -161,5 +162,7 @@ size_t ParseByteCount(const std::string& text, const std::string& option) {
   if (!(bytes >= 1.0) || bytes > double(std::numeric_limits<size_t>::max() / 2)) return fail();
   return size_t(bytes);
 }
+
+void ReturnFreedMemory() { malloc_trim(0); }
 
 }  // namespace ssgi

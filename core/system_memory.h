@@ -30,6 +30,10 @@ MemoryBudget DefaultMemoryBudget();
 
 // The process's resident set now and at its peak so far (Linux), in bytes; 0 where unknown.
 size_t ResidentBytes();
+// Gives the heap's free pages back to the system (glibc's malloc_trim, every arena): after a
+// one-time build whose temporaries, freed on worker threads, would otherwise stay resident in
+// those threads' arenas through the rest of the frame.
+void ReturnFreedMemory();
 size_t PeakResidentBytes();
 // The file-backed part of the resident set now (RssFile + RssShmem): mostly the shared libraries'
 // code and read-only data, clean pages the kernel can drop and read again under memory pressure,

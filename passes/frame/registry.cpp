@@ -13,6 +13,7 @@
 #include "core/lighting.h"
 #include "core/pyramid.h"
 #include "core/stopwatch.h"
+#include "core/system_memory.h"
 #include "passes/frame/dump.h"
 #include "passes/frame/frame.h"
 
@@ -370,6 +371,7 @@ void SkyLightStep(FrameStep& s) {
     f.interreflection = BuildWorldBounce(s.scene, *f.skyVolume, f.environment, s.config.interreflection);
     f.stats.interreflectionMs = build.Lap();
   }
+  if (f.stats.skyVisibilityMs || f.stats.interreflectionMs) ReturnFreedMemory();
   // Freeing early, `lit` is written over the direct image: each pixel is read before it is written.
   if (s.Releases()) f.skyLight.lit = std::exchange(f.direct.radiance, {});
   const Plane3<float>& direct = s.Releases() ? f.skyLight.lit : f.direct.radiance;
