@@ -565,6 +565,18 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   return out;
 }
 
+// §Edge coverage and anti-aliasing, "Blend": `image` blended by the coverage words.
+Buffer RunAntialias(const FrameConstants& frame, const Buffer& coverage, const Buffer& image) {
+  const Program program("antialias.comp");
+  SetFrameConstants(program, frame);
+  Buffer blended(3 * size_t(frame.width) * size_t(frame.height));
+  coverage.Bind(0);
+  image.Bind(1);
+  blended.Bind(2);
+  program.Dispatch(frame.width, frame.height);
+  return blended;
+}
+
 // Plane `plane` of a buffer of planes of width x height words each, as the float layer `name` of part
 // `part`.
 ExrLayer PlaneLayer(const std::string& part, const std::string& name, const std::vector<uint32_t>& words, size_t plane,
@@ -790,6 +802,17 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
       RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
                    lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, environment,
                    bounce ? &compositeBounce.value() : nullptr);
+  // The anti-aliasing blend, where the frame ran it, over the port's result. Its coverage words are
+  // the oracle's (`aa.coverage` of --aa edge, `mlaa.coverage` of --aa mlaa): the port does not compute
+  // them, so it blends by the words it is given and passes none on.
+  std::optional<Buffer> antialiased;
+  if (dump.Find(main, "aa.result.R") != nullptr) {
+    const ExrLayer* coverage = FindLayer(dump, main, "aa.coverage", true, width, height, input);
+    if (coverage == nullptr) coverage = FindLayer(dump, main, "mlaa.coverage", true, width, height, input);
+    if (coverage == nullptr)
+      throw InputError(input, "layer aa.result.R is there without the coverage words it was blended by");
+    antialiased = RunAntialias(frame, Buffer(coverage->samples.size(), coverage->samples.data()), composite.result);
+  }
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
     std::snprintf(text, sizeof text, "OpenGL error 0x%04X", unsigned(code));
@@ -849,6 +872,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   addRgb(main, "ssr.reflected.", reflected, frame.width, frame.height);
   addRgb(main, "indirect.", composite.indirect, frame.width, frame.height);
   addRgb(main, "result.", composite.result, frame.width, frame.height);
+  if (antialiased) addRgb(main, "aa.result.", *antialiased, frame.width, frame.height);
   // The other parts after the image's, in the dump's order.
   if (shadows && !oracleShadowMap) {
     const int resolution = config.shadowMap.resolution;

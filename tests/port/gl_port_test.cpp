@@ -41,12 +41,15 @@ void CompareWithOracle(const ExrFile& oracle, const std::filesystem::path& porte
     CHECK(layer.ok);
   }
   // The port writes the direct light, every Hi-Z and pyramid level, the trace, cone and composite,
-  // and the bounce's layers and every half-resolution step where the oracle ran the bounce.
+  // the bounce's layers and every half-resolution step where the oracle ran the bounce, and the
+  // anti-aliased result where the oracle blended one.
   CHECK(compared >= 18);
   if (oracle.Find("frame", "bounce.visibility") != nullptr) {
     CHECK(port.Find("frame", "bounce.visibility") != nullptr);
     CHECK(port.Find("bounce.half", "filtered.visibility") != nullptr);
   }
+  // And the anti-aliasing blend where the oracle ran it, exact like every layer here.
+  if (oracle.Find("frame", "aa.result.R") != nullptr) CHECK(port.Find("frame", "aa.result.R") != nullptr);
   CHECK(report.ok);
 }
 
