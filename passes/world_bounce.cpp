@@ -13,11 +13,14 @@
 namespace ssgi {
 namespace {
 
+// Cell `cell`'s (x, y, z) in the grid (x fastest, then y, then z).
+glm::ivec3 CellCoordinates(const SkyVisibilityVolume& grid, size_t cell) {
+  return {int(cell % size_t(grid.cellsX)), int(cell / size_t(grid.cellsX) % size_t(grid.cellsY)),
+          int(cell / (size_t(grid.cellsX) * size_t(grid.cellsY)))};
+}
+
 glm::vec3 CellCentre(const SkyVisibilityVolume& grid, size_t cell) {
-  const int x = int(cell % size_t(grid.cellsX));
-  const int y = int(cell / size_t(grid.cellsX) % size_t(grid.cellsY));
-  const int z = int(cell / (size_t(grid.cellsX) * size_t(grid.cellsY)));
-  return grid.origin + (glm::vec3(float(x), float(y), float(z)) + 0.5f) * grid.cellSize;
+  return grid.origin + (glm::vec3(CellCoordinates(grid, cell)) + 0.5f) * grid.cellSize;
 }
 
 // 1 for each cell within `margin` cells of a triangle's bounds.
@@ -54,8 +57,7 @@ void FillInsideCells(const SkyVisibilityVolume& grid, const std::vector<uint8_t>
   const ptrdiff_t stride[3] = {1, grid.cellsX, ptrdiff_t(grid.cellsX) * grid.cellsY};
   ParallelFor("world_bounce.fill", inside.size(), [&](size_t cell) {
     if (!read[cell] || !inside[cell]) return;
-    const int position[3] = {int(cell % size_t(grid.cellsX)), int(cell / size_t(grid.cellsX) % size_t(grid.cellsY)),
-                             int(cell / (size_t(grid.cellsX) * size_t(grid.cellsY)))};
+    const glm::ivec3 position = CellCoordinates(grid, cell);
     float sum[3][4] = {};
     int count = 0;
     for (int a = 0; a < 3; ++a)
