@@ -107,7 +107,7 @@ WorldBounceVolume BuildWorldBounce(const Scene& scene, const SkyVisibilityVolume
   // The radiance leaving the surface a ray from a cell hits, towards the cell: diffuse only (the
   // volume is a diffuse term), from every light and the sky. `back`: the ray met the back of a
   // one-sided surface (light from there would come through it).
-  const auto RadianceTowards = [&](const glm::vec3& direction, const Hit& hit, glm::vec3& diffuseAlbedo,
+  const auto radianceTowards = [&](const glm::vec3& direction, const Hit& hit, glm::vec3& diffuseAlbedo,
                                    bool& back) -> glm::vec3 {
     const uint32_t* idx = &scene.mesh.indices[3 * size_t(hit.triangle)];
     const Material& material = scene.materials[scene.mesh.materials[hit.triangle]];
@@ -148,9 +148,9 @@ WorldBounceVolume BuildWorldBounce(const Scene& scene, const SkyVisibilityVolume
       Hit hit;
       if (!tracer.Intersect(RayKind::kBothFaces, centre, direction, 0.0f, kInfinity, hit)) continue;
       ++hits;
-      glm::vec3 diffuseAlbedo;
+      glm::vec3 diffuseAlbedo(0.0f);
       bool back = false;
-      const glm::vec3 radiance = RadianceTowards(direction, hit, diffuseAlbedo, back);
+      const glm::vec3 radiance = radianceTowards(direction, hit, diffuseAlbedo, back);
       if (back) {
         ++backHits;
         continue;
