@@ -62,34 +62,29 @@ ExrChannelFilter LayersBefore(FramePass from) {
 // light the frame as the dump's maker did (the oracle's own dump: the volume it would build; a
 // port's: the port's maps).
 void TakeSkyVolume(const ExrFile& dump, const Scene& scene, const FrameConfig& config, Frame& frame) {
-  const ExrLayer* layer = dump.Find(DumpPartName(DumpPart::kSkyVolume, 0), "k");
+  const std::string part = DumpPartName(DumpPart::kSkyVolume, 0);
+  const ExrLayer* layer = dump.Find(part, "k");
   if (layer == nullptr || config.skyVisibility.directions == 0) return;
   SkyVisibilityVolume volume = SkyVisibilityGrid(scene, config.skyVisibility);
   if (layer->width != volume.cellsX * 4 || layer->height != volume.cellsY * volume.cellsZ || layer->isUint) return;
-  volume.coefficients.resize(layer->samples.size());
-  std::memcpy(volume.coefficients.data(), layer->samples.data(), layer->samples.size() * sizeof(float));
+  // A layer of the volume's grid, as its coefficients.
+  const auto read = [&](const ExrLayer& from, std::vector<float>& coefficients) {
+    coefficients.resize(from.samples.size());
+    std::memcpy(coefficients.data(), from.samples.data(), from.samples.size() * sizeof(float));
+  };
+  read(*layer, volume.coefficients);
   volume.meshHash = SceneGeometryHash(scene);
   // The interreflection volume on its grid, where the dump holds one.
-  WorldBounceVolume interreflection;
-  bool complete = config.interreflection.directions > 0;
-  for (int c = 0; c < 3 && complete; ++c) {
-    const ExrLayer* channel =
-        dump.Find(DumpPartName(DumpPart::kSkyVolume, 0), std::string("interreflection.") + "RGB"[c]);
-    complete =
-        channel != nullptr && channel->width == layer->width && channel->height == layer->height && !channel->isUint;
-    if (complete) {
-      std::vector<float>& coefficients = interreflection.coefficients[size_t(c)];
-      coefficients.resize(channel->samples.size());
-      std::memcpy(coefficients.data(), channel->samples.data(), channel->samples.size() * sizeof(float));
+  if (config.interreflection.directions > 0) {
+    WorldBounceVolume interreflection = EmptyWorldBounce(scene, volume, config.environment, config.interreflection);
+    bool complete = true;
+    for (int c = 0; c < 3 && complete; ++c) {
+      const ExrLayer* channel = dump.Find(part, std::string("interreflection.") + "RGB"[c]);
+      complete =
+          channel != nullptr && channel->width == layer->width && channel->height == layer->height && !channel->isUint;
+      if (complete) read(*channel, interreflection.coefficients[size_t(c)]);
     }
-  }
-  if (complete) {
-    interreflection.meshHash = volume.meshHash;
-    interreflection.lights = PrepareLights(scene, glm::mat4(1.0f));
-    interreflection.environment = config.environment;
-    interreflection.grid = config.skyVisibility;
-    interreflection.params = config.interreflection;
-    frame.interreflection = std::move(interreflection);
+    if (complete) frame.interreflection = std::move(interreflection);
   }
   frame.skyVolume = std::move(volume);
 }

@@ -84,17 +84,23 @@ bool SameLight(const PreparedLight& a, const PreparedLight& b) {
 
 }  // namespace
 
-WorldBounceVolume BuildWorldBounce(const Scene& scene, const SkyVisibilityVolume& sky,
-                                   const EnvironmentLighting& environment, const WorldBounceParams& params) {
-  SSGI_CHECK(params.directions > 0);
+WorldBounceVolume EmptyWorldBounce(const Scene& scene, const SkyVisibilityVolume& sky, const Environment& environment,
+                                   const WorldBounceParams& params) {
   WorldBounceVolume volume;
   volume.meshHash = sky.meshHash;
   volume.lights = PrepareLights(scene, glm::mat4(1.0f));
-  volume.environment = environment.source;
+  volume.environment = environment;
   volume.grid = sky.params;
   volume.params = params;
+  for (std::vector<float>& channel : volume.coefficients) channel.assign(sky.coefficients.size(), 0.0f);
+  return volume;
+}
+
+WorldBounceVolume BuildWorldBounce(const Scene& scene, const SkyVisibilityVolume& sky,
+                                   const EnvironmentLighting& environment, const WorldBounceParams& params) {
+  SSGI_CHECK(params.directions > 0);
+  WorldBounceVolume volume = EmptyWorldBounce(scene, sky, environment.source, params);
   const size_t cells = sky.coefficients.size() / 4;
-  for (std::vector<float>& channel : volume.coefficients) channel.assign(cells * 4, 0.0f);
   if (scene.mesh.TriangleCount() == 0) return volume;
 
   const RayTracer tracer(scene);

@@ -53,6 +53,11 @@ struct WorldBounceVolume {
   WorldBounceParams params;
 };
 
+// A volume of zero coefficients on `sky`'s grid, stamped with what it is made for (`sky`'s mesh hash
+// and grid, the scene's lights, `environment`, `params`): what BuildWorldBounce fills, and what a
+// volume taken from a dump is read into.
+WorldBounceVolume EmptyWorldBounce(const Scene& scene, const SkyVisibilityVolume& sky, const Environment& environment,
+                                   const WorldBounceParams& params);
 // The volume for `scene` on `sky`'s grid (sky: the scene's sky visibility volume, which also
 // shadows the sky's light on the surfaces the rays hit). Deterministic: cells in parallel, each
 // cell's sums in direction order.
