@@ -95,6 +95,21 @@ bool SameBytes(const Plane<T>& a, const Plane<T>& b) {
   return true;
 }
 
+// The same for each of three planes.
+template <class T>
+bool SameBytes(const Plane3<T>& a, const Plane3<T>& b) {
+  return SameBytes(a.c[0], b.c[0]) && SameBytes(a.c[1], b.c[1]) && SameBytes(a.c[2], b.c[2]);
+}
+
+// `scene` with its camera high above it, looking straight up: a frame of it sees only the
+// environment.
+inline Scene FacingTheSky(Scene scene) {
+  scene.camera.position = {0.0f, 50.0f, 0.0f};
+  scene.camera.target = {0.0f, 100.0f, 0.0f};
+  scene.camera.up = {0.0f, 0.0f, 1.0f};
+  return scene;
+}
+
 // A copy of three planes (planes cannot be copied).
 inline Plane3<float> CopyOf(const Plane3<float>& planes) {
   const size_t width = planes.c[0].xsize(), height = planes.c[0].ysize();
