@@ -24,6 +24,12 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
     shape.skyVolumeBuildBytes = std::max(SkyVisibilityBuildBytes(scene, config.skyVisibility),
                                          WorldBounceBuildBytes(scene, config.skyVisibility, config.interreflection));
   }
+  // In `auto`, the bounce does not run where the sky light makes the interreflection volume (the sky
+  // light runs, in `auto`, where the environment is not black and a pixel has geometry).
+  const bool skyMayRun =
+      config.sky == EffectMode::kOn || (config.sky == EffectMode::kAuto && !config.environment.IsBlack());
+  const bool bounceMayRun = config.bounce == EffectMode::kOn ||
+                            (config.bounce == EffectMode::kAuto && !(skyMayRun && SkyMakesInterreflection(config)));
   const auto mayRun = [&](FrameEffect effect) {
     switch (effect) {
       case FrameEffect::kAlways:
@@ -35,10 +41,9 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
       case FrameEffect::kSky:
         return config.sky != EffectMode::kOff;
       case FrameEffect::kBounce:
-        return config.bounce != EffectMode::kOff;
+        return bounceMayRun;
       case FrameEffect::kIndirect:
-        return config.reflections != EffectMode::kOff || config.sky != EffectMode::kOff ||
-               config.bounce != EffectMode::kOff;
+        return config.reflections != EffectMode::kOff || config.sky != EffectMode::kOff || bounceMayRun;
       case FrameEffect::kAntialias:
         return config.antialiasing != Antialiasing::kOff;
     }

@@ -190,6 +190,8 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
     plan.bounce.why = "switched on";
   } else if (plan.geometryPixels == 0) {
     plan.bounce.why = "no pixel has geometry";
+  } else if (plan.sky.run && SkyMakesInterreflection(config)) {
+    plan.bounce.why = "the interreflection volume carries the bounced light";
   } else {
     // Without light on screen the lit image is black on every surface, and there is no sky light to occlude.
     plan.bounce.run = lightReachesPixels || plan.sky.run;

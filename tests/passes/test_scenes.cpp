@@ -106,7 +106,8 @@ void ForEachDefaultSceneFrame(const std::function<void(const Frame&)>& check) {
 
 DefaultScene LoadDefaultScene() {
   SceneFile file = LoadSceneFile(SourceDir() / "data" / "default.json");
-  const FrameConfig config = FrameConfigFromSceneFile(file);
+  FrameConfig config = FrameConfigFromSceneFile(file);
+  config.bounce = EffectMode::kOn;
   return {std::move(file.scene), config};
 }
 

@@ -72,8 +72,8 @@ struct RandomGBufferRow {
   RandomGBufferRow(size_t width, std::mt19937& rng);
 };
 
-// data/default.json and its render block: real buffers for tests that compare two ways of running
-// a pass.
+// data/default.json and its render block, with the diffuse bounce on (the scene's own frame leaves it
+// to the interreflection volume): real buffers for tests that compare two ways of running a pass.
 struct DefaultScene {
   Scene scene;
   FrameConfig config;

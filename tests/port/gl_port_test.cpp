@@ -58,9 +58,9 @@ void CompareWithOracle(const ExrFile& oracle, const std::filesystem::path& porte
 // pass of the other run sees the same bits, so it is run where the mode itself is to be tested.
 enum class PortRuns { kChained, kChainedAndOracleInputs };
 
-// The oracle's frame with its default effects (the diffuse bounce on wherever something on screen is
-// lit), or with the bounce switched off: the composite without its terms.
-enum class Bounce { kDefault, kOff };
+// The oracle's frame with its default effects and the diffuse bounce on (in `auto` the interreflection
+// volume stands for it where the sky light runs), or with the bounce off: the composite without its terms.
+enum class Bounce { kOn, kOff };
 
 // Renders `sceneFile` at width x height with the oracle, runs the port on its buffers as `runs`
 // says and checks every layer the port writes against the oracle's. Every layer must be bit-exact: the
@@ -68,7 +68,7 @@ enum class Bounce { kDefault, kOff };
 // otherwise allows (tests/port/README.md); a tolerance here would hide a departure from the spec.
 // (Thresholds for GPUs with approximate division or sqrt are `ssgi diff`'s, data/diff_thresholds.json.)
 void CheckPort(const std::filesystem::path& sceneFile, int width, int height, PortRuns runs = PortRuns::kChained,
-               Bounce bounce = Bounce::kDefault) {
+               Bounce bounce = Bounce::kOn) {
   if (std::string(kGlPortPath).empty()) {
     WARN("the GLSL port is not built (no EGL/OpenGL development files): skipped");
     return;
@@ -77,11 +77,10 @@ void CheckPort(const std::filesystem::path& sceneFile, int width, int height, Po
   FrameConfig config = FrameConfigFromSceneFile(scene);
   config.width = width;
   config.height = height;
-  if (bounce == Bounce::kOff) config.bounce = EffectMode::kOff;
+  config.bounce = bounce == Bounce::kOn ? EffectMode::kOn : EffectMode::kOff;
   const Frame frame = RenderFrame(scene.scene, config);
   REQUIRE(frame.reflections);
-  // Every scene here has something lit on screen, so the default frame runs the bounce.
-  REQUIRE(frame.bounce == (bounce == Bounce::kDefault));
+  REQUIRE(frame.bounce == (bounce == Bounce::kOn));
   const test::ScratchDir scratch("gl-port");
   const std::filesystem::path input = scratch / "oracle.exr", ported = scratch / "port.exr";
   WriteFrameDump(input, frame, DumpMetadata(std::filesystem::absolute(sceneFile).string(), config));

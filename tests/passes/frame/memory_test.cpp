@@ -30,25 +30,30 @@ std::vector<size_t> EstimatedFrameBytes(const FrameMemoryEstimate& estimate) {
 
 TEST_CASE("the memory estimate and the frame's release schedule agree, step by step", "[frame][memory]") {
   const test::DefaultScene defaults = test::LoadDefaultScene();
-  for (const auto& [width, height, antialiasing] :
-       {std::tuple{96, 64, Antialiasing::kEdge}, {67, 45, Antialiasing::kEdge}, {67, 45, Antialiasing::kMlaa}}) {
+  // The bounce on, and in `auto`, where the interreflection volume stands for it and neither the
+  // estimate nor the frame holds its buffers.
+  for (const auto& [width, height, antialiasing, bounce] : {std::tuple{96, 64, Antialiasing::kEdge, EffectMode::kOn},
+                                                            {67, 45, Antialiasing::kEdge, EffectMode::kOn},
+                                                            {67, 45, Antialiasing::kMlaa, EffectMode::kOn},
+                                                            {67, 45, Antialiasing::kEdge, EffectMode::kAuto}}) {
     FrameConfig config = defaults.config;
     config.width = width;
     config.height = height;
     config.shadowMap.resolution = 256;
     config.antialiasing = antialiasing;
+    config.bounce = bounce;
     for (BufferLifetime lifetime : {BufferLifetime::kUntilLastReader, BufferLifetime::kKeepAll}) {
-      CAPTURE(width, height, int(antialiasing), int(lifetime));
+      CAPTURE(width, height, int(antialiasing), int(bounce), int(lifetime));
       const FrameMemoryEstimate estimate = EstimateFrameMemory(defaults.scene, config, lifetime);
       std::vector<size_t> held;
       Frame frame;
       RunFramePasses(defaults.scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime,
                      [&](FramePass, const Frame& f) { held.push_back(HeldBytes(f)); });
-      // Every effect runs on this scene, so the estimate's "may run" is what ran.
+      // Every effect that may run runs on this scene, so the estimate's "may run" is what ran.
       REQUIRE(frame.shadows);
       REQUIRE(frame.reflections);
       REQUIRE(frame.sky);
-      REQUIRE(frame.bounce);
+      REQUIRE(frame.bounce == (bounce == EffectMode::kOn));
       const std::vector<size_t> estimated = EstimatedFrameBytes(estimate);
       REQUIRE(held.size() == FrameSteps().size());
       for (size_t step = 0; step < held.size(); ++step) {

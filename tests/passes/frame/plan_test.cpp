@@ -175,9 +175,11 @@ TEST_CASE("frame plan: the bounce runs where something on screen is lit, and cos
           "[plan]") {
   test::TestScene scene = RoughFloor();
   AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.9f);
+  int interreflectionDirections = WorldBounceParams{}.directions;
   const auto render = [&](EffectMode bounce) {
     FrameConfig config = test::ConfigOf(scene);
     config.bounce = bounce;
+    config.interreflection.directions = interreflectionDirections;
     return RenderFrame(scene, config);
   };
   SECTION("a light reaches visible surfaces") {
@@ -195,9 +197,24 @@ TEST_CASE("frame plan: the bounce runs where something on screen is lit, and cos
     CHECK_FALSE(off.stats.bounce);
     CHECK_FALSE(off.stats.composite);
   }
-  SECTION("the sky alone lights them") {
+  SECTION("the interreflection volume carries the bounced light") {
+    scene.background = glm::vec3(0.2f, 0.3f, 0.4f);
+    const Frame frame = render(EffectMode::kAuto);
+    CHECK(frame.plan.sky.run);
+    REQUIRE(frame.interreflection);
+    CHECK_FALSE(frame.plan.bounce.run);
+    CHECK(frame.plan.bounce.why == "the interreflection volume carries the bounced light");
+    CHECK_FALSE(frame.stats.bounce);
+    CHECK(frame.diffuseBounce.visibility.xsize() == 0);
+    // Forced on, it runs over the volume's light.
+    const Frame forced = render(EffectMode::kOn);
+    REQUIRE(forced.stats.bounce);
+    CHECK_FALSE(test::SameBytes(frame.Result().c[2], forced.Result().c[2]));
+  }
+  SECTION("the sky alone lights them, without an interreflection volume") {
     scene.directionalLights.clear();
     scene.background = glm::vec3(0.2f, 0.3f, 0.4f);
+    interreflectionDirections = 0;
     const Frame frame = render(EffectMode::kAuto);
     CHECK(frame.plan.sky.run);
     CHECK(frame.plan.bounce.run);
