@@ -186,7 +186,8 @@ std::vector<FrameSetting> BuildFrameSettings() {
       "effects.bounce", "--bounce",
       "Diffuse bounce and ambient occlusion (screen-space visibility bitmask): the lit image's light bounced once "
       "onto diffuse surfaces, and the sky's diffuse light darkened where nearby surfaces cover the sky: auto (when "
-      "something on screen is lit: a light reaches a visible pixel or the sky light runs), on or off.",
+      "something on screen is lit: a light reaches a visible pixel or the sky light runs, and no interreflection "
+      "volume carries the bounced light), on or off.",
       effectModes, {}, [](auto& c) -> auto& { return c.bounce; }));
   table.push_back(IntegerSetting(
       "sky_directions", "--sky-directions",
