@@ -20,6 +20,11 @@ namespace ssgi {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// The most distinct cells a corner's lanes may read for their values to be broadcast and selected
+// rather than gathered: a run of pixels across a boundary in x and one in y or z reads four; a
+// 16-lane gather costs about as much as four broadcasts and selects per lane set.
+constexpr int kMostSelectedCells = 4;
+
 // SampleVolume(volume, position, normal) per lane: each corner's first coefficient, the weights.
 template <class D>
 struct VolumeSampleV {
@@ -29,14 +34,32 @@ struct VolumeSampleV {
   // loaded once and broadcast instead of gathered.
   bool oneCell;
   // Else, per corner (every table of the grid has the same layout, so these serve them all): where
-  // the lanes read two cells only (a run of pixels across one cell boundary), the two cells'
-  // values broadcast and selected by `upper`; else the corner's window of the table, where it holds
-  // every lane's four coefficients, one load gives them.
-  int32_t lowest[8], highest[8];
-  bool twoCells[8];
-  hn::Mask<D> upper[8];
+  // the lanes read at most two cells (a run of pixels across one cell boundary), or at most
+  // kMostSelectedCells where the corner's window of the table does not hold every lane's four
+  // coefficients, the cells' values broadcast and selected (`cells` > 0: cell[0] everywhere, then
+  // cell[j] in lanes `in[j]`); else where the window holds them, one load gives them; else gathered.
+  int cells[8];
+  int32_t cell[8][kMostSelectedCells];
+  hn::Mask<D> in[8][kMostSelectedCells];
   GatherWindow<D> window[8];
 };
+
+// The distinct values of `index` in lane order of first appearance, up to kMostSelectedCells, and the
+// lanes holding each; 0 where there are more.
+template <class D>
+int DistinctCells(D d, hn::Vec<hn::RebindToSigned<D>> index, int32_t (&cell)[kMostSelectedCells],
+                  hn::Mask<D> (&in)[kMostSelectedCells]) {
+  const hn::RebindToSigned<D> di;
+  auto remaining = hn::FirstN(di, hn::Lanes(di));
+  for (int j = 0; j < kMostSelectedCells; ++j) {
+    cell[j] = hn::ExtractLane(index, hn::FindKnownFirstTrue(di, remaining));
+    const auto same = hn::Eq(index, hn::Set(di, cell[j]));
+    in[j] = hn::RebindMask(d, same);
+    remaining = hn::AndNot(same, remaining);
+    if (hn::AllFalse(di, remaining)) return j + 1;
+  }
+  return 0;
+}
 
 template <class D>
 VolumeSampleV<D> SampleVolumeV(D d, const SkyVisibilityVolume& volume, const Vec3V<D>& position,
@@ -71,21 +94,19 @@ VolumeSampleV<D> SampleVolumeV(D d, const SkyVisibilityVolume& volume, const Vec
   if (!sample.oneCell) {
     const int32_t tableSize = int32_t(volume.coefficients.size());
     for (int corner = 0; corner < 8; ++corner) {
-      const auto index = sample.corner[corner];
-      const auto lowest = hn::MinOfLanes(di, index), highest = hn::MaxOfLanes(di, index);
-      sample.lowest[corner] = hn::GetLane(lowest);
-      sample.highest[corner] = hn::GetLane(highest);
-      sample.upper[corner] = hn::RebindMask(d, hn::Eq(index, highest));
-      sample.twoCells[corner] = hn::AllTrue(di, hn::Or(hn::Eq(index, lowest), hn::Eq(index, highest)));
-      if (!sample.twoCells[corner]) sample.window[corner] = WindowFromLowest(d, tableSize, index, 3);
+      int& count = sample.cells[corner];
+      count = DistinctCells(d, sample.corner[corner], sample.cell[corner], sample.in[corner]);
+      if (count == 1 || count == 2) continue;
+      sample.window[corner] = WindowFromLowest(d, tableSize, sample.corner[corner], 3);
+      if (sample.window[corner].holdsAll) count = 0;
     }
   }
   return sample;
 }
 
-// ReadVolume(coefficients, sample) per lane: the cells' values broadcast (one or two cells), from a
-// window of the table (lanes in cells side by side along x, GatherWindow in core/math-inl.h), or
-// gathered. The same values on every path, so the same bits.
+// ReadVolume(coefficients, sample) per lane: the cells' values broadcast (one cell, or a few
+// selected by lane), from a window of the table (lanes in cells side by side along x, GatherWindow in
+// core/math-inl.h), or gathered. The same values on every path, so the same bits.
 template <class D>
 hn::Vec<D> ReadVolumeV(D d, const float* table, const VolumeSampleV<D>& sample, const Vec3V<D>& normal) {
   const hn::RebindToSigned<D> di;
@@ -96,10 +117,12 @@ hn::Vec<D> ReadVolumeV(D d, const float* table, const VolumeSampleV<D>& sample, 
       for (int k = 0; k < 4; ++k) t[k][i] = hn::Set(d, table[index + k]);
       continue;
     }
-    if (sample.twoCells[i]) {
-      for (int k = 0; k < 4; ++k)
-        t[k][i] = hn::IfThenElse(sample.upper[i], hn::Set(d, table[sample.highest[i] + k]),
-                                 hn::Set(d, table[sample.lowest[i] + k]));
+    if (const int cells = sample.cells[i]; cells > 0) {
+      for (int k = 0; k < 4; ++k) {
+        t[k][i] = hn::Set(d, table[sample.cell[i][0] + k]);
+        for (int j = 1; j < cells; ++j)
+          t[k][i] = hn::IfThenElse(sample.in[i][j], hn::Set(d, table[sample.cell[i][j] + k]), t[k][i]);
+      }
       continue;
     }
     const GatherWindow<D>& window = sample.window[i];
