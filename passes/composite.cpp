@@ -38,6 +38,11 @@ void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row
           const glm::vec3 environment =
               PrefilteredEnvironment(*context.environment, context.viewToWorld * reflection, material.roughness);
           for (int c = 0; c < 3; ++c) indirect[c] = indirect[c] + environment[c] * (specular[c] * share);
+          // The surfaces around, which the sky's visibility took away from the environment's light.
+          if (row.skyReflected[0]) {
+            const float unseen = 1.0f - confidence * fade;
+            for (int c = 0; c < 3; ++c) indirect[c] = indirect[c] + row.skyReflected[c][x] * (specular[c] * unseen);
+          }
         }
       }
       if (bounce) {
@@ -67,6 +72,7 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
   const bool inPlace = &in.direct == &out.result && in.reflected == &out.indirect;
   SSGI_CHECK((in.reflected == nullptr) == (in.confidence == nullptr));
   SSGI_CHECK(in.environment == nullptr || (in.skyVisibility != nullptr && in.tiles == nullptr));
+  SSGI_CHECK(in.skyReflected == nullptr || in.environment != nullptr);
   SSGI_CHECK(in.bounce == nullptr || in.tiles == nullptr);
   SSGI_CHECK((in.skyDiffuse == nullptr) == (in.ambientVisibility == nullptr));
   SSGI_CHECK(in.skyDiffuse == nullptr || in.bounce != nullptr);
@@ -86,6 +92,9 @@ CompositeStats RunComposite(const CompositeInputs& in, CompositeOutputs& out, Ke
           in.gbuffer.word[GBufferWord::kDepth].ConstRow(y),
           in.confidence ? in.confidence->ConstRow(y) : nullptr,
           in.skyVisibility ? in.skyVisibility->ConstRow(y) : nullptr,
+          {in.skyReflected ? in.skyReflected->c[0].ConstRow(y) : nullptr,
+           in.skyReflected ? in.skyReflected->c[1].ConstRow(y) : nullptr,
+           in.skyReflected ? in.skyReflected->c[2].ConstRow(y) : nullptr},
           {in.direct.c[0].ConstRow(y), in.direct.c[1].ConstRow(y), in.direct.c[2].ConstRow(y)},
           {in.reflected ? in.reflected->c[0].ConstRow(y) : nullptr,
            in.reflected ? in.reflected->c[1].ConstRow(y) : nullptr,

@@ -4,7 +4,9 @@
 // specular term of the pixel's material and view angle (Karis 2013, core/brdf.h) and by the trace's
 // confidence and the roughness fade; and, where the sky light runs, the environment prefiltered
 // towards the reflected direction for the share the trace did not see (a miss, low confidence, a
-// surface rougher than the cut-off), weighted alike and by the sky's visibility. With the sky light
+// surface rougher than the cut-off), weighted alike and by the sky's visibility, and for the same
+// share the light of the surfaces around from the interreflection volume (what the sky's visibility
+// took away; passes/sky_light.h, SkyLightOutputs::reflected). With the sky light
 // `direct` is its `lit` image (direct + the sky's diffuse light). Where the diffuse bounce runs
 // (passes/bounce.h), indirect also holds its light on the diffuse albedo, and its ambient visibility
 // darkens the sky's diffuse light, which `lit` holds at full strength: result = (lit + skyDiffuse
@@ -39,6 +41,10 @@ struct CompositeInputs {
   // visibility (passes/sky_light.h). Every pixel then has indirect light: `tiles` must be null.
   const EnvironmentLighting* environment = nullptr;
   const Plane<float>* skyVisibility = nullptr;
+  // With the sky light's interreflection volume (else null): its light towards the mirror
+  // direction (SkyLightOutputs::reflected), which fills the share the trace did not see beside the
+  // environment's.
+  const Plane3<float>* skyReflected = nullptr;
   // The diffuse bounce, where it runs (null: none): its radiance E / pi (passes/bounce.h), which
   // indirect gains times the diffuse albedo, albedo (1 - metallic) as the direct light's Lambert
   // term takes it. Every pixel then has indirect
@@ -93,6 +99,7 @@ struct CompositeRow {
   const uint32_t* word2;
   const float* confidence;     // null: no reflections, confidence 0
   const float* skyVisibility;  // null without the sky's light
+  const float* skyReflected[3];  // null without the interreflection volume
   const float* direct[3];
   const float* reflected[3];
   float* indirect[3];  // null: not kept (CompositeInputs::keepIndirect)

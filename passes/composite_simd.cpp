@@ -94,7 +94,11 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
           environment =
               PrefilteredEnvironmentV(d, *c.environment, MulMat3(d, c.viewToWorld, reflection), material.roughness);
         }
-        const Vec3V<DF> withSky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
+        Vec3V<DF> withSky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
+        if (row.skyReflected[0]) {
+          const auto unseen = hn::Sub(one, hn::Mul(confidence, fade));
+          withSky = Add3(withSky, Mul3(LoadRow3(d, row.skyReflected, x, count), Scale3(specular, unseen)));
+        }
         indirect = IfThenElse3(lit, withSky, indirect);
       }
     }

@@ -170,6 +170,10 @@ VolumeSample SampleVolume(const SkyVisibilityVolume& volume, const glm::vec3& po
 }
 
 float ReadVolume(const float* coefficients, const VolumeSample& sample) {
+  return ReadVolumeToward(coefficients, sample, sample.normal);
+}
+
+float ReadVolumeToward(const float* coefficients, const VolumeSample& sample, const glm::vec3& direction) {
   const float* f = sample.f;
   float v[4];
   for (int k = 0; k < 4; ++k) {
@@ -183,8 +187,7 @@ float ReadVolume(const float* coefficients, const VolumeSample& sample) {
     const float y1 = x01 * (1.0f - f[1]) + x11 * f[1];
     v[k] = y0 * (1.0f - f[2]) + y1 * f[2];
   }
-  const glm::vec3& n = sample.normal;
-  return v[0] + v[1] * n.x + v[2] * n.y + v[3] * n.z;
+  return v[0] + v[1] * direction.x + v[2] * direction.y + v[3] * direction.z;
 }
 
 float SkyVisibility(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal) {
@@ -209,6 +212,8 @@ void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, s
         row.lit[c][x] = background[c];
       }
       row.visibility[x] = 1.0f;
+      if (row.reflected[0])
+        for (int c = 0; c < 3; ++c) row.reflected[c][x] = 0.0f;
       continue;
     }
     const glm::vec3 viewNormal = UnpackNormal(row.word1[x], context.normalEncoding);
@@ -223,10 +228,19 @@ void SkyLightRowScalar(const SkyLightContext& context, const SkyLightRow& row, s
     if (context.visibility) {
       const VolumeSample sample = SampleVolume(*context.visibility, position, normal);
       visibility = std::clamp(ReadVolume(context.visibility->coefficients.data(), sample), 0.0f, 1.0f);
-      if (context.interreflection)
-        for (int c = 0; c < 3; ++c)
-          interreflected[c] =
-              std::max(ReadVolume(context.interreflection->coefficients[size_t(c)].data(), sample), 0.0f);
+      if (context.interreflection) {
+        // The mirror direction as the composite takes it: r = n (2 n.v) - v in view space, v towards
+        // the viewer.
+        const glm::vec3 toViewer = glm::normalize(glm::vec3(-context.rays.x[size_t(x)], -context.rays.y[y], 1.0f));
+        const glm::vec3 viewMirror = viewNormal * (2.0f * glm::dot(viewNormal, toViewer)) - toViewer;
+        const glm::vec3 mirror =
+            (glm::vec3(m[0]) * viewMirror.x + glm::vec3(m[1]) * viewMirror.y) + glm::vec3(m[2]) * viewMirror.z;
+        for (int c = 0; c < 3; ++c) {
+          const float* table = context.interreflection->coefficients[size_t(c)].data();
+          interreflected[c] = std::max(ReadVolume(table, sample), 0.0f);
+          row.reflected[c][x] = std::max(ReadVolumeToward(table, sample, mirror), 0.0f);
+        }
+      }
     }
     const glm::vec3 irradiance = EnvironmentIrradiance(context.environment, normal);
     const float metallic = UnpackMetallic(row.word0[x]);
@@ -246,6 +260,11 @@ SkyLightStats RunSkyLight(const SkyLightInputs& in, const SkyLightParams&, SkyLi
   const int width = in.gbuffer.width(), height = in.gbuffer.height();
   ReusePlane3(out.diffuse, size_t(width), size_t(height));
   ReusePlane3(out.lit, size_t(width), size_t(height));
+  const bool reflected = in.visibility && in.interreflection;
+  if (reflected)
+    ReusePlane3(out.reflected, size_t(width), size_t(height));
+  else
+    out.reflected = {};
   if (out.visibility.xsize() != size_t(width) || out.visibility.ysize() != size_t(height))
     out.visibility = MakePlane<float>(size_t(width), size_t(height), 1.0f);
   // The interreflection is read with the visibility volume's cells and windows: the same grid.
@@ -270,6 +289,9 @@ SkyLightStats RunSkyLight(const SkyLightInputs& in, const SkyLightParams&, SkyLi
           {out.diffuse.c[0].MutableRow(y), out.diffuse.c[1].MutableRow(y), out.diffuse.c[2].MutableRow(y)},
           out.visibility.MutableRow(y),
           {out.lit.c[0].MutableRow(y), out.lit.c[1].MutableRow(y), out.lit.c[2].MutableRow(y)},
+          {reflected ? out.reflected.c[0].MutableRow(y) : nullptr,
+           reflected ? out.reflected.c[1].MutableRow(y) : nullptr,
+           reflected ? out.reflected.c[2].MutableRow(y) : nullptr},
       };
       kernel(context, row, y, width);
     }

@@ -79,6 +79,8 @@ struct VolumeSample {
 VolumeSample SampleVolume(const SkyVisibilityVolume& volume, const glm::vec3& position, const glm::vec3& normal);
 // k0 + k.n of a table of four coefficients per cell, read trilinearly (x, then y, then z), unclamped.
 float ReadVolume(const float* coefficients, const VolumeSample& sample);
+// The same cells and weights, k0 + k.w towards another unit direction w (the mirror direction).
+float ReadVolumeToward(const float* coefficients, const VolumeSample& sample, const glm::vec3& direction);
 
 struct WorldBounceVolume;  // passes/world_bounce.h
 
@@ -100,6 +102,10 @@ struct SkyLightOutputs {
   Plane3<float> diffuse;   // albedo (1 - metallic) E(n) / pi V; 0 on background
   Plane<float> visibility;  // V(p, n) in [0, 1]; 1 on background
   Plane3<float> lit;       // direct + diffuse
+  // With the interreflection volume (else empty): max(E_w(p, r) / pi, 0) per channel towards the
+  // mirror direction r, the light the surfaces around send a glossy reflection that the trace does
+  // not see; 0 on background.
+  Plane3<float> reflected;
 };
 
 struct SkyLightStats {
@@ -128,6 +134,7 @@ struct SkyLightRow {
   float* diffuse[3];
   float* visibility;
   float* lit[3];
+  float* reflected[3];  // null without the interreflection volume
 };
 
 // The definition (scalar) and its Highway twin (passes/sky_light_simd.cpp), equal bit for bit.

@@ -104,11 +104,21 @@ VolumeSampleV<D> SampleVolumeV(D d, const SkyVisibilityVolume& volume, const Vec
   return sample;
 }
 
-// ReadVolume(coefficients, sample) per lane: the cells' values broadcast (one cell, or a few
-// selected by lane), from a window of the table (lanes in cells side by side along x, GatherWindow in
-// core/math-inl.h), or gathered. The same values on every path, so the same bits.
+// The four coefficients of ReadVolumeToward (sky_light.cpp) per lane, before their dot product: the
+// cells' values broadcast (one cell, or a few selected by lane), from a window of the table (lanes in
+// cells side by side along x, GatherWindow in core/math-inl.h), or gathered. The same values on every
+// path, so the same bits.
 template <class D>
-hn::Vec<D> ReadVolumeV(D d, const float* table, const VolumeSampleV<D>& sample, const Vec3V<D>& normal) {
+struct VolumeValueV {
+  hn::Vec<D> k[4];
+  // k0 + k.w towards a direction per lane, left to right.
+  hn::Vec<D> Toward(const Vec3V<D>& w) const {
+    return hn::Add(hn::Add(hn::Add(k[0], hn::Mul(k[1], w.x)), hn::Mul(k[2], w.y)), hn::Mul(k[3], w.z));
+  }
+};
+
+template <class D>
+VolumeValueV<D> InterpolateVolumeV(D d, const float* table, const VolumeSampleV<D>& sample) {
   const hn::RebindToSigned<D> di;
   hn::Vec<D> t[4][8];  // coefficient k of corner i
   for (int i = 0; i < 8; ++i) {
@@ -139,13 +149,13 @@ hn::Vec<D> ReadVolumeV(D d, const float* table, const VolumeSampleV<D>& sample, 
     return hn::Add(hn::Mul(a, hn::Sub(one, w)), hn::Mul(b, w));
   };
   const hn::Vec<D>* f = sample.f;
-  hn::Vec<D> v[4];
+  VolumeValueV<D> v;
   for (int k = 0; k < 4; ++k) {
     const auto x00 = lerp(t[k][0], t[k][1], f[0]), x10 = lerp(t[k][2], t[k][3], f[0]);
     const auto x01 = lerp(t[k][4], t[k][5], f[0]), x11 = lerp(t[k][6], t[k][7], f[0]);
-    v[k] = lerp(lerp(x00, x10, f[1]), lerp(x01, x11, f[1]), f[2]);
+    v.k[k] = lerp(lerp(x00, x10, f[1]), lerp(x01, x11, f[1]), f[2]);
   }
-  return hn::Add(hn::Add(hn::Add(v[0], hn::Mul(v[1], normal.x)), hn::Mul(v[2], normal.y)), hn::Mul(v[3], normal.z));
+  return v;
 }
 
 void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, const SkyLightRow& row, size_t y,
@@ -164,6 +174,7 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
     const auto background = hn::Eq(depth, hn::Set(d, kBackgroundDepth));
     const Vec3V<DF> direct = LoadRow3(d, row.direct, x, count);
     Vec3V<DF> diffuse{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+    hn::Vec<DF> reflected[3] = {hn::Zero(d), hn::Zero(d), hn::Zero(d)};
     auto visibility = one;
     if (!hn::AllTrue(d, background)) {
       const auto word0 = LoadRow(du, row.word0, x, count, 0u);
@@ -179,13 +190,22 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
       Vec3V<DF> interreflected{hn::Zero(d), hn::Zero(d), hn::Zero(d)};
       if (context.visibility) {
         const VolumeSampleV<DF> sample = SampleVolumeV(d, *context.visibility, position, normal);
-        visibility =
-            ClampStd(ReadVolumeV(d, context.visibility->coefficients.data(), sample, normal), hn::Zero(d), one);
+        visibility = ClampStd(InterpolateVolumeV(d, context.visibility->coefficients.data(), sample).Toward(normal),
+                              hn::Zero(d), one);
         if (context.interreflection) {
+          const Vec3V<DF> toViewer =
+              Normalize3(d, Vec3V<DF>{hn::Neg(LoadRow(d, context.rays.x.data(), x, count, 0.0f)), hn::Neg(rayY), one});
+          const Vec3V<DF> viewMirror =
+              Sub3(Scale3(viewNormal, hn::Mul(hn::Set(d, 2.0f), Dot3(viewNormal, toViewer))), toViewer);
+          const Vec3V<DF> mirror =
+              Add3(Add3(Scale3(m0, viewMirror.x), Scale3(m1, viewMirror.y)), Scale3(m2, viewMirror.z));
           hn::Vec<DF>* channel[3] = {&interreflected.x, &interreflected.y, &interreflected.z};
-          for (int c = 0; c < 3; ++c)
-            *channel[c] = MaxStd(
-                ReadVolumeV(d, context.interreflection->coefficients[size_t(c)].data(), sample, normal), hn::Zero(d));
+          for (int c = 0; c < 3; ++c) {
+            const VolumeValueV<DF> value =
+                InterpolateVolumeV(d, context.interreflection->coefficients[size_t(c)].data(), sample);
+            *channel[c] = MaxStd(value.Toward(normal), hn::Zero(d));
+            reflected[c] = MaxStd(value.Toward(mirror), hn::Zero(d));
+          }
         }
       }
       const Vec3V<DF> irradiance =
@@ -195,6 +215,7 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
       diffuse = Scale3(Mul3(albedo, irradiance), visibility);
       if (context.interreflection) diffuse = Add3(diffuse, Mul3(albedo, interreflected));
       diffuse = IfThenElse3(background, Vec3V<DF>{hn::Zero(d), hn::Zero(d), hn::Zero(d)}, diffuse);
+      for (hn::Vec<DF>& channel : reflected) channel = hn::IfThenElse(background, hn::Zero(d), channel);
       visibility = hn::IfThenElse(background, one, visibility);
     }
     Vec3V<DF> lit = Add3(direct, diffuse);
@@ -206,6 +227,8 @@ void SkyLightKernel(const SkyLightContext& context, const float* srgbDecode, con
     }
     StoreRow3(diffuse, d, row.diffuse, x, count);
     StoreRow(visibility, d, row.visibility, x, count);
+    if (row.reflected[0])
+      for (int c = 0; c < 3; ++c) StoreRow(reflected[c], d, row.reflected[c], x, count);
     StoreRow3(lit, d, row.lit, x, count);
   }
 }

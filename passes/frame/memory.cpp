@@ -19,6 +19,7 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   shape.edgeCoverage = config.antialiasing == Antialiasing::kEdge;
   shape.mlaa = config.antialiasing == Antialiasing::kMlaa;
   if (config.sky != EffectMode::kOff) {
+    shape.interreflection = SkyMakesInterreflection(config);
     shape.skyVolumeBytes = SkyVisibilityBytes(scene, config.skyVisibility) +
                            WorldBounceBytes(scene, config.skyVisibility, config.interreflection);
     shape.skyVolumeBuildBytes = std::max(SkyVisibilityBuildBytes(scene, config.skyVisibility),

@@ -385,6 +385,9 @@ const char kInterreflectionMeaning[] =
     "laid out as the sky visibility volume";
 const char kSkyDiffuseMeaning[] =
     "the sky's diffuse light: albedo (1 - metallic) E(n) / pi V, linear RGB, >= 0; 0 on background";
+const char kSkyReflectedMeaning[] =
+    "the interreflection volume towards the mirror direction: max(E_w(p, r) / pi, 0), linear RGB; 0 on background; "
+    "only with the volume";
 const char kLitMeaning[] = "direct + the sky's diffuse light, linear RGB, >= 0: what the pyramid and composite read";
 
 PassDeclaration SkyLightPass() {
@@ -420,28 +423,42 @@ PassDeclaration SkyLightPass() {
            }},
       {.id = B::kSkyDiffuse,
        .name = "sky light",
-       .bytes = [](const FrameShape& s) { return ImagePlanes(s, 4); },
+       .bytes = [](const FrameShape& s) { return ImagePlanes(s, s.interreflection ? 7 : 4); },
        .layers = {{"sky.diffuse.R", P::kSkyLight, false, DumpPart::kImage, false, kSkyDiffuseMeaning},
                   {"sky.diffuse.G", P::kSkyLight, false, DumpPart::kImage, false, kSkyDiffuseMeaning},
                   {"sky.diffuse.B", P::kSkyLight, false, DumpPart::kImage, false, kSkyDiffuseMeaning},
                   {"sky.visibility", P::kSkyLight, false, DumpPart::kImage, false,
-                   "world-space sky visibility V(p, n), [0, 1]; 1 on background"}},
-       .heldBytes = [](const Frame& f) { return Held(f.skyLight.diffuse) + Held(f.skyLight.visibility); },
+                   "world-space sky visibility V(p, n), [0, 1]; 1 on background"},
+                  {"sky.reflected.R", P::kSkyLight, false, DumpPart::kImage, false, kSkyReflectedMeaning},
+                  {"sky.reflected.G", P::kSkyLight, false, DumpPart::kImage, false, kSkyReflectedMeaning},
+                  {"sky.reflected.B", P::kSkyLight, false, DumpPart::kImage, false, kSkyReflectedMeaning}},
+       .heldBytes =
+           [](const Frame& f) {
+             return Held(f.skyLight.diffuse) + Held(f.skyLight.visibility) + Held(f.skyLight.reflected);
+           },
        .release =
            [](Frame& f) {
              f.skyLight.diffuse = {};
              f.skyLight.visibility = {};
+             f.skyLight.reflected = {};
            },
        .dump =
            [](const Frame& f, DumpSink& sink) {
              if (!f.sky || !ImageSized(f, f.skyLight.visibility)) return;
              sink.Add3(DumpPart::kImage, 0, "sky.diffuse.", f.skyLight.diffuse);
              sink.Add(DumpPart::kImage, 0, "sky.visibility", f.skyLight.visibility);
+             if (ImageSized(f, f.skyLight.reflected.c[0]))
+               sink.Add3(DumpPart::kImage, 0, "sky.reflected.", f.skyLight.reflected);
            },
        .load =
            [](const DumpSource& source, Frame& f) {
              source.Load3(DumpPart::kImage, 0, "sky.diffuse.", f.skyLight.diffuse);
              source.Load(DumpPart::kImage, 0, "sky.visibility", f.skyLight.visibility);
+             // Only a frame with the interreflection volume has it.
+             if (source.Has(DumpPart::kImage, 0, "sky.reflected.R"))
+               source.Load3(DumpPart::kImage, 0, "sky.reflected.", f.skyLight.reflected);
+             else
+               f.skyLight.reflected = {};
            }},
       {.id = B::kLit,
        .name = "lit image",
@@ -868,6 +885,7 @@ void CompositeStep(FrameStep& s) {
                          tracedTiles,
                          f.sky ? &f.environment : nullptr,
                          f.sky ? &f.skyLight.visibility : nullptr};
+  if (f.sky && f.skyLight.reflected.c[0].xsize() != 0) inputs.skyReflected = &f.skyLight.reflected;
   if (f.bounce) {
     inputs.bounce = &f.diffuseBounce.bounce;
     // The bounce's visibility occludes the sky's diffuse light, which lit holds unoccluded.

@@ -113,6 +113,7 @@ struct FrameShape {
   size_t skyVolumeBuildBytes = 0;  // what making it holds besides the volume
   bool edgeCoverage = false;       // the G-buffer pass writes its edge coverage (--aa edge)
   bool mlaa = false;               // the morphological anti-aliasing runs (--aa mlaa)
+  bool interreflection = false;    // the sky light makes the interreflection volume (SkyMakesInterreflection)
   // The frame frees buffers after their last reader and hands storage on (kUntilLastReader).
   bool handOver = false;
 };

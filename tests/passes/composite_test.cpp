@@ -185,6 +185,7 @@ TEST_CASE("composite: the SIMD kernel equals the scalar kernel on every target",
                                  words.word[GBufferWord::kDepth].data(),
                                  in[0].data(),
                                  nullptr,
+                                 {nullptr, nullptr, nullptr},
                                  {in[1].data(), in[2].data(), in[3].data()},
                                  {in[4].data(), in[5].data(), in[6].data()},
                                  {&out[0], &out[kWidth], &out[2 * kWidth]},
@@ -247,8 +248,8 @@ TEST_CASE("composite: the SIMD pass gives the scalar pass's bytes on the default
 }
 
 TEST_CASE(
-    "composite: with the sky's light (a constant or a sky environment) and the bounce, the SIMD pass gives the scalar "
-    "bytes",
+    "composite: with the sky's light (a constant or a sky environment), the surroundings' reflected light and the "
+    "bounce, the SIMD pass gives the scalar bytes",
     "[composite][simd]") {
   const test::DefaultScene scene = test::LoadDefaultScene();
   SkyParams skyParams;
@@ -259,6 +260,7 @@ TEST_CASE(
     const Frame frame = scene.Render(width, height);
     REQUIRE(frame.reflections);
     REQUIRE(frame.sky);
+    REQUIRE(frame.skyLight.reflected.c[0].xsize() == size_t(width));
     // A sky visibility that varies.
     Plane<float> visibility = MakePlane<float>(size_t(width), size_t(height), 0.0f);
     for (int y = 0; y < height; ++y)
@@ -268,35 +270,40 @@ TEST_CASE(
     for (const EnvironmentLighting* environment : {&sky, &constant, static_cast<const EnvironmentLighting*>(nullptr)}) {
       for (const bool reflections : {true, false}) {
         for (const int bounceTerms : {0, 1, 2}) {
-          if (!environment && !reflections && bounceTerms == 0) continue;  // the composite would not run
-          const auto run = [&](KernelPath kernels) {
-            CompositeInputs inputs{frame.gbuffer.gbuffer,
-                                   frame.view,
-                                   frame.Lit(),
-                                   reflections ? &frame.ssrCone.reflected : nullptr,
-                                   reflections ? &frame.ssrTrace.confidence : nullptr,
-                                   SsrTraceParams{}.roughnessCutoff,
-                                   nullptr,
-                                   environment,
-                                   environment ? &visibility : nullptr};
-            if (bounceTerms >= 1) inputs.bounce = &bounce.bounce;
-            if (bounceTerms == 2) {
-              inputs.skyDiffuse = &frame.skyLight.diffuse;
-              inputs.ambientVisibility = &bounce.visibility;
-            }
-            CompositeOutputs out;
-            RunComposite(inputs, out, kernels);
-            return out;
-          };
-          const auto same = [](const CompositeOutputs& a, const CompositeOutputs& b) {
-            bool equal = true;
-            for (int c = 0; c < 3; ++c)
-              equal = equal && test::SameBytes(a.indirect.c[c], b.indirect.c[c]) &&
-                      test::SameBytes(a.result.c[c], b.result.c[c]);
-            return equal;
-          };
-          CAPTURE(width, height, environment ? int(environment->constant) : -1, reflections, bounceTerms);
-          CHECK(test::TargetsWhereKernelPathsDiffer(run, same).empty());
+          for (const bool surroundings : {false, true}) {
+            if (!environment && !reflections && bounceTerms == 0) continue;  // the composite would not run
+            if (surroundings && !environment) continue;
+            const auto run = [&](KernelPath kernels) {
+              CompositeInputs inputs{frame.gbuffer.gbuffer,
+                                     frame.view,
+                                     frame.Lit(),
+                                     reflections ? &frame.ssrCone.reflected : nullptr,
+                                     reflections ? &frame.ssrTrace.confidence : nullptr,
+                                     SsrTraceParams{}.roughnessCutoff,
+                                     nullptr,
+                                     environment,
+                                     environment ? &visibility : nullptr};
+              if (surroundings) inputs.skyReflected = &frame.skyLight.reflected;
+              if (bounceTerms >= 1) inputs.bounce = &bounce.bounce;
+              if (bounceTerms == 2) {
+                inputs.skyDiffuse = &frame.skyLight.diffuse;
+                inputs.ambientVisibility = &bounce.visibility;
+              }
+              CompositeOutputs out;
+              RunComposite(inputs, out, kernels);
+              return out;
+            };
+            const auto same = [](const CompositeOutputs& a, const CompositeOutputs& b) {
+              bool equal = true;
+              for (int c = 0; c < 3; ++c)
+                equal = equal && test::SameBytes(a.indirect.c[c], b.indirect.c[c]) &&
+                        test::SameBytes(a.result.c[c], b.result.c[c]);
+              return equal;
+            };
+            CAPTURE(width, height, environment ? int(environment->constant) : -1, reflections, bounceTerms,
+                    surroundings);
+            CHECK(test::TargetsWhereKernelPathsDiffer(run, same).empty());
+          }
         }
       }
     }
@@ -357,6 +364,7 @@ TEST_CASE("composite: in place over the direct image and the reflection, the sam
                                nullptr,
                                frame.sky ? &frame.environment : nullptr,
                                frame.sky ? &frame.skyLight.visibility : nullptr};
+        if (frame.sky) inputs.skyReflected = &frame.skyLight.reflected;
         if (frame.bounce) {
           inputs.bounce = &frame.diffuseBounce.bounce;
           inputs.skyDiffuse = frame.sky ? &frame.skyLight.diffuse : nullptr;

@@ -20,8 +20,11 @@ layout(std430, binding = 9) readonly buffer SkyVisibility { float skyVisibility[
 layout(std430, binding = 10) readonly buffer DiffuseBounce { float diffuseBounce[]; };  // three planes
 layout(std430, binding = 11) readonly buffer AmbientVisibility { float ambientVisibility[]; };
 layout(std430, binding = 12) readonly buffer SkyDiffuse { float skyDiffuse[]; };  // three planes
+// The sky light's interreflection volume towards the mirror direction, where it has one.
+layout(std430, binding = 13) readonly buffer SkyReflected { float skyReflected[]; };  // three planes
 
 uniform float roughnessCutoff;  // the trace's
+uniform int hasSkyReflected;    // 1: skyReflected is bound
 uniform int reflections;        // 0: no reflections traced (confidence 0 everywhere)
 uniform int sky;                // 1: the sky light ran: its specular part here
 uniform int bounceRan;          // 1: the diffuse bounce ran: its light here, and its occlusion of the sky's
@@ -81,6 +84,13 @@ void main() {
             constantEnvironment != 0 ? skyRadiance : PrefilteredEnvironment(Rotate(reflection), roughness);
         precise vec3 environment = radiance * (specular * share);
         indirectRadiance = indirectRadiance + environment;
+        if (hasSkyReflected != 0) {
+          // The surfaces around, which the sky's visibility took away from the environment's light.
+          precise float unseen = 1.0 - trust * fade;
+          const vec3 around = vec3(skyReflected[index], skyReflected[index + plane], skyReflected[index + 2 * plane]);
+          precise vec3 surroundings = around * (specular * unseen);
+          indirectRadiance = indirectRadiance + surroundings;
+        }
       }
     }
     if (bounceRan != 0) {

@@ -238,6 +238,7 @@ struct EnvironmentTables {
 
 struct SkyLightOutput {
   Buffer diffuse, visibility, lit;
+  std::optional<Buffer> reflected;  // with the interreflection volume
 };
 
 // §Sky light: `volume` the oracle's sky visibility volume (its grid is the scene's).
@@ -255,7 +256,8 @@ SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolum
   const glm::vec3 radiance = environment.lighting.constantRadiance;
   program.Set("environmentRadiance", radiance.x, radiance.y, radiance.z);
   const size_t pixels = size_t(frame.width) * size_t(frame.height);
-  SkyLightOutput out{Buffer(3 * pixels), Buffer(pixels), Buffer(3 * pixels)};
+  SkyLightOutput out{Buffer(3 * pixels), Buffer(pixels), Buffer(3 * pixels), {}};
+  if (interreflection) out.reflected.emplace(3 * pixels);
   for (GLuint w = 0; w < 3; ++w) words[w].Bind(w);
   direct.Bind(3);
   volume.Bind(4);
@@ -265,6 +267,7 @@ SkyLightOutput RunSkyLight(const FrameConstants& frame, const SkyVisibilityVolum
   program.Set("hasInterreflection", interreflection ? 1 : 0);
   // Bound either way: a shader's storage buffer must be backed even where it is not read.
   (interreflection ? *interreflection : volume).Bind(8);
+  (interreflection ? *out.reflected : out.lit).Bind(9);
   program.Dispatch(frame.width, frame.height);
   return out;
 }
@@ -531,8 +534,8 @@ struct CompositeBounce {
 // without the diffuse bounce.
 CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff, const std::vector<Buffer>& words,
                              const Buffer& confidence, const Buffer& reflected, const Buffer& direct,
-                             const Buffer* skyVisibility, const EnvironmentTables& environment,
-                             const CompositeBounce* bounce) {
+                             const Buffer* skyVisibility, const Buffer* skyReflected,
+                             const EnvironmentTables& environment, const CompositeBounce* bounce) {
   const Program program("composite.comp");
   SetFrameConstants(program, frame);
   program.Set("roughnessCutoff", roughnessCutoff);
@@ -555,6 +558,8 @@ CompositeOutput RunComposite(const FrameConstants& frame, float roughnessCutoff,
   out.result.Bind(7);
   dfg.Bind(8);
   if (skyVisibility != nullptr) skyVisibility->Bind(9);
+  program.Set("hasSkyReflected", skyReflected != nullptr ? 1 : 0);
+  if (skyReflected != nullptr) skyReflected->Bind(13);
   program.Set("bounceRan", bounce != nullptr ? 1 : 0);
   if (bounce != nullptr) {
     bounce->bounce.Bind(10);
@@ -708,8 +713,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   }
 
   // The oracle's buffers that passes read, where the dump holds them (--oracle-inputs).
-  std::optional<Buffer> oracleDirect, oracleLit, oracleSkyVisibility, oracleSkyDiffuse, oracleHitX, oracleHitY,
-      oracleConfidence, oracleReflected;
+  std::optional<Buffer> oracleDirect, oracleLit, oracleSkyVisibility, oracleSkyDiffuse, oracleSkyReflected, oracleHitX,
+      oracleHitY, oracleConfidence, oracleReflected;
   OracleBounce oracleBounce;
   std::optional<Levels> oracleHiZ, oraclePyramid;
   if (oracleInputs) {
@@ -718,6 +723,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     oracleSkyVisibility = UploadPlanes(dump, main, {"sky.visibility"}, width, height, input);
     oracleSkyDiffuse =
         UploadPlanes(dump, main, {"sky.diffuse.R", "sky.diffuse.G", "sky.diffuse.B"}, width, height, input);
+    oracleSkyReflected =
+        UploadPlanes(dump, main, {"sky.reflected.R", "sky.reflected.G", "sky.reflected.B"}, width, height, input);
     oracleBounce = UploadOracleBounce(dump, frame, input);
     oracleHitX = UploadPlanes(dump, main, {"ssr.hitX"}, width, height, input);
     oracleHitY = UploadPlanes(dump, main, {"ssr.hitY"}, width, height, input);
@@ -800,7 +807,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
                                             sky ? &pick(oracleSkyDiffuse, sky->diffuse) : nullptr});
   const CompositeOutput composite =
       RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
-                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr, environment,
+                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr,
+                   sky && sky->reflected ? &pick(oracleSkyReflected, *sky->reflected) : nullptr, environment,
                    bounce ? &compositeBounce.value() : nullptr);
   // The anti-aliasing blend, where the frame ran it, over the port's result. Its coverage words are
   // the oracle's (`aa.coverage` of --aa edge, `mlaa.coverage` of --aa mlaa): the port does not compute
@@ -863,6 +871,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   if (sky) {
     addRgb(main, "sky.diffuse.", sky->diffuse, frame.width, frame.height);
     addLayer("sky.visibility", sky->visibility);
+    if (sky->reflected) addRgb(main, "sky.reflected.", *sky->reflected, frame.width, frame.height);
     addRgb(main, "lit.", sky->lit, frame.width, frame.height);
   }
   if (bounce) {

@@ -1,7 +1,8 @@
 // Sky light (docs/pipeline.md §Sky light): diffuse = albedo (1 - metallic) E(n) / pi V(p, n), with E
 // the environment's irradiance (a constant environment: its radiance; else nine SH coefficients) and
 // V read from the sky visibility volume, plus albedo (1 - metallic) max(E_w(p, n) / pi, 0) from the
-// interreflection volume on the same grid where there is one; lit = direct + diffuse. A background pixel's lit value is
+// interreflection volume on the same grid where there is one, and that volume read towards the
+// mirror direction (`reflected`, for the composite); lit = direct + diffuse. A background pixel's lit value is
 // the environment seen along its ray.
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -15,6 +16,7 @@ layout(std430, binding = 6) writeonly buffer Visibility { float visibility[]; };
 layout(std430, binding = 7) writeonly buffer Lit { float lit[]; };               // three planes
 // The interreflection volume's R, G and B coefficients (4 per cell each), one after the other.
 layout(std430, binding = 8) readonly buffer Interreflection { float interreflection[]; };
+layout(std430, binding = 9) writeonly buffer Reflected { float reflected[]; };  // three planes
 
 uniform ivec3 cells;
 uniform vec3 origin;
@@ -52,8 +54,8 @@ VolumeSample SampleVolume(vec3 p, vec3 n) {
   return s;
 }
 
-// ReadVolume of table `table` (0: the visibility; 1, 2, 3: the interreflection's R, G, B): x, then y,
-// then z, then k0 + kx n.x + ky n.y + kz n.z, unclamped.
+// ReadVolumeToward of table `table` (0: the visibility; 1, 2, 3: the interreflection's R, G, B): x,
+// then y, then z, then k0 + kx n.x + ky n.y + kz n.z towards a unit direction n, unclamped.
 float Coefficient(int table, ivec3 c, int k) {
   const int index = ((c.z * cells.y + c.y) * cells.x + c.x) * 4 + k;
   return table == 0 ? coefficients[index] : interreflection[(table - 1) * cells.x * cells.y * cells.z * 4 + index];
@@ -101,6 +103,7 @@ void main() {
   const int plane = imageSize.x * imageSize.y;
   const float d = depth[index];
   precise vec3 light = vec3(0.0);
+  precise vec3 surroundings = vec3(0.0);
   float v = 1.0;
   if (d == kBackgroundDepth) {
     // The environment itself, seen along the pixel's ray (a constant one is already in `direct`).
@@ -121,6 +124,12 @@ void main() {
       precise vec3 interreflected;
       for (int c = 0; c < 3; ++c) interreflected[c] = max(ReadVolume(1 + c, s, normal), 0.0);
       light = light + albedo * interreflected;
+      // The mirror direction as the composite takes it: r = n (2 n.v) - v in view space, into the world.
+      const vec3 viewNormal = UnpackNormal(word1[index]);
+      const vec3 toViewer = Normalize3(-ray);
+      precise vec3 reflection = viewNormal * (2.0 * Dot3(viewNormal, toViewer)) - toViewer;
+      const vec3 mirror = Rotate(reflection);
+      for (int c = 0; c < 3; ++c) surroundings[c] = max(ReadVolume(1 + c, s, mirror), 0.0);
     }
   }
   const bool environmentSeen = d == kBackgroundDepth && constantEnvironment == 0;
@@ -128,6 +137,7 @@ void main() {
     diffuse[index + c * plane] = environmentSeen ? 0.0 : light[c];
     precise float sum = direct[index + c * plane] + light[c];
     lit[index + c * plane] = environmentSeen ? light[c] : sum;
+    if (hasInterreflection != 0) reflected[index + c * plane] = surroundings[c];
   }
   visibility[index] = v;
 }
