@@ -619,29 +619,22 @@ struct OracleMlaa {
 // The four steps on `image` (the composite's result) seen through the tonemap's exposure. Each step
 // reads the port's own earlier buffer, or the oracle's where `oracle` holds it.
 MlaaBuffers RunMlaa(const FrameConstants& frame, float exposureEv, const Buffer& image, const OracleMlaa& oracle) {
-  enum Stage { kLuma = 0, kEdges = 1, kWeights = 2, kCoverage = 3 };
   const Program program("mlaa.comp");
   SetFrameConstants(program, frame);
   program.Set("exposureScale", std::exp2(exposureEv));
   program.Set("threshold", MlaaParams{}.threshold);
   const size_t pixels = size_t(frame.width) * size_t(frame.height);
   MlaaBuffers out{Buffer(pixels), Buffer(pixels), Buffer(pixels), Buffer(pixels)};
-  const auto run = [&](Stage stage) {
-    program.Set("stage", int(stage));
-    program.Dispatch(frame.width, frame.height);
-  };
+  // Stage k (luma, edges, weights, coverage) writes binding k + 1; the next stage reads it there.
+  const Buffer* own[] = {&out.luma, &out.edges, &out.weights, &out.coverage};
+  const std::optional<Buffer>* theirs[] = {&oracle.luma, &oracle.edges, &oracle.weights};
   image.Bind(0);
-  out.luma.Bind(1);
-  out.edges.Bind(2);
-  out.weights.Bind(3);
-  out.coverage.Bind(4);
-  run(kLuma);
-  Pick(oracle.luma, out.luma).Bind(1);
-  run(kEdges);
-  Pick(oracle.edges, out.edges).Bind(2);
-  run(kWeights);
-  Pick(oracle.weights, out.weights).Bind(3);
-  run(kCoverage);
+  for (GLuint k = 0; k < 4; ++k) own[k]->Bind(k + 1);
+  for (int stage = 0; stage < 4; ++stage) {
+    program.Set("stage", stage);
+    program.Dispatch(frame.width, frame.height);
+    if (stage < 3) Pick(*theirs[stage], *own[stage]).Bind(GLuint(stage + 1));
+  }
   return out;
 }
 
