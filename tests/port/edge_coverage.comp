@@ -1,9 +1,9 @@
 // Edge coverage (docs/pipeline.md §Edge coverage and anti-aliasing, its "GPU matching rules"): a
 // full-screen pass over the visibility buffer's triangles and word 2's depths that writes each
 // pixel's coverage word from the front triangle's own screen-space edges, in double as the oracle
-// computes it (GLSL 4.50 has double), so the codes are the oracle's and not one apart at rounding
-// boundaries. Each pixel weighs its four pairs itself: a pair is computed by both its pixels, which
-// costs a little work and needs no second pass.
+// computes it (GLSL 4.50 has double): the codes are then the oracle's, where float32 moved 0.2-0.5 %
+// of the words (tests/port/README.md). Each pixel weighs its four pairs itself: a pair is computed
+// by both its pixels, which costs a little work and needs no second pass.
 // Included after common.glsl and surface.glsl (the mesh's positions, indices and materials).
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -44,12 +44,12 @@ dvec3 HomogeneousPixel(uint vertex) {
   return dvec3(x, y, clip.w);
 }
 
-// glm's cross and dot, in double.
-dvec3 CrossD(dvec3 a, dvec3 b) {
+// glm's cross and dot in double: surface.glsl's Cross3 and common.glsl's Dot3 for dvec3.
+dvec3 Cross3(dvec3 a, dvec3 b) {
   precise dvec3 c = dvec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
   return c;
 }
-double DotD(dvec3 a, dvec3 b) {
+double Dot3(dvec3 a, dvec3 b) {
   precise double xy = a.x * b.x + a.y * b.y;
   precise double xyz = xy + a.z * b.z;
   return xyz;
@@ -94,8 +94,8 @@ dvec2 PairWeights(ivec2 a, bool alongX) {
   dvec3 line = dvec3(0.0LF);
   double lineFront = 0.0LF, lineBack = 0.0LF, exit = 2.0LF;
   for (int i = 0; i < 3; ++i) {
-    dvec3 edge = CrossD(h[i], h[(i + 1) % 3]);
-    double eFront = DotD(edge, frontCentre), eBack = DotD(edge, backCentre);
+    dvec3 edge = Cross3(h[i], h[(i + 1) % 3]);
+    double eFront = Dot3(edge, frontCentre), eBack = Dot3(edge, backCentre);
     if (eFront < 0.0LF) {
       edge = -edge;
       eFront = -eFront;
