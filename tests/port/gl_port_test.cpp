@@ -340,6 +340,9 @@ TEST_CASE("the GLSL port matches the oracle with a shadowed sun, an unshadowed s
       scratch / "sspcss.json",
       scene + R"({ "shadow_filter": "sspcss", "blur_taps": 2, "blocker_taps": 16, "shadow_map_size": 517 } })");
   CheckPort(scratch / "sspcss.json", 96, 72);
+  // MLAA sees the image through the tonemap's exposure: the luma's scale is not 1 here.
+  test::WriteText(scratch / "exposure.json", scene + R"({ "exposure_ev": 1.7 } })");
+  CheckPort(scratch / "exposure.json", 96, 72, PortRuns::kChained, Bounce::kDefault, Antialiasing::kMlaa);
 }
 
 TEST_CASE("the GLSL port matches the oracle on Sponza and under Sibenik's shadowed spot", "[port][sponza]") {

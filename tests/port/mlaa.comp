@@ -1,8 +1,8 @@
 // Morphological anti-aliasing (docs/pipeline.md §Morphological anti-aliasing), one dispatch per step
 // (a `stage` uniform): the luma, the edge bits, each pixel's run weights, the coverage words. Each
 // invocation follows the runs through its own pixel's left and top edges to both ends (SMAA's search
-// without its limit), so it writes its own weight word and nothing else: no pass depends on another
-// invocation's order.
+// without its limit), so it writes its own weight word and nothing else: the words do not depend on
+// the order invocations run in.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer Image { float image[]; };  // three planes
@@ -30,11 +30,11 @@ bool HasEdge(int x, int y, uint bit) { return (edges[Index(x, y)] & bit) != 0u; 
 // rounded (llvmpipe's division and square root are, tests/port/README.md).
 void WriteLuma(int x, int y) {
   const int plane = imageSize.x * imageSize.y, i = Index(x, y);
-  precise float lum = (kLumaR * image[i] + kLumaG * image[i + plane]) + kLumaB * image[i + 2 * plane];
-  precise float scaled = lum * exposureScale;
-  const float t = SanitizeRadiance(scaled);
-  precise float l = sqrt(t / (1.0 + t));
-  luma[i] = l;
+  precise float luminance = (kLumaR * image[i] + kLumaG * image[i + plane]) + kLumaB * image[i + 2 * plane];
+  precise float exposed = luminance * exposureScale;
+  const float t = SanitizeRadiance(exposed);
+  precise float perceptual = sqrt(t / (1.0 + t));
+  luma[i] = perceptual;
 }
 
 // The edge bits of (x, y); a neighbour past the border is the nearest pixel along that direction.
