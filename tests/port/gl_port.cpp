@@ -1,7 +1,8 @@
 // ssgi_gl_port: the passes of docs/pipeline.md (the G-buffer and the shadow map on GL's own
 // rasterizer, the blocker search, the shadow filter, direct light, sky light, diffuse bounce, Hi-Z,
-// colour pyramid, SSR trace, cone trace, composite) as GLSL 4.50 shaders (tests/port/*.comp,
-// *.vert, *.frag, written from the spec), run by OpenGL 4.5 core on an EGL surfaceless display
+// colour pyramid, SSR trace, cone trace, composite, the anti-aliasing's coverage words, edge or
+// MLAA, and its blend) as GLSL 4.50 shaders (tests/port/*.comp, *.vert, *.frag, written from the
+// spec), run by OpenGL 4.5 core on an EGL surfaceless display
 // (Mesa llvmpipe) on an ssgi dump's scene, writing its buffers under the dump's layer names so the
 // two files compare layer by layer (tests/port/README.md).
 //
@@ -41,6 +42,7 @@
 #include "passes/bounce.h"
 #include "passes/frame/config.h"
 #include "passes/frame/dump.h"
+#include "passes/mlaa.h"
 #include "passes/sky_light.h"
 #include "tests/port/gl_objects.h"
 #include "tests/port/gl_raster.h"
@@ -138,6 +140,14 @@ std::optional<Buffer> UploadPlanes(const ExrFile& dump, const std::string& part,
   return Buffer(planes.size(), planes.data());
 }
 
+// The uint32 layer `name` of part `part` (width x height); nothing when the part lacks it.
+std::optional<Buffer> UploadWords(const ExrFile& dump, const std::string& part, const std::string& name, size_t width,
+                                  size_t height, const std::filesystem::path& file) {
+  const ExrLayer* layer = FindLayer(dump, part, name, true, width, height, file);
+  if (layer == nullptr) return std::nullopt;
+  return Buffer(layer->samples.size(), layer->samples.data());
+}
+
 // The dump's parts `prefix`0, `prefix`1, ... of the sizes `sizes`, channels `names`, as one buffer
 // laid out as Concatenate lays out the port's; nothing when a level is missing.
 std::optional<Levels> UploadLevels(const ExrFile& dump, const std::string& prefix, const std::vector<std::string>& names,
@@ -150,6 +160,12 @@ std::optional<Levels> UploadLevels(const ExrFile& dump, const std::string& prefi
     levels.push_back(std::move(*level));
   }
   return Concatenate(levels, sizes);
+}
+
+// The oracle's buffer where the dump gave one (--oracle-inputs), else the port's own.
+template <class T>
+const T& Pick(const std::optional<T>& oracle, const T& own) {
+  return oracle ? *oracle : own;
 }
 
 void SetLevels(const Program& program, const Levels& levels) {
@@ -300,8 +316,7 @@ OracleBounce UploadOracleBounce(const ExrFile& dump, const FrameConstants& frame
   OracleBounce oracle;
   oracle.depth = half({"depth"});
   oracle.normal = half({"normal.X", "normal.Y", "normal.Z"});
-  if (const ExrLayer* codes = FindLayer(dump, kBounceHalfPart, "normalCode", true, halfWidth, halfHeight, file))
-    oracle.normalCode.emplace(codes->samples.size(), codes->samples.data());
+  oracle.normalCode = UploadWords(dump, kBounceHalfPart, "normalCode", halfWidth, halfHeight, file);
   oracle.lit = half({"lit.R", "lit.G", "lit.B"});
   oracle.marchVisibility = half({"march.visibility"});
   oracle.march = half({"march.R", "march.G", "march.B"});
@@ -350,9 +365,6 @@ BounceBuffers RunBounce(const FrameConstants& frame, const BounceParams& params,
   const size_t half = size_t(halfWidth) * size_t(halfHeight), pixels = size_t(frame.width) * size_t(frame.height);
   BounceBuffers out{Buffer(half), Buffer(3 * half), Buffer(half), Buffer(3 * half), Buffer(half),   Buffer(3 * half),
                     Buffer(half), Buffer(3 * half), Buffer(half), Buffer(3 * half), Buffer(pixels), Buffer(3 * pixels)};
-  const auto pick = [](const std::optional<Buffer>& theirs, const Buffer& own) -> const Buffer& {
-    return theirs ? *theirs : own;
-  };
   words[1].Bind(0);
   words[2].Bind(1);
   lit.Bind(2);
@@ -372,10 +384,10 @@ BounceBuffers RunBounce(const FrameConstants& frame, const BounceParams& params,
   out.normalCode.Bind(5);
   out.lit.Bind(6);
   dispatch(kPrepare);
-  pick(oracle.depth, out.depth).Bind(3);
-  pick(oracle.normal, out.normal).Bind(4);
-  pick(oracle.normalCode, out.normalCode).Bind(5);
-  pick(oracle.lit, out.lit).Bind(6);
+  Pick(oracle.depth, out.depth).Bind(3);
+  Pick(oracle.normal, out.normal).Bind(4);
+  Pick(oracle.normalCode, out.normalCode).Bind(5);
+  Pick(oracle.lit, out.lit).Bind(6);
   // The march and the steps after it write a visibility and a bounce (bindings 9, 10); the filter's
   // passes and the upsample read the step's before them (7, 8).
   const auto run = [&](Stage stage, const Buffer* sourceVisibility, const Buffer* sourceBounce,
@@ -389,11 +401,11 @@ BounceBuffers RunBounce(const FrameConstants& frame, const BounceParams& params,
     dispatch(stage);
   };
   run(kMarch, nullptr, nullptr, out.marchVisibility, out.march);
-  run(kFilterRows, &pick(oracle.marchVisibility, out.marchVisibility), &pick(oracle.march, out.march),
+  run(kFilterRows, &Pick(oracle.marchVisibility, out.marchVisibility), &Pick(oracle.march, out.march),
       out.rowsVisibility, out.rows);
-  run(kFilterColumns, &pick(oracle.rowsVisibility, out.rowsVisibility), &pick(oracle.rows, out.rows),
+  run(kFilterColumns, &Pick(oracle.rowsVisibility, out.rowsVisibility), &Pick(oracle.rows, out.rows),
       out.filteredVisibility, out.filtered);
-  run(kUpsample, &pick(oracle.filteredVisibility, out.filteredVisibility), &pick(oracle.filtered, out.filtered),
+  run(kUpsample, &Pick(oracle.filteredVisibility, out.filteredVisibility), &Pick(oracle.filtered, out.filtered),
       out.visibility, out.bounce);
   return out;
 }
@@ -582,6 +594,55 @@ Buffer RunAntialias(const FrameConstants& frame, const Buffer& coverage, const B
   return blended;
 }
 
+// §Edge coverage and anti-aliasing: the coverage words of the geometric edges the visibility
+// buffer's `triangles` and word 2 show, from the scene's vertices.
+Buffer RunEdgeCoverage(const FrameConstants& frame, const SceneBuffers& scene, const Buffer& triangles,
+                       const Buffer& word2) {
+  const Program program("edge_coverage.comp", {"surface.glsl"});
+  SetFrameConstants(program, frame);
+  program.SetMatrix("viewProjection", &frame.view.viewProjection[0][0]);
+  Buffer coverage(size_t(frame.width) * size_t(frame.height));
+  scene.Bind();
+  triangles.Bind(0);
+  word2.Bind(1);
+  coverage.Bind(2);
+  program.Dispatch(frame.width, frame.height);
+  return coverage;
+}
+
+// §Morphological anti-aliasing: each step's buffer, as the dump names them (mlaa.luma, .edges,
+// .weights, .coverage).
+struct MlaaBuffers {
+  Buffer luma, edges, weights, coverage;
+};
+
+// The oracle's MLAA buffers each step reads, where the dump holds them (--oracle-inputs).
+struct OracleMlaa {
+  std::optional<Buffer> luma, edges, weights;
+};
+
+// The four steps on `image` (the composite's result) seen through the tonemap's exposure. Each step
+// reads the port's own earlier buffer, or the oracle's where `oracle` holds it.
+MlaaBuffers RunMlaa(const FrameConstants& frame, float exposureEv, const Buffer& image, const OracleMlaa& oracle) {
+  const Program program("mlaa.comp");
+  SetFrameConstants(program, frame);
+  program.Set("exposureScale", std::exp2(exposureEv));
+  program.Set("threshold", MlaaParams{}.threshold);
+  const size_t pixels = size_t(frame.width) * size_t(frame.height);
+  MlaaBuffers out{Buffer(pixels), Buffer(pixels), Buffer(pixels), Buffer(pixels)};
+  // Stage k (luma, edges, weights, coverage) writes binding k + 1; the next stage reads it there.
+  const Buffer* own[] = {&out.luma, &out.edges, &out.weights, &out.coverage};
+  const std::optional<Buffer>* theirs[] = {&oracle.luma, &oracle.edges, &oracle.weights};
+  image.Bind(0);
+  for (GLuint k = 0; k < 4; ++k) own[k]->Bind(k + 1);
+  for (int stage = 0; stage < 4; ++stage) {
+    program.Set("stage", stage);
+    program.Dispatch(frame.width, frame.height);
+    if (stage < 3) Pick(*theirs[stage], *own[stage]).Bind(GLuint(stage + 1));
+  }
+  return out;
+}
+
 // Plane `plane` of a buffer of planes of width x height words each, as the float layer `name` of part
 // `part`.
 ExrLayer PlaneLayer(const std::string& part, const std::string& name, const std::vector<uint32_t>& words, size_t plane,
@@ -703,8 +764,7 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
       if (!oracleShadowMap) throw InputError(input, "has no layer depthKey in a part 'shadowmap'");
     }
     if (oracleInputs) {
-      if (const ExrLayer* layer = FindLayer(dump, main, "gbuffer.word3", true, width, height, input))
-        oracleWord3.emplace(pixels, layer->samples.data());
+      oracleWord3 = UploadWords(dump, main, "gbuffer.word3", width, height, input);
       oracleVisibility = UploadPlanes(dump, main, {"shadow.visibility"}, width, height, input);
     }
     word3 = RunPortBlockerSearch(in, config.shadowMap, shadowMap->lightView,
@@ -717,6 +777,8 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
       oracleHitY, oracleConfidence, oracleReflected;
   OracleBounce oracleBounce;
   std::optional<Levels> oracleHiZ, oraclePyramid;
+  std::optional<Buffer> oracleResult, oracleCoverage;
+  OracleMlaa oracleMlaa;
   if (oracleInputs) {
     oracleDirect = UploadPlanes(dump, main, {"direct.R", "direct.G", "direct.B"}, width, height, input);
     oracleLit = UploadPlanes(dump, main, {"lit.R", "lit.G", "lit.B"}, width, height, input);
@@ -733,6 +795,12 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
         UploadPlanes(dump, main, {"ssr.reflected.R", "ssr.reflected.G", "ssr.reflected.B"}, width, height, input);
     oracleHiZ = UploadLevels(dump, "hiz.", {"Y"}, frame.levels, input);
     oraclePyramid = UploadLevels(dump, "pyramid.", {"R", "G", "B"}, frame.levels, input);
+    oracleResult = UploadPlanes(dump, main, {"result.R", "result.G", "result.B"}, width, height, input);
+    oracleMlaa.luma = UploadPlanes(dump, main, {"mlaa.luma"}, width, height, input);
+    oracleMlaa.edges = UploadWords(dump, main, "mlaa.edges", width, height, input);
+    oracleMlaa.weights = UploadWords(dump, main, "mlaa.weights", width, height, input);
+    oracleCoverage = UploadWords(dump, main, "aa.coverage", width, height, input);
+    if (!oracleCoverage) oracleCoverage = UploadWords(dump, main, "mlaa.coverage", width, height, input);
     std::string taken;
     const auto note = [&](bool found, const char* what) { taken += found ? std::string(" ") + what : ""; };
     note(oracleWord3.has_value(), "word3");
@@ -749,9 +817,13 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     note(oraclePyramid.has_value(), "pyramid");
     note(oracleHitX && oracleHitY && oracleConfidence, "ssr.hit");
     note(oracleReflected.has_value(), "ssr.reflected");
+    note(oracleResult.has_value(), "result");
+    note(oracleMlaa.luma.has_value(), "mlaa.luma");
+    note(oracleMlaa.edges.has_value(), "mlaa.edges");
+    note(oracleMlaa.weights.has_value(), "mlaa.weights");
+    note(oracleCoverage.has_value(), "coverage");
     std::printf("ssgi_gl_port: the oracle's inputs taken from the dump:%s\n", taken.empty() ? " none" : taken.c_str());
   }
-  const auto pick = [](const auto& oracle, const auto& own) -> const auto& { return oracle ? *oracle : own; };
 
   const Buffer* lightVisibility = oracleVisibility ? &*oracleVisibility : visibility ? &*visibility : nullptr;
   const Buffer direct = RunDirectLight(frame, scene.scene, config.environment.MeanRadiance(), words, lightVisibility);
@@ -785,9 +857,9 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
     }
     if (interreflectionLayers.size() == 3) interreflection.emplace(channels.size(), channels.data());
     sky = RunSkyLight(frame, grid, volumeBuffer, interreflection ? &*interreflection : nullptr, environment, words,
-                      pick(oracleDirect, direct));
+                      Pick(oracleDirect, direct));
   }
-  const Buffer& lit = sky ? pick(oracleLit, sky->lit) : pick(oracleDirect, direct);
+  const Buffer& lit = sky ? Pick(oracleLit, sky->lit) : Pick(oracleDirect, direct);
   // The diffuse bounce, where the frame ran it (its layers in the dump), on `lit`.
   std::optional<BounceBuffers> bounce;
   if (dump.Find(main, "bounce.visibility") != nullptr)
@@ -796,30 +868,44 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   const std::vector<Buffer> pyramidLevels = RunColorPyramid(frame, lit);
   const Levels hiz = Concatenate(hizLevels, frame.levels);
   const Levels pyramid = Concatenate(pyramidLevels, frame.levels);
-  const TraceOutput trace = RunSsrTrace(frame, config.ssrTrace, words[1], words[2], pick(oracleHiZ, hiz));
-  const TraceHits hits{pick(oracleHitX, trace.hitX), pick(oracleHitY, trace.hitY),
-                       pick(oracleConfidence, trace.confidence)};
-  const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, pick(oraclePyramid, pyramid));
+  const TraceOutput trace = RunSsrTrace(frame, config.ssrTrace, words[1], words[2], Pick(oracleHiZ, hiz));
+  const TraceHits hits{Pick(oracleHitX, trace.hitX), Pick(oracleHitY, trace.hitY),
+                       Pick(oracleConfidence, trace.confidence)};
+  const Buffer reflected = RunSsrCone(frame, config.ssrCone, words[1], hits, Pick(oraclePyramid, pyramid));
   std::optional<CompositeBounce> compositeBounce;
   if (bounce)
-    compositeBounce.emplace(CompositeBounce{pick(oracleBounce.bounce, bounce->bounce),
-                                            pick(oracleBounce.visibility, bounce->visibility),
-                                            sky ? &pick(oracleSkyDiffuse, sky->diffuse) : nullptr});
+    compositeBounce.emplace(CompositeBounce{Pick(oracleBounce.bounce, bounce->bounce),
+                                            Pick(oracleBounce.visibility, bounce->visibility),
+                                            sky ? &Pick(oracleSkyDiffuse, sky->diffuse) : nullptr});
   const CompositeOutput composite =
-      RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, pick(oracleReflected, reflected),
-                   lit, sky ? &pick(oracleSkyVisibility, sky->visibility) : nullptr,
-                   sky && sky->reflected ? &pick(oracleSkyReflected, *sky->reflected) : nullptr, environment,
+      RunComposite(frame, config.ssrTrace.roughnessCutoff, words, hits.confidence, Pick(oracleReflected, reflected),
+                   lit, sky ? &Pick(oracleSkyVisibility, sky->visibility) : nullptr,
+                   sky && sky->reflected ? &Pick(oracleSkyReflected, *sky->reflected) : nullptr, environment,
                    bounce ? &compositeBounce.value() : nullptr);
-  // The anti-aliasing blend, where the frame ran it, over the port's result. Its coverage words are
-  // the oracle's (`aa.coverage` of --aa edge, `mlaa.coverage` of --aa mlaa): the port does not compute
-  // them, so it blends by the words it is given and passes none on.
+  // The anti-aliasing's coverage words, where the frame made them: those of the geometric edges (--aa
+  // edge, from the visibility buffer: the port's where it rasterized, else the dump's) or of the
+  // image's morphological edges (--aa mlaa); then the blend by them over the port's result, where the
+  // frame ran it (some word is not 0).
+  const Buffer& result = Pick(oracleResult, composite.result);
+  std::optional<Buffer> edgeCoverage;
+  std::optional<MlaaBuffers> mlaa;
+  if (dump.Find(main, "aa.coverage") != nullptr) {
+    std::optional<Buffer> dumpTriangles;
+    if (!gbuffer) {
+      dumpTriangles = UploadWords(dump, main, "raster.triangle", width, height, input);
+      if (!dumpTriangles) throw InputError(input, "has aa.coverage without the layer raster.triangle it is made from");
+    }
+    if (!sceneBuffers) sceneBuffers.emplace(scene.scene);
+    edgeCoverage =
+        RunEdgeCoverage(frame, *sceneBuffers, gbuffer ? gbuffer->visibility.triangle : *dumpTriangles, words[2]);
+  } else if (dump.Find(main, "mlaa.coverage") != nullptr) {
+    mlaa = RunMlaa(frame, config.tonemap.exposureEv, result, oracleMlaa);
+  }
   std::optional<Buffer> antialiased;
   if (dump.Find(main, "aa.result.R") != nullptr) {
-    const ExrLayer* coverage = FindLayer(dump, main, "aa.coverage", true, width, height, input);
-    if (coverage == nullptr) coverage = FindLayer(dump, main, "mlaa.coverage", true, width, height, input);
-    if (coverage == nullptr)
+    if (!edgeCoverage && !mlaa)
       throw InputError(input, "layer aa.result.R is there without the coverage words it was blended by");
-    antialiased = RunAntialias(frame, Buffer(coverage->samples.size(), coverage->samples.data()), composite.result);
+    antialiased = RunAntialias(frame, Pick(oracleCoverage, edgeCoverage ? *edgeCoverage : mlaa->coverage), result);
   }
   if (const GLenum code = glGetError(); code != GL_NO_ERROR) {
     char text[64];
@@ -881,6 +967,13 @@ int Run(const std::filesystem::path& scenePath, const std::filesystem::path& inp
   addRgb(main, "ssr.reflected.", reflected, frame.width, frame.height);
   addRgb(main, "indirect.", composite.indirect, frame.width, frame.height);
   addRgb(main, "result.", composite.result, frame.width, frame.height);
+  if (edgeCoverage) addLayer("aa.coverage", *edgeCoverage, true);
+  if (mlaa) {
+    addLayer("mlaa.luma", mlaa->luma);
+    addLayer("mlaa.edges", mlaa->edges, true);
+    addLayer("mlaa.weights", mlaa->weights, true);
+    addLayer("mlaa.coverage", mlaa->coverage, true);
+  }
   if (antialiased) addRgb(main, "aa.result.", *antialiased, frame.width, frame.height);
   // The other parts after the image's, in the dump's order.
   if (shadows && !oracleShadowMap) {
