@@ -25,9 +25,9 @@ std::vector<uint8_t> DilatedMask(const std::vector<uint8_t>& marked, int width, 
 // The pixels of the marked pairs, dilated: the edge and the pixels a blend across it reaches.
 std::vector<uint8_t> PairMask(const NeighbourPairs& pairs);
 
-// The step in display luma, y / (1 + y) of the Rec. 709 luminance, that makes an edge worth
-// measuring: about one 8-bit code in twenty of the display's range, half the step MLAA takes for an
-// edge. Smaller ones do not show, and the reference's noise stays well below it.
+// The step in display luma, y / (1 + y) of the Rec. 709 luminance (x / (1 + x), the display RMSE's
+// curve), that makes an edge worth measuring: a twentieth of that curve's range [0, 1). Smaller steps
+// hardly show.
 inline constexpr double kEdgeDisplayStep = 0.05;
 
 // The step in light visibility between neighbours that makes a shadow edge: a quarter of the light,
