@@ -161,6 +161,24 @@ std::vector<RegionDifference> CompareRegions(const FloatImage& a, const FloatIma
   return out;
 }
 
+FloatImage BoxDownsampled(const FloatImage& image, int factor) {
+  SSGI_CHECK(factor > 0 && image.width % factor == 0 && image.height % factor == 0);
+  FloatImage out = image;
+  out.width = image.width / factor;
+  out.height = image.height / factor;
+  const size_t channels = image.Channels();
+  std::vector<double> sums(size_t(out.width) * size_t(out.height) * channels, 0.0);
+  for (size_t y = 0; y < size_t(image.height); ++y)
+    for (size_t x = 0; x < size_t(image.width); ++x)
+      for (size_t c = 0; c < channels; ++c)
+        sums[((y / size_t(factor)) * size_t(out.width) + x / size_t(factor)) * channels + c] +=
+            image.pixels[(y * size_t(image.width) + x) * channels + c];
+  out.pixels.resize(sums.size());
+  const double area = double(factor) * double(factor);
+  for (size_t i = 0; i < sums.size(); ++i) out.pixels[i] = float(sums[i] / area);
+  return out;
+}
+
 FloatImage ResizeImage(const FloatImage& image, int width, int height) {
   SSGI_CHECK(width > 0 && height > 0);
   const int channels = int(image.Channels());

@@ -35,6 +35,11 @@ std::optional<FloatImage> FindLayer(const FloatImage& image, const std::string& 
 // how a frame rendered below the reference's resolution is brought to it for comparison.
 FloatImage ResizeImage(const FloatImage& image, int width, int height);
 
+// `image` averaged over blocks of factor x factor pixels (its size a multiple of factor): a render at
+// `factor` times the size, one sample at each sub-pixel's centre, becomes a box filter of each pixel
+// sampled on a regular factor x factor grid.
+FloatImage BoxDownsampled(const FloatImage& image, int factor);
+
 struct ImageDifference {
   double rmse = 0.0;           // sqrt(mean over pixels and channels of (a - b)^2)
   double peak = 0.0;           // max of b over pixels and channels (>= 1e-12)

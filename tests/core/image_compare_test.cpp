@@ -166,5 +166,19 @@ TEST_CASE("compare: resizing a ramp to twice its size interpolates it linearly",
   for (float v : same.pixels) CHECK(v == Approx(0.25f).margin(1e-6));
 }
 
+TEST_CASE("compare: box-downsampling averages each block and keeps the channels", "[compare]") {
+  FloatImage image = Constant(6, 4, 0.0f, {"Y"});
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x) image.pixels[size_t(y) * 6 + x] = float(x + 10 * y);
+  const FloatImage small = BoxDownsampled(image, 2);
+  REQUIRE(small.width == 3);
+  REQUIRE(small.height == 2);
+  REQUIRE(small.channelNames == image.channelNames);
+  // Block (bx, by) holds x = 2 bx, 2 bx + 1 and y = 2 by, 2 by + 1: its mean is 2 bx + 0.5 + 10 (2 by + 0.5).
+  for (int by = 0; by < 2; ++by)
+    for (int bx = 0; bx < 3; ++bx)
+      CHECK(small.pixels[size_t(by) * 3 + bx] == float(2 * bx + 0.5 + 10 * (2 * by + 0.5)));
+}
+
 }  // namespace
 }  // namespace ssgi
