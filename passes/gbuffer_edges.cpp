@@ -154,14 +154,21 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
   const size_t width = size_t(view.width), height = size_t(view.height);
   const uint32_t* materials = scene.mesh.materials.data();
   const EdgeProjection projection(scene, view);
-  // The pair of (x, y) with its right (alongX) or lower neighbour; most pairs share a triangle.
-  const auto pair = [&](size_t x, size_t y, bool alongX) -> PairWeights {
+  // The view depths word 2 holds, from the keys the raster wrote beside the triangles: a row's at
+  // once (a loop the compiler vectorises) rather than a division per pixel of each pair.
+  const auto depthsOf = [&](size_t y, std::vector<float>& depths) {
+    const float* keys = visibility.depthKey.ConstRow(y);
+    for (size_t x = 0; x < width; ++x) depths[x] = view.DepthFromKey(keys[x]);
+  };
+  std::vector<float> depthAbove(width), depthHere(width), depthBelow(width);
+  // The pair of (x, y) with its right (alongX) or lower neighbour, rows y and y + 1 of depths
+  // `depthA` and `depthB`; most pairs share a triangle.
+  const auto pair = [&](size_t x, size_t y, bool alongX, const std::vector<float>& depthA,
+                        const std::vector<float>& depthB) -> PairWeights {
     const size_t bx = x + (alongX ? 1 : 0), by = y + (alongX ? 0 : 1);
     const uint32_t ta = visibility.triangle.ConstRow(y)[x], tb = visibility.triangle.ConstRow(by)[bx];
     if (ta == tb) return {};
-    // The view depths word 2 holds, from the keys the raster wrote beside the triangles.
-    const float da = view.DepthFromKey(visibility.depthKey.ConstRow(y)[x]);
-    const float db = view.DepthFromKey(visibility.depthKey.ConstRow(by)[bx]);
+    const float da = depthA[x], db = (alongX ? depthA : depthB)[bx];
     if (!GeometricEdge(ta, tb, da, db, materials)) return {};
     return projection.Pair(ta, tb, da, db, int(x), int(y), alongX);
   };
@@ -171,7 +178,10 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
   std::vector<size_t> pixels;
   std::vector<std::pair<size_t, double>> fromAbove;  // the next row's weights toward this row
   size_t edgePixels = 0;
+  if (y0 > 0 && y0 < y1) depthsOf(y0 - 1, depthAbove);
+  if (y0 < y1) depthsOf(y0, depthHere);
   for (size_t y = y0; y < y1; ++y) {
+    if (y + 1 < height) depthsOf(y + 1, depthBelow);
     const uint32_t* row = visibility.triangle.ConstRow(y);
     uint32_t* out = coverage.MutableRow(y);
     std::fill_n(out, width, 0u);
@@ -184,7 +194,7 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
     };
     // Blocks of pixels whose triangles all equal their neighbours' are skipped whole.
     ForEachDifference(row, row + 1, width - 1, [&](size_t x) {
-      const PairWeights w = pair(x, y, true);
+      const PairWeights w = pair(x, y, true, depthHere, depthHere);
       add(x, 1, w.towardB);
       add(x + 1, 0, w.towardA);
     });
@@ -192,12 +202,12 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
     // the row above's pairs with the row below.
     if (y == y0 && y > 0)
       ForEachDifference(row, visibility.triangle.ConstRow(y - 1), width,
-                        [&](size_t x) { add(x, 2, pair(x, y - 1, false).towardA); });
+                        [&](size_t x) { add(x, 2, pair(x, y - 1, false, depthAbove, depthHere).towardA); });
     for (const auto& [x, w] : fromAbove) add(x, 2, w);
     fromAbove.clear();
     if (y + 1 < height)
       ForEachDifference(row, visibility.triangle.ConstRow(y + 1), width, [&](size_t x) {
-        const PairWeights w = pair(x, y, false);
+        const PairWeights w = pair(x, y, false, depthHere, depthBelow);
         add(x, 3, w.towardB);
         if (w.towardA != 0.0) fromAbove.emplace_back(x, w.towardA);
       });
@@ -212,6 +222,7 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
       weights[x] = {0.0, 0.0, 0.0, 0.0};
       touched[x] = 0;
     }
+    std::swap(depthHere, depthBelow);
   }
   return edgePixels;
 }

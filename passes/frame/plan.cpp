@@ -213,20 +213,29 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
                              ? "mlaa searches the image's luma edges (the environment is not one colour)"
                              : "no pixel has geometry and the environment is one colour";
   } else {
-    // Edge pixels are those with a non-zero edge coverage word (passes/gbuffer.h): the first one
-    // decides, unless they are counted (for --explain).
-    std::vector<uint32_t> edgesPerTile(plan.tiles, 0);
+    // Edge pixels are those with a non-zero edge coverage word (passes/gbuffer.h): the first row
+    // holding one decides (an OR over the row, which the compiler vectorises, where a search for the
+    // first word would not be), unless they are counted per tile (for --explain).
     bool found = false;
-    for (size_t y = 0; y < edgeCoverage.ysize() && !(found && !countShadowPixels); ++y) {
-      const uint32_t* row = edgeCoverage.ConstRow(y);
-      uint32_t* tileRow = &edgesPerTile[y / TileMask::kTileSize * size_t(tilesX)];
-      for (size_t x = 0; x < edgeCoverage.xsize(); ++x) tileRow[x / TileMask::kTileSize] += row[x] != 0;
-      found = found || std::find_if(row, row + edgeCoverage.xsize(), [](uint32_t w) { return w != 0; }) !=
-                           row + edgeCoverage.xsize();
-    }
-    for (uint32_t edges : edgesPerTile) {
-      plan.antialias.pixels += edges;
-      plan.antialias.tiles += edges > 0;
+    if (countShadowPixels) {
+      std::vector<uint32_t> edgesPerTile(plan.tiles, 0);
+      for (size_t y = 0; y < edgeCoverage.ysize(); ++y) {
+        const uint32_t* row = edgeCoverage.ConstRow(y);
+        uint32_t* tileRow = &edgesPerTile[y / TileMask::kTileSize * size_t(tilesX)];
+        for (size_t x = 0; x < edgeCoverage.xsize(); ++x) tileRow[x / TileMask::kTileSize] += row[x] != 0;
+      }
+      for (uint32_t edges : edgesPerTile) {
+        plan.antialias.pixels += edges;
+        plan.antialias.tiles += edges > 0;
+      }
+      found = plan.antialias.pixels > 0;
+    } else {
+      for (size_t y = 0; y < edgeCoverage.ysize() && !found; ++y) {
+        const uint32_t* row = edgeCoverage.ConstRow(y);
+        uint32_t any = 0;
+        for (size_t x = 0; x < edgeCoverage.xsize(); ++x) any |= row[x];
+        found = any != 0;
+      }
     }
     plan.antialias.counted = countShadowPixels;
     plan.antialias.run = found;
