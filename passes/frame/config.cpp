@@ -180,7 +180,9 @@ std::vector<FrameSetting> BuildFrameSettings() {
   table.push_back(ChoiceSetting<EffectMode>(
       "effects.sky", "--sky",
       "Sky light: the environment's light on every surface, diffuse and (where the reflections do not "
-      "reach) specular, under a world-space sky visibility: auto (when the environment is not black), on or off.",
+      "reach) specular, under a world-space sky visibility, and the light the surfaces send each other from its interreflection "
+      "volume: auto (when the environment is not black, or lights reach visible surfaces and the volume is made), on "
+      "or off.",
       effectModes, {}, [](auto& c) -> auto& { return c.sky; }));
   table.push_back(ChoiceSetting<EffectMode>(
       "effects.bounce", "--bounce",

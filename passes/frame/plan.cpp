@@ -170,19 +170,27 @@ FramePlan PlanFrame(const Scene& scene, const FrameConfig& config, const GBuffer
                                                             : "no visible surface is smoother than") +
                            " the cut-off (roughness " + cutoffText + ")";
   }
+  const bool lightReachesPixels =
+      std::find(plan.lightReaches.begin(), plan.lightReaches.end(), true) != plan.lightReaches.end();
   if (config.sky == EffectMode::kOff) {
     plan.sky.why = "switched off";
   } else if (config.sky == EffectMode::kOn) {
     plan.sky.run = true;
     plan.sky.why = "switched on";
-  } else if (config.environment.IsBlack()) {
-    plan.sky.why = "the environment is black";
+  } else if (plan.geometryPixels == 0) {
+    plan.sky.why = "no pixel has geometry";
+  } else if (!config.environment.IsBlack()) {
+    plan.sky.run = true;
+    plan.sky.why = "the environment lights the visible surfaces";
+  } else if (lightReachesPixels && SkyMakesInterreflection(config)) {
+    // Under a black sky the pass adds no sky light, but its interreflection volume carries the
+    // lights' light from surface to surface, on screen and off.
+    plan.sky.run = true;
+    plan.sky.why = "the environment is black, but lights reach visible surfaces: the interreflection volume "
+                   "carries their light between surfaces";
   } else {
-    plan.sky.run = plan.geometryPixels > 0;
-    plan.sky.why = plan.sky.run ? "the environment lights the visible surfaces" : "no pixel has geometry";
+    plan.sky.why = "the environment is black";
   }
-  const bool lightReachesPixels =
-      std::find(plan.lightReaches.begin(), plan.lightReaches.end(), true) != plan.lightReaches.end();
   if (config.bounce == EffectMode::kOff) {
     plan.bounce.why = "switched off";
   } else if (config.bounce == EffectMode::kOn) {

@@ -32,10 +32,12 @@ test::TestScene BoxOnGlossyGround(int width, int height) {
 TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[frame]") {
   const test::TestScene scene = BoxOnGlossyGround(48, 32);
 
+  // Under its black sky the sun's light still goes round through the interreflection volume.
   FrameConfig config = test::ConfigOf(scene);
   const Frame all = RenderFrame(scene, config);
   CHECK(StageNames(all) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan", "shadow map",
-                                                    "blocker search", "shadow filter", "direct light", "bounce", "hi-z",
+                                                    "blocker search", "shadow filter", "direct light",
+                                                    "sky visibility", "interreflection volume", "sky light", "hi-z",
                                                     "colour pyramid", "ssr trace", "cone trace", "composite",
                                                     "antialias", "tonemap", "frame total"});
   REQUIRE(all.stats.tonemap);
@@ -47,6 +49,7 @@ TEST_CASE("the frame's stats list the stages that ran, in pipeline order", "[fra
 
   config.shadows = EffectMode::kOff;
   config.reflections = EffectMode::kOff;
+  config.sky = EffectMode::kOff;
   config.bounce = EffectMode::kOff;
   const Frame direct = RenderFrame(scene, config);
   CHECK(StageNames(direct) == std::vector<std::string>{"g-buffer raster", "g-buffer resolve", "frame plan",

@@ -155,20 +155,25 @@ TEST_CASE("frame plan: the explanation counts what each effect touches", "[plan]
   const std::string text = ExplainPlan(counted);
   CHECK(text.find("shadows: run, visible pixels face the shadow-casting light; needed in") != std::string::npos);
   CHECK(text.find("reflections: run") != std::string::npos);
-  // The sun lights the floor, so the bounce runs, and with it the composite on the whole image.
+  // The sun lights the floor under a black sky, so the sky light runs for its interreflection volume,
+  // which stands for the bounce, and with it the composite on the whole image.
   CHECK(text.find("hi-z, colour pyramid run; ssr trace, cone trace run on those " +
                   std::to_string(counted.reflections.tiles) + " tiles only") != std::string::npos);
-  CHECK(text.find("sky: skipped, the environment is black\n    sky light does not run\n") != std::string::npos);
-  CHECK(text.find("bounce: run, lights reach visible surfaces\n    bounce runs at half resolution on every pixel "
-                  "with geometry; the composite adds its light on the diffuse albedo\n") != std::string::npos);
-  // Without the bounce, the composite works on the traced tiles alone.
+  CHECK(text.find("sky: run, the environment is black, but lights reach visible surfaces: the interreflection "
+                  "volume carries their light between surfaces\n    sky light runs on every pixel with geometry") !=
+        std::string::npos);
+  CHECK(text.find("bounce: skipped, the interreflection volume carries the bounced light\n    bounce does not run\n") !=
+        std::string::npos);
+  // Without the sky light and the bounce, the composite works on the traced tiles alone.
   FrameConfig config = test::ConfigOf(scene);
+  config.sky = EffectMode::kOff;
   config.bounce = EffectMode::kOff;
   const std::string withoutBounce =
       ExplainPlan(PlanFrame(scene, config, frame.gbuffer.gbuffer, frame.gbuffer.edgeCoverage, frame.view));
   CHECK(withoutBounce.find("hi-z, colour pyramid run; ssr trace, cone trace, composite run on those " +
                            std::to_string(counted.reflections.tiles) + " tiles only") != std::string::npos);
   CHECK(withoutBounce.find("bounce: skipped, switched off\n    bounce does not run\n") != std::string::npos);
+  CHECK(withoutBounce.find("sky: skipped, switched off\n    sky light does not run\n") != std::string::npos);
 }
 
 TEST_CASE("frame plan: the bounce runs where something on screen is lit, and costs nothing where nothing is",
@@ -182,8 +187,11 @@ TEST_CASE("frame plan: the bounce runs where something on screen is lit, and cos
     config.interreflection.directions = interreflectionDirections;
     return RenderFrame(scene, config);
   };
-  SECTION("a light reaches visible surfaces") {
+  SECTION("a light reaches visible surfaces, and no interreflection volume carries its bounce") {
+    interreflectionDirections = 0;
     const Frame frame = render(EffectMode::kAuto);
+    CHECK_FALSE(frame.plan.sky.run);
+    CHECK(frame.plan.sky.why == "the environment is black");
     CHECK(frame.plan.bounce.run);
     CHECK(frame.plan.bounce.why == "lights reach visible surfaces");
     REQUIRE(frame.stats.bounce);
@@ -250,6 +258,29 @@ TEST_CASE("frame plan: the bounce runs where something on screen is lit, and cos
     const Frame frame = render(EffectMode::kAuto);
     CHECK_FALSE(frame.plan.bounce.run);
     CHECK(frame.plan.bounce.why == "no pixel has geometry");
+    CHECK_FALSE(frame.plan.sky.run);
+    CHECK(frame.plan.sky.why == "no pixel has geometry");
+  }
+  SECTION("under a black sky the lights' light goes round through the interreflection volume") {
+    const Frame frame = render(EffectMode::kAuto);
+    CHECK(frame.plan.sky.run);
+    CHECK(frame.plan.sky.why == "the environment is black, but lights reach visible surfaces: the interreflection "
+                                "volume carries their light between surfaces");
+    REQUIRE(frame.interreflection);
+    CHECK_FALSE(frame.plan.bounce.run);
+    // The box's sunlit faces light the floor beside it, and the floor the box: more light than the
+    // direct light alone, and exactly the direct light on the background.
+    FrameConfig config = test::ConfigOf(scene);
+    config.sky = EffectMode::kOff;
+    config.bounce = EffectMode::kOff;
+    const Frame direct = RenderFrame(scene, config);
+    double with = 0.0, without = 0.0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        with += frame.Result().c[1].ConstRow(size_t(y))[x];
+        without += direct.Result().c[1].ConstRow(size_t(y))[x];
+      }
+    CHECK(with > without * 1.01);
   }
 }
 
@@ -317,8 +348,9 @@ TEST_CASE("frame plan: the trace, cone and composite skipping tiles give the byt
   const auto [width, height] = GENERATE(std::pair{kWidth, kHeight}, std::pair{101, 70});
   test::TestScene scene = RoughFloor(width, height);
   AddBoxOfRoughness(scene, {-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, 0.1f);
-  // Without the bounce (and the sky), whose light reaches every pixel, the composite skips tiles too.
+  // Without the bounce and the sky light, whose light reaches every pixel, the composite skips tiles too.
   FrameConfig config = test::ConfigOf(scene);
+  config.sky = EffectMode::kOff;
   config.bounce = EffectMode::kOff;
   const Frame frame = RenderFrame(scene, config);  // every buffer kept, the passes given the tiles
   REQUIRE(frame.reflections);
