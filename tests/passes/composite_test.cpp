@@ -84,6 +84,36 @@ TEST_CASE("composite: reflections fade out just below the roughness cut-off", "[
   CHECK(indirectAt(0.9f) == 0.0f);
 }
 
+TEST_CASE("composite: where the trace saw nothing, a glossy surface reflects the surroundings' light", "[composite]") {
+  const CompositeFixture f;
+  // Under a black sky the environment sends nothing; the interreflection volume's light towards the
+  // mirror direction fills the share the trace did not see, 1 - confidence (the fade is 1 at
+  // roughness 0), whatever the sky's visibility.
+  const EnvironmentLighting black = PrepareEnvironmentLighting(ConstantEnvironment(glm::vec3(0.0f)));
+  const Plane<float> hidden = MakePlane<float>(8, 4, 0.0f);
+  const Plane3<float> surroundings = MakePlane3<float>(8, 4, 0.75f);
+  CompositeInputs inputs{f.gbuffer, f.view, f.direct, &f.reflected, &f.confidence, 0.7f, nullptr, &black, &hidden};
+  CompositeOutputs traced;
+  RunComposite(inputs, traced);
+  inputs.skyReflected = &surroundings;
+  CompositeOutputs filled;
+  RunComposite(inputs, filled);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) {
+        CAPTURE(x, y, c);
+        const float added = filled.indirect.c[c].ConstRow(y)[x] - traced.indirect.c[c].ConstRow(y)[x];
+        if (x >= 4) {
+          CHECK(added == 0.0f);  // background
+          continue;
+        }
+        // The mirror metal head-on reflects about its base colour of what arrives.
+        const float albedo = UnpackAlbedo(f.gbuffer.word[GBufferWord::kAlbedoMetallic].ConstRow(y)[x])[c];
+        const float unseen = 1.0f - f.confidence.ConstRow(y)[x];
+        CHECK(added == Approx(0.75f * unseen * albedo).epsilon(0.05));
+      }
+}
+
 TEST_CASE("composite: the bounce adds its light on the diffuse albedo and darkens the sky's diffuse light",
           "[composite]") {
   CompositeFixture f;
