@@ -143,6 +143,9 @@ const Frame& DefaultBenchFrame(int size) {
     const BenchScene& bench = DefaultBenchScene();
     FrameConfig config = bench.config;
     config.width = config.height = size;
+    // The bounce's buffers too, which the scene's own frame leaves to the interreflection volume: the
+    // composite's every-term benchmark reads them.
+    config.bounce = EffectMode::kOn;
     found = frames.emplace(size, RenderFrame(bench.scene, config)).first;
   }
   return found->second;

@@ -44,6 +44,11 @@ RATIOS = [
      "BM_MemoryFloor/read:16/write:24/size:{size}/threads:{threads}/real_time", "composite time / its memory floor"),
     (r"BM_Tonemap/simd:1/size:(?P<size>\d+)/threads:(?P<threads>\d+)/real_time",
      "BM_MemoryFloor/read:12/write:3/size:{size}/threads:{threads}/real_time", "tonemap time / its memory floor"),
+    (r"BM_SkyLight/simd:1/size:(?P<size>\d+)/threads:(?P<threads>\d+)/real_time",
+     "BM_MemoryFloor/read:24/write:40/size:{size}/threads:{threads}/real_time", "sky light time / its memory floor"),
+    (r"BM_CompositeEveryTerm/simd:1/size:(?P<size>\d+)/threads:(?P<threads>\d+)/real_time",
+     "BM_MemoryFloor/read:84/write:24/size:{size}/threads:{threads}/real_time",
+     "composite with every term time / its memory floor"),
 ]
 
 

@@ -33,8 +33,9 @@ void BM_SkyLight(benchmark::State& state) {
 }
 
 // The sky light's memory floor per pixel: G-buffer words 0-2 and the direct R, G, B read (24 bytes);
-// the sky's diffuse R, G, B, its visibility and lit R, G, B written (28).
-[[maybe_unused]] const bool kSkyLightFloor = (RegisterMemoryFloor(24, 28), true);
+// the sky's diffuse R, G, B, its visibility, lit R, G, B and the interreflection volume towards the
+// mirror direction R, G, B written (40).
+[[maybe_unused]] const bool kSkyLightFloor = (RegisterMemoryFloor(24, 40), true);
 
 // The volume of a scene (BenchSceneOf: 0 the default scene, -1 Sponza) at the frame's default
 // settings: what the first frame of a scene pays once. Arguments: scene, threads.

@@ -95,9 +95,9 @@ void BM_Composite(benchmark::State& state) {
 // lane it also reads words 0-2 and reflected R, G, B (24 more).
 [[maybe_unused]] const bool kCompositeFloors = (RegisterMemoryFloor(16, 24), RegisterMemoryFloor(40, 24), true);
 
-// The composite as the default scene's frame runs it, every term on: the reflection, the sky's
-// specular light where the trace did not see, the bounce on the diffuse albedo and its visibility
-// darkening the sky's diffuse light, on every pixel (no tile is skipped).
+// The composite with every term on: the reflection, the sky's specular light and the surroundings'
+// light from the interreflection volume where the trace did not see, the bounce on the diffuse albedo
+// and its visibility darkening the sky's diffuse light, on every pixel (no tile is skipped).
 void BM_CompositeEveryTerm(benchmark::State& state) {
   const BenchScene& bench = DefaultBenchScene();
   if (!bench.error.empty()) return state.SkipWithError(bench.error.c_str());
@@ -113,6 +113,7 @@ void BM_CompositeEveryTerm(benchmark::State& state) {
                      nullptr,
                      &f.environment,
                      &f.skyLight.visibility};
+  if (f.skyLight.reflected.c[0].xsize() != 0) in.skyReflected = &f.skyLight.reflected;
   in.bounce = &f.diffuseBounce.bounce;
   in.skyDiffuse = &f.skyLight.diffuse;
   in.ambientVisibility = &f.diffuseBounce.visibility;
@@ -122,10 +123,10 @@ void BM_CompositeEveryTerm(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * args.size * args.size);
 }
 
-// Its floor per pixel: words 0-2, confidence, lit, reflected, the sky's visibility, the bounce, the
-// sky's diffuse light and the bounce's visibility read (12 + 4 + 12 + 12 + 4 + 12 + 12 + 4), indirect
-// and result written (24).
-[[maybe_unused]] const bool kCompositeEveryTermFloor = (RegisterMemoryFloor(72, 24), true);
+// Its floor per pixel: words 0-2, confidence, lit, reflected, the sky's visibility and its reflected
+// surroundings, the bounce, the sky's diffuse light and the bounce's visibility read (12 + 4 + 12 +
+// 12 + 4 + 12 + 12 + 12 + 4), indirect and result written (24).
+[[maybe_unused]] const bool kCompositeEveryTermFloor = (RegisterMemoryFloor(84, 24), true);
 
 BENCHMARK(BM_HiZ)->Apply(KernelBenchArgs::Register);
 BENCHMARK(BM_ColorPyramid)->Apply(KernelBenchArgs::Register);
