@@ -163,9 +163,7 @@ std::vector<RegionDifference> CompareRegions(const FloatImage& a, const FloatIma
 
 FloatImage BoxDownsampled(const FloatImage& image, int factor) {
   SSGI_CHECK(factor > 0 && image.width % factor == 0 && image.height % factor == 0);
-  FloatImage out = image;
-  out.width = image.width / factor;
-  out.height = image.height / factor;
+  FloatImage out{image.width / factor, image.height / factor, image.channelNames, {}, image.integerCodes};
   const size_t channels = image.Channels();
   std::vector<double> sums(size_t(out.width) * size_t(out.height) * channels, 0.0);
   for (size_t y = 0; y < size_t(image.height); ++y)

@@ -747,8 +747,7 @@ SceneFile LoadModelScene(const fs::path& file, bool gltf) {
   (gltf ? object.gltf : object.obj) = file;
   std::vector<std::vector<GltfCamera>> cameras;
   Bake(ErrorReporter(file, {}), {object}, scene, cameras);
-  if (scene.directionalLights.empty() && scene.spotLights.empty() && scene.pointLights.empty())
-    scene.directionalLights.push_back(DefaultLight());
+  if (!scene.HasLights()) scene.directionalLights.push_back(DefaultLight());
   if (cameras.front().empty()) {
     scene.camera = FrameMesh(scene.mesh, kDefaultImageSide, kDefaultImageSide);
     return loaded;

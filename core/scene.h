@@ -60,6 +60,8 @@ struct Scene {
   // What the loaders accepted but do not render as the file asks (one line each, naming the file);
   // the command line prints them as "ssgi: warning: ...".
   std::vector<std::string> warnings;
+
+  bool HasLights() const { return !directionalLights.empty() || !spotLights.empty() || !pointLights.empty(); }
 };
 
 // One value of a scene file's "render" block as written: how the file asks for its frames to be

@@ -33,16 +33,15 @@ void CompositeRowScalar(const CompositeContext& context, const CompositeRow& row
         }
         if (sky) {
           // The share the trace did not see, towards the mirror direction r = 2 (n.v) n - v.
-          const float share = (1.0f - confidence * fade) * row.skyVisibility[x];
+          const float unseen = 1.0f - confidence * fade;
+          const float share = unseen * row.skyVisibility[x];
           const glm::vec3 reflection = normal * (2.0f * glm::dot(normal, toViewer)) - toViewer;
           const glm::vec3 environment =
               PrefilteredEnvironment(*context.environment, context.viewToWorld * reflection, material.roughness);
           for (int c = 0; c < 3; ++c) indirect[c] = indirect[c] + environment[c] * (specular[c] * share);
           // The surfaces around, which the sky's visibility took away from the environment's light.
-          if (row.skyReflected[0]) {
-            const float unseen = 1.0f - confidence * fade;
+          if (row.skyReflected[0])
             for (int c = 0; c < 3; ++c) indirect[c] = indirect[c] + row.skyReflected[c][x] * (specular[c] * unseen);
-          }
         }
       }
       if (bounce) {

@@ -84,8 +84,8 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
         indirect = IfThenElse3(reflecting, Mul3(LoadRow3(d, row.reflected, x, count), weight), indirect);
       }
       if (sky) {
-        const auto share =
-            hn::Mul(hn::Sub(one, hn::Mul(confidence, fade)), LoadRow(d, row.skyVisibility, x, count, 0.0f));
+        const auto unseen = hn::Sub(one, hn::Mul(confidence, fade));
+        const auto share = hn::Mul(unseen, LoadRow(d, row.skyVisibility, x, count, 0.0f));
         Vec3V<DF> environment = Set3(d, c.environment->constantRadiance);
         if (!c.environment->constant) {
           // r = n (2 n.v) - v, into the world.
@@ -96,7 +96,6 @@ void CompositePixels(const CompositeConstants& c, const CompositeRow& row, size_
         }
         Vec3V<DF> withSky = Add3(indirect, Mul3(environment, Scale3(specular, share)));
         if (row.skyReflected[0]) {
-          const auto unseen = hn::Sub(one, hn::Mul(confidence, fade));
           withSky = Add3(withSky, Mul3(LoadRow3(d, row.skyReflected, x, count), Scale3(specular, unseen)));
         }
         indirect = IfThenElse3(lit, withSky, indirect);

@@ -161,14 +161,14 @@ size_t EdgeCoverageRows(const Scene& scene, const ViewProjection& view, const Vi
     for (size_t x = 0; x < width; ++x) depths[x] = view.DepthFromKey(keys[x]);
   };
   std::vector<float> depthAbove(width), depthHere(width), depthBelow(width);
-  // The pair of (x, y) with its right (alongX) or lower neighbour, rows y and y + 1 of depths
-  // `depthA` and `depthB`; most pairs share a triangle.
+  // The pair of (x, y) with its right (alongX) or lower neighbour, `depthA` the depths of row y and
+  // `depthB` those of the neighbour's row; most pairs share a triangle.
   const auto pair = [&](size_t x, size_t y, bool alongX, const std::vector<float>& depthA,
                         const std::vector<float>& depthB) -> PairWeights {
     const size_t bx = x + (alongX ? 1 : 0), by = y + (alongX ? 0 : 1);
     const uint32_t ta = visibility.triangle.ConstRow(y)[x], tb = visibility.triangle.ConstRow(by)[bx];
     if (ta == tb) return {};
-    const float da = depthA[x], db = (alongX ? depthA : depthB)[bx];
+    const float da = depthA[x], db = depthB[bx];
     if (!GeometricEdge(ta, tb, da, db, materials)) return {};
     return projection.Pair(ta, tb, da, db, int(x), int(y), alongX);
   };

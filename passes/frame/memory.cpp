@@ -28,11 +28,9 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   // In `auto`, the bounce does not run where the sky light makes the interreflection volume (the sky
   // light runs, in `auto`, where a pixel has geometry and the environment is not black or a light
   // reaches it).
-  const bool lightsMayReach = !scene.directionalLights.empty() || !scene.spotLights.empty() || !scene.pointLights.empty();
-  const bool skyMayRun =
-      config.sky == EffectMode::kOn ||
-      (config.sky == EffectMode::kAuto &&
-       (!config.environment.IsBlack() || (lightsMayReach && SkyMakesInterreflection(config))));
+  const bool skyMayRun = config.sky == EffectMode::kOn ||
+                         (config.sky == EffectMode::kAuto &&
+                          (!config.environment.IsBlack() || (scene.HasLights() && SkyMakesInterreflection(config))));
   const bool bounceMayRun = config.bounce == EffectMode::kOn ||
                             (config.bounce == EffectMode::kAuto && !(skyMayRun && SkyMakesInterreflection(config)));
   const auto mayRun = [&](FrameEffect effect) {

@@ -363,7 +363,7 @@ void SkyLightStep(FrameStep& s) {
     f.skyVolume = BuildSkyVisibility(s.scene, s.config.skyVisibility);
     f.stats.skyVisibilityMs = build.Lap();
   }
-  if (!f.skyVolume || s.config.interreflection.directions == 0) {
+  if (!f.skyVolume || !SkyMakesInterreflection(s.config)) {
     f.interreflection.reset();
   } else if (!f.interreflection ||
              !WorldBounceHolds(*f.interreflection, s.scene, *f.skyVolume, f.environment, s.config.interreflection)) {

@@ -76,7 +76,8 @@ void main() {
         indirectRadiance = traced * weight;
       }
       if (sky != 0) {
-        precise float share = (1.0 - trust * fade) * skyVisibility[index];
+        precise float unseen = 1.0 - trust * fade;
+        precise float share = unseen * skyVisibility[index];
         // Towards the mirror direction r = 2 (n.v) n - v, in world space.
         const vec3 normal = UnpackNormal(w1);
         precise vec3 reflection = normal * (2.0 * Dot3(normal, toViewer)) - toViewer;
@@ -86,7 +87,6 @@ void main() {
         indirectRadiance = indirectRadiance + environment;
         if (hasSkyReflected != 0) {
           // The surfaces around, which the sky's visibility took away from the environment's light.
-          precise float unseen = 1.0 - trust * fade;
           const vec3 around = vec3(skyReflected[index], skyReflected[index + plane], skyReflected[index + 2 * plane]);
           precise vec3 surroundings = around * (specular * unseen);
           indirectRadiance = indirectRadiance + surroundings;
