@@ -334,19 +334,63 @@ RayResults FinishRays(const SsrTraceFrame& frame, const SsrTraceParams& params, 
 
 constexpr int kMaxTilePixels = kSsrTraceTileSize * kSsrTraceTileSize;
 
+// Lane i: row[min((x0 + i) & mask, last)], for x0 a multiple of 4 and mask ~1 or ~3: where a vector
+// holds whole 4-pixel blocks, the vector at x0 loaded once and its lanes shuffled; else a gather.
+template <class D>
+hn::Vec<D> SourceLanes(D d, const hn::TFromD<D>* row, size_t x0, int last, int mask) {
+  const hn::RebindToSigned<D> di;
+  const auto offsets = hn::And(hn::Iota(di, 0), hn::Set(di, mask));
+  if (hn::Lanes(d) >= 4) {
+    return hn::TableLookupLanes(LoadRow(d, row, x0, size_t(last) + 1, hn::TFromD<D>(0)),
+                                hn::IndicesFromVec(d, offsets));
+  }
+  const auto columns = hn::Min(hn::And(hn::Iota(di, int32_t(x0)), hn::Set(di, mask)), hn::Set(di, last));
+  return hn::GatherIndex(d, row, columns);
+}
+
+// CopySharedHits's twin, a row's pixels in the lanes; codes: every pixel's SsrRaySource, rows
+// tile.x1 - tile.x0 apart.
+void CopySharedHitsV(const SsrTraceTile& tile, const int32_t* codes, SsrTraceOutputs& out) {
+  const DF df;
+  const DI di;
+  const size_t width = size_t(tile.x1 - tile.x0), end = size_t(tile.x1);
+  // Blocks first: a quad's top-left pixel may itself take its block's ray.
+  for (const SsrRaySource shared : {SsrRaySource::kBlock, SsrRaySource::kQuad}) {
+    const int mask = shared == SsrRaySource::kBlock ? ~3 : ~1;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      const int32_t* rowCodes = codes + size_t(y - tile.y0) * width;
+      const size_t sy = size_t(y & mask);
+      float* iterations = IterationsRow(out, y);
+      for (size_t x = size_t(tile.x0); x < end; x += hn::Lanes(df)) {
+        const MF take = hn::RebindMask(
+            df, hn::Eq(LoadRow(di, rowCodes, x - size_t(tile.x0), width, 0), hn::Set(di, int32_t(shared))));
+        if (hn::AllFalse(df, take)) continue;
+        for (Plane<float>* plane : {&out.hitX, &out.hitY, &out.confidence}) {
+          float* row = plane->MutableRow(size_t(y));
+          const VF source = SourceLanes(df, plane->ConstRow(sy), x, tile.x1 - 1, mask);
+          StoreRow(hn::IfThenElse(take, source, LoadRow(df, row, x, end, 0.0f)), df, row, x, end);
+        }
+        if (iterations)
+          StoreRow(hn::IfThenZeroElse(take, LoadRow(df, iterations, x, end, 0.0f)), df, iterations, x, end);
+      }
+    }
+  }
+}
+
 // SsrRaySourceOf's test against the source pixels (x & mask, sourceY) of the lanes at xs in row y,
 // whose G-buffer words are word1 and d: whether each lane takes that source's ray.
-MF SharesRay(const SsrTraceFrame& frame, const SsrTraceParams& params, VI xs, int y, int mask, int lastX,
+MF SharesRay(const SsrTraceFrame& frame, const SsrTraceParams& params, size_t x0, int y, int mask, int lastX,
              hn::Vec<DU> word1, VF d, float threshold) {
   const DF df;
   const DI di;
   const DU du;
   const int sourceY = y & mask;
-  const VI sourceX = hn::Min(hn::And(xs, hn::Set(di, mask)), hn::Set(di, lastX));
   const size_t row = size_t(sourceY) * size_t(frame.gbufferStride);
-  const auto sourceWord = hn::GatherIndex(du, frame.word1 + row, sourceX);
-  const VF sourceDepth = UnpackDepthV(df, hn::GatherIndex(du, frame.word2 + row, sourceX));
-  MF shares = sourceY == y ? hn::RebindMask(df, hn::Ne(sourceX, xs)) : hn::FirstN(df, hn::Lanes(df));
+  const auto sourceWord = SourceLanes(du, frame.word1 + row, x0, lastX, mask);
+  const VF sourceDepth = UnpackDepthV(df, SourceLanes(du, frame.word2 + row, x0, lastX, mask));
+  const VI xs = hn::Iota(di, int32_t(x0));
+  MF shares =
+      sourceY == y ? hn::RebindMask(df, hn::Ne(hn::And(xs, hn::Set(di, mask)), xs)) : hn::FirstN(df, hn::Lanes(df));
   const VF cutoff = hn::Set(df, params.roughnessCutoff);
   const VF least = hn::Set(df, threshold);
   const VF sourceRoughness = UnpackRoughnessV(df, sourceWord);
@@ -379,10 +423,11 @@ void TraceTile(const SsrTraceFrame& frame, const SsrTraceParams& params, const S
   const size_t lanes = hn::Lanes(df);
   const int width = tile.x1 - tile.x0;
   // The tile's pixels that trace their own ray, as (y - y0) << 8 | (x - x0), in row order (padded
-  // for CompressStore's whole-vector writes), and every pixel's source.
+  // for CompressStore's whole-vector writes), and every pixel's source (SsrRaySource), rows `width`
+  // apart.
   HWY_ALIGN int32_t traced[kMaxTilePixels + hn::MaxLanes(DI())];
   size_t tracedCount = 0;
-  SsrRaySource sources[kMaxTilePixels];
+  int32_t sources[kMaxTilePixels];
   bool anyShared = false;
   const bool sharing = params.quadRoughness < params.roughnessCutoff || params.blockRoughness < params.roughnessCutoff;
   const size_t end = size_t(tile.x1);
@@ -396,36 +441,33 @@ void TraceTile(const SsrTraceFrame& frame, const SsrTraceParams& params, const S
       StoreRow(hn::Set(df, -1.0f), df, out.hitY.MutableRow(size_t(y)), x0, end);
       StoreRow(hn::Zero(df), df, out.confidence.MutableRow(size_t(y)), x0, end);
       if (iterations) StoreRow(hn::Zero(df), df, iterations, x0, end);
-      SsrRaySource* source = sources + size_t(y - tile.y0) * size_t(width) + (x0 - size_t(tile.x0));
-      const size_t count = std::min(lanes, end - x0);
-      std::fill(source, source + count, SsrRaySource::kOwn);
+      int32_t* rowSources = sources + size_t(y - tile.y0) * size_t(width);
+      const size_t column = x0 - size_t(tile.x0);
+      StoreRow(hn::Set(di, int32_t(SsrRaySource::kOwn)), di, rowSources, column, size_t(width));
       const auto word1 = LoadRow(du, word1Row, x0, end, 0u);
       const VF d = UnpackDepthV(df, LoadRow(du, word2Row, x0, end, PackDepth(kBackgroundDepth)));
       // The scalar tracer's first two tests: geometry, and smooth enough.
       MF own = hn::And(hn::Lt(d, hn::Set(df, kBackgroundDepth)), hn::Gt(d, hn::Zero(df)));
       own = hn::And(own, hn::Lt(UnpackRoughnessV(df, word1), hn::Set(df, params.roughnessCutoff)));
       if (hn::AllFalse(df, own)) continue;
-      const VI xs = hn::Iota(di, int32_t(x0));
       if (sharing) {
         // A threshold at or above the cut-off shares nothing: its gathers are skipped.
         const auto shares = [&](int mask, float threshold) {
           if (!(threshold < params.roughnessCutoff)) return hn::FirstN(df, 0);
-          return hn::And(own, SharesRay(frame, params, xs, y, mask, tile.x1 - 1, word1, d, threshold));
+          return hn::And(own, SharesRay(frame, params, x0, y, mask, tile.x1 - 1, word1, d, threshold));
         };
         const MF block = shares(~3, params.blockRoughness);
         const MF quad = hn::AndNot(block, shares(~1, params.quadRoughness));
         if (!hn::AllFalse(df, hn::Or(block, quad))) {
           anyShared = true;
-          HWY_ALIGN int32_t code[hn::MaxLanes(DI())];
-          hn::Store(
-              hn::IfThenElse(hn::RebindMask(di, block), hn::Set(di, int32_t(SsrRaySource::kBlock)),
-                             hn::IfThenElseZero(hn::RebindMask(di, quad), hn::Set(di, int32_t(SsrRaySource::kQuad)))),
-              di, code);
-          for (size_t i = 0; i < count; ++i) source[i] = SsrRaySource(code[i]);
+          StoreRow(hn::IfThenElse(hn::RebindMask(di, block), hn::Set(di, int32_t(SsrRaySource::kBlock)),
+                                  hn::IfThenElse(hn::RebindMask(di, quad), hn::Set(di, int32_t(SsrRaySource::kQuad)),
+                                                 hn::Set(di, int32_t(SsrRaySource::kOwn)))),
+                   di, rowSources, column, size_t(width));
           own = hn::AndNot(hn::Or(block, quad), own);
         }
       }
-      const VI packed = hn::Or(hn::ShiftLeft<8>(hn::Set(di, y - tile.y0)), hn::Sub(xs, hn::Set(di, tile.x0)));
+      const VI packed = hn::Or(hn::ShiftLeft<8>(hn::Set(di, y - tile.y0)), hn::Iota(di, int32_t(column)));
       tracedCount += hn::CompressStore(packed, hn::RebindMask(di, own), di, traced + tracedCount);
     }
   }
@@ -490,7 +532,7 @@ void TraceTile(const SsrTraceFrame& frame, const SsrTraceParams& params, const S
     finish(a);
     if (hasB) finish(b);
   }
-  if (anyShared) CopySharedHits(tile, sources, out);
+  if (anyShared) CopySharedHitsV(tile, sources, out);
 }
 
 }  // namespace HWY_NAMESPACE
