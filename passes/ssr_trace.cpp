@@ -243,6 +243,31 @@ SsrRaySource SsrRaySourceOf(const SsrTraceInputs& in, const SsrTraceParams& para
   return SsrRaySource::kOwn;
 }
 
+namespace {
+
+// The kernel's last step: each pixel whose source (sources[] row by row over the tile) is not its
+// own gets its source's hit and confidence, and 0 steps.
+void CopySharedHits(const SsrTraceTile& tile, const SsrRaySource* sources, SsrTraceOutputs& out) {
+  const int width = tile.x1 - tile.x0;
+  // Blocks first: a quad's top-left pixel may itself take its block's ray.
+  for (const SsrRaySource shared : {SsrRaySource::kBlock, SsrRaySource::kQuad}) {
+    const int mask = shared == SsrRaySource::kBlock ? ~3 : ~1;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      float* iterations = IterationsRow(out, y);
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        if (sources[size_t(y - tile.y0) * size_t(width) + size_t(x - tile.x0)] != shared) continue;
+        const size_t sx = size_t(x & mask), sy = size_t(y & mask);
+        out.hitX.MutableRow(size_t(y))[x] = out.hitX.ConstRow(sy)[sx];
+        out.hitY.MutableRow(size_t(y))[x] = out.hitY.ConstRow(sy)[sx];
+        out.confidence.MutableRow(size_t(y))[x] = out.confidence.ConstRow(sy)[sx];
+        if (iterations) iterations[x] = 0.0f;
+      }
+    }
+  }
+}
+
+}  // namespace
+
 void SsrTraceTileScalar(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
                         SsrTraceOutputs& out, SsrTraceCounts& counts) {
   SSGI_CHECK(tile.x0 % 4 == 0 && tile.y0 % 4 == 0);
@@ -264,25 +289,6 @@ void SsrTraceTileScalar(const SsrTraceInputs& in, const SsrTraceParams& params, 
     }
   }
   CopySharedHits(tile, sources.data(), out);
-}
-
-void CopySharedHits(const SsrTraceTile& tile, const SsrRaySource* sources, SsrTraceOutputs& out) {
-  const int width = tile.x1 - tile.x0;
-  // Blocks first: a quad's top-left pixel may itself take its block's ray.
-  for (const SsrRaySource shared : {SsrRaySource::kBlock, SsrRaySource::kQuad}) {
-    const int mask = shared == SsrRaySource::kBlock ? ~3 : ~1;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-      float* iterations = IterationsRow(out, y);
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        if (sources[size_t(y - tile.y0) * size_t(width) + size_t(x - tile.x0)] != shared) continue;
-        const size_t sx = size_t(x & mask), sy = size_t(y & mask);
-        out.hitX.MutableRow(size_t(y))[x] = out.hitX.ConstRow(sy)[sx];
-        out.hitY.MutableRow(size_t(y))[x] = out.hitY.ConstRow(sy)[sx];
-        out.confidence.MutableRow(size_t(y))[x] = out.confidence.ConstRow(sy)[sx];
-        if (iterations) iterations[x] = 0.0f;
-      }
-    }
-  }
 }
 
 SsrTraceStats RunSsrTrace(const SsrTraceInputs& in, const SsrTraceParams& params, SsrTraceOutputs& out,

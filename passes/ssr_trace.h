@@ -166,9 +166,6 @@ struct SsrTraceTile {
 // skipped when empty), and adds the rays and steps to `counts`.
 void SsrTraceTileScalar(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
                         SsrTraceOutputs& out, SsrTraceCounts& counts);
-// The kernels' last step: each pixel whose source (sources[] row by row over the tile) is not its
-// own gets its source's hit and confidence, and 0 steps.
-void CopySharedHits(const SsrTraceTile& tile, const SsrRaySource* sources, SsrTraceOutputs& out);
 // Its Highway twin, dispatched to the machine's best target: lanes are the tile's rays.
 void SsrTraceTileSimd(const SsrTraceInputs& in, const SsrTraceParams& params, const SsrTraceTile& tile,
                       SsrTraceOutputs& out, SsrTraceCounts& counts);
