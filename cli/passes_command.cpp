@@ -73,7 +73,7 @@ void TakeSkyVolume(const ExrFile& dump, const Scene& scene, const FrameConfig& c
     std::memcpy(coefficients.data(), from.samples.data(), from.samples.size() * sizeof(float));
   };
   read(*layer, volume.coefficients);
-  volume.meshHash = SceneGeometryHash(scene);
+  volume.meshHash = MeshGeometryHash(scene.mesh);
   // The interreflection volume on its grid, where the dump holds one.
   if (config.interreflection.directions > 0) {
     WorldBounceVolume interreflection = EmptyWorldBounce(scene, volume, config.environment, config.interreflection);

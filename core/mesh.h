@@ -26,4 +26,8 @@ struct Mesh {
   size_t TriangleCount() const { return materials.size(); }
 };
 
+// A hash of the positions and indices: where it is unchanged, so is everything made from the
+// geometry alone (the sky visibility volume, the closed surfaces).
+uint64_t MeshGeometryHash(const Mesh& mesh);
+
 }  // namespace ssgi

@@ -358,7 +358,12 @@ ShadowMapStats RunShadowMap(const ShadowMapInputs& in, const ShadowMapParams& pa
   // Both faces are drawn: thin and open geometry (a leaf, a ground plane seen from below, a mesh with
   // holes) must cast from either side, and the normal offset plus the receiver-plane test, not
   // front-face culling, keep lit surfaces free of acne. Cut-outs (map_d) cast through their holes.
-  const SceneRasterInput raster(scene, out.lightView, false);
+  // A closed surface's back faces are the exception: behind its front faces from a light outside
+  // it, they are culled, which halves a solid object's work and leaves the nearest depths as they were.
+  if (out.closedSurfaces.meshHash != MeshGeometryHash(scene.mesh) ||
+      out.closedSurfaces.surface.size() != scene.mesh.TriangleCount())
+    out.closedSurfaces = FindClosedSurfaces(scene.mesh);
+  const SceneRasterInput raster(scene, out.lightView, false, &out.closedSurfaces);
   stats.raster = Rasterize(raster.Get(), out.lightView, RasterOutput::kDepthOnly, out.shadowMap, nullptr, kernels);
   stats.triangles = raster.Get().triangleCount;
   stats.rasterMs = stopwatch.Lap();

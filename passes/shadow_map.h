@@ -1,12 +1,13 @@
 // Shadow map and PCSS blocker search (docs/design.md §3 word 3, §4, §5; docs/pipeline.md §Shadow map and
 // blocker search). For one shadow-casting light:
 //  1. rasterizes the scene's depth from the light with the G-buffer's rasterizer (depth only, both
-//     faces): orthographic for a directional light, fitted to the receivers the camera sees and
-//     pulled back to every caster of the scene; perspective along the cone axis for a spot light;
+//     faces, but the back faces of closed surfaces wholly beyond the near plane): orthographic for a directional light,
+//     fitted to the receivers the camera sees and pulled back to every caster of the scene; perspective along the cone
+//     axis for a spot light;
 //  2. runs the blocker search of Percentage-Closer Soft Shadows (Fernando 2005) for every G-buffer
 //     pixel, with a normal-offset receiver and a receiver-plane depth test, and writes the result as
 //     the G-buffer's shadow term (word 3, PackShadowTerm).
-// Both faces of every triangle are drawn; cut-out (map_d) casters are alpha tested.
+// Cut-out (map_d) casters are alpha tested.
 // The frame runs it once per shadow-casting light; G-buffer word 3 holds the term of the FIRST
 // shadow-casting light (ShadowCastingLights(scene).front()).
 #pragma once
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/closed_surfaces.h"
 #include "core/gbuffer.h"
 #include "core/kernel_path.h"
 #include "core/lighting.h"
@@ -53,6 +55,9 @@ struct ShadowMapOutputs {
   VisibilityBuffer shadowMap;
   // The light's camera: world -> light view -> clip; orthographic (directional) or perspective (spot).
   ViewProjection lightView;
+  // The mesh's closed surfaces, whose back faces the map culls (CulledClosedSurfaces): found in the
+  // first frame and kept while the mesh's geometry holds (MeshGeometryHash).
+  ClosedSurfaces closedSurfaces;
 };
 
 struct ShadowMapStats {

@@ -97,30 +97,11 @@ size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& pa
   return size_t(std::min(HardwareThreads(), params.directions)) * perThread + size_t(params.directions) * cells;
 }
 
-uint64_t SceneGeometryHash(const Scene& scene) {
-  // FNV-1a over 64-bit words of the positions' and indices' bytes (and the tail's bytes): every
-  // frame checks it, so it reads words, not bytes.
-  uint64_t hash = 1469598103934665603ull;
-  const auto add = [&](const void* data, size_t bytes) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    size_t i = 0;
-    for (; i + 8 <= bytes; i += 8) {
-      uint64_t word;
-      std::memcpy(&word, p + i, 8);
-      hash = (hash ^ word) * 1099511628211ull;
-    }
-    for (; i < bytes; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
-  };
-  add(scene.mesh.positions.data(), scene.mesh.positions.size() * sizeof(glm::vec3));
-  add(scene.mesh.indices.data(), scene.mesh.indices.size() * sizeof(uint32_t));
-  return hash;
-}
-
 SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityParams& params) {
   SkyVisibilityVolume volume = SkyVisibilityGrid(scene, params);
   const size_t cells = size_t(volume.cellsX) * size_t(volume.cellsY) * size_t(volume.cellsZ);
   volume.coefficients.assign(cells * 4, 0.0f);
-  volume.meshHash = SceneGeometryHash(scene);
+  volume.meshHash = MeshGeometryHash(scene.mesh);
   const glm::vec3 lo = volume.origin + volume.cellSize, hi = lo + volume.extent;
   const glm::vec3 extent = volume.extent;
   const glm::vec3 centre = (lo + hi) * 0.5f;

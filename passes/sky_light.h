@@ -42,7 +42,7 @@ struct SkyVisibilityVolume {
   float inverseCellSize = 1.0f;
   // Per cell (x fastest, then y, then z), the four coefficients k0, kx, ky, kz, interleaved.
   std::vector<float> coefficients;
-  uint64_t meshHash = 0;      // the scene it was made for (SceneGeometryHash)
+  uint64_t meshHash = 0;  // the scene it was made for (MeshGeometryHash)
   SkyVisibilityParams params;
 };
 
@@ -59,8 +59,6 @@ std::vector<glm::vec3> SkyVisibilityDirections(int count);
 size_t SkyVisibilityBytes(const Scene& scene, const SkyVisibilityParams& params);
 size_t SkyVisibilityBuildBytes(const Scene& scene, const SkyVisibilityParams& params);
 
-// A hash of the scene's triangles (positions and indices): a frame keeps the volume while it holds.
-uint64_t SceneGeometryHash(const Scene& scene);
 // The volume for `scene` (deterministic: the maps in parallel, each cell's sum in direction order).
 SkyVisibilityVolume BuildSkyVisibility(const Scene& scene, const SkyVisibilityParams& params);
 // V(p, n) for a world-space point and unit normal: the volume read at p + n cellSize / 2, so that a

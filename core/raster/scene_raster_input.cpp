@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/check.h"
 #include "core/texture.h"
 
 namespace ssgi {
@@ -45,8 +46,28 @@ struct SceneRasterInput::Impl {
   AlphaTestContext alphaContext;
 };
 
-SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces)
+std::vector<uint8_t> CulledClosedSurfaces(const Scene& scene, const ClosedSurfaces& closed,
+                                          const ViewProjection& view) {
+  std::vector<uint8_t> culled(closed.lo.size(), 1);
+  for (size_t s = 0; s < culled.size(); ++s) {
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 p(corner & 1 ? closed.hi[s].x : closed.lo[s].x, corner & 2 ? closed.hi[s].y : closed.lo[s].y,
+                        corner & 4 ? closed.hi[s].z : closed.lo[s].z);
+      if (!(-(view.view * glm::vec4(p, 1.0f)).z > view.nearPlane)) culled[s] = 0;
+    }
+  }
+  for (size_t t = 0; t < closed.surface.size(); ++t) {
+    if (closed.surface[t] != ClosedSurfaces::kOpen &&
+        scene.materials[scene.mesh.materials[t]].alphaTexture != kNoTexture)
+      culled[closed.surface[t]] = 0;
+  }
+  return culled;
+}
+
+SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& view, bool cullBackFaces,
+                                   const ClosedSurfaces* closed)
     : impl_(std::make_unique<Impl>(scene, view)) {
+  SSGI_CHECK(!closed || closed->surface.size() == scene.mesh.TriangleCount());
   std::vector<uint8_t> materialFlags(scene.materials.size());
   for (size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& material = scene.materials[m];
@@ -55,11 +76,17 @@ SceneRasterInput::SceneRasterInput(const Scene& scene, const ViewProjection& vie
   }
   // One mask for every triangle where the materials agree (a scanned model, the benchmarks' knots):
   // no per-triangle array to fill, a millisecond of one thread per frame for a million triangles.
-  const bool uniform = std::adjacent_find(materialFlags.begin(), materialFlags.end(), std::not_equal_to<>()) ==
-                       materialFlags.end();
+  const std::vector<uint8_t> culled = closed ? CulledClosedSurfaces(scene, *closed, view) : std::vector<uint8_t>();
+  const bool cullsClosed = std::find(culled.begin(), culled.end(), 1) != culled.end();
+  const bool uniform = !cullsClosed && std::adjacent_find(materialFlags.begin(), materialFlags.end(),
+                                                          std::not_equal_to<>()) == materialFlags.end();
   if (!uniform) {
     impl_->flags.resize(scene.mesh.TriangleCount());
-    for (size_t t = 0; t < impl_->flags.size(); ++t) impl_->flags[t] = materialFlags[scene.mesh.materials[t]];
+    for (size_t t = 0; t < impl_->flags.size(); ++t) {
+      impl_->flags[t] = materialFlags[scene.mesh.materials[t]];
+      if (cullsClosed && closed->surface[t] != ClosedSurfaces::kOpen && culled[closed->surface[t]])
+        impl_->flags[t] |= kTriangleCullBackFace;
+    }
   }
   input_.positions = scene.mesh.positions.data();
   input_.vertexCount = scene.mesh.positions.size();

@@ -357,7 +357,7 @@ void SkyLightStep(FrameStep& s) {
   if (!s.Runs(P::kSkyLight)) return;
   if (s.config.skyVisibility.directions == 0) {
     f.skyVolume.reset();
-  } else if (!f.skyVolume || f.skyVolume->meshHash != SceneGeometryHash(s.scene) ||
+  } else if (!f.skyVolume || f.skyVolume->meshHash != MeshGeometryHash(s.scene.mesh) ||
              !SameSkyVisibilityParams(f.skyVolume->params, s.config.skyVisibility)) {
     Stopwatch build;
     f.skyVolume = BuildSkyVisibility(s.scene, s.config.skyVisibility);

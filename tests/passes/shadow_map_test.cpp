@@ -1,16 +1,17 @@
 #include "passes/shadow_map.h"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <random>
 #include <vector>
 
-#include <catch2/catch.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-
+#include "core/closed_surfaces.h"
 #include "core/parallel.h"
+#include "core/raster/scene_raster_input.h"
 #include "passes/gbuffer.h"
 #include "tests/passes/test_scenes.h"
 #include "tests/test_support.h"
@@ -312,6 +313,48 @@ TestScene DefaultSceneWithSpot(int width, int height) {
   TestScene scene = test::Sized(LoadScene(test::SourceDir() / "data" / "default.json"), width, height);
   scene.spotLights.push_back(test::Spot({0.5f, 2.5f, 1.0f}, {-0.2f, -1.0f, -0.4f}, 50.0f, 0.1f));
   return scene;
+}
+
+TEST_CASE("shadow map: closed casters' back faces are culled and every depth is the both-faces map's", "[shadow]") {
+  const TestScene scene = DefaultSceneWithSpot(161, 119);
+  const ClosedSurfaces closed = FindClosedSurfaces(scene.mesh);
+  CHECK(closed.lo.size() >= 9);  // the pieces, spheres and boxes (the board is open)
+  ShadowMapParams params;
+  params.resolution = 1024;
+  for (size_t light : {size_t(0), size_t(1)}) {
+    const Rendered r = Render(scene, params, light);
+    VisibilityBuffer bothFaces = MakeVisibilityBuffer(1024, 1024, RasterOutput::kDepthOnly);
+    const SceneRasterInput raster(scene, r.lightView, false);
+    const RasterStats both = Rasterize(raster.Get(), r.lightView, RasterOutput::kDepthOnly, bothFaces, nullptr);
+    CAPTURE(light);
+    CHECK(test::SameBytes(r.shadowMap.depthKey, bothFaces.depthKey));
+    CHECK(r.stats.raster.trianglesCulled > both.trianglesCulled + 2000);
+  }
+}
+
+TEST_CASE("shadow map: a spot light inside a closed box is shut in by its walls", "[shadow]") {
+  CameraDesc camera;
+  camera.position = {0.0f, 0.4f, 3.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  TestScene scene = MakeScene(camera, 120, 90);
+  AddGround(scene.mesh, 5.0f);
+  AddBox(scene.mesh, glm::vec3(-0.3f, 2.7f, -0.3f), glm::vec3(0.3f, 3.3f, 0.3f));  // around the light
+  scene.spotLights.push_back(test::Spot({0.0f, 3.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 40.0f, 0.05f));
+  REQUIRE(FindClosedSurfaces(scene.mesh).lo.size() == 1);
+  const Rendered r = Render(scene, {}, 0);
+  REQUIRE(AllValid(r));
+  size_t lit = 0, underCone = 0;
+  for (int y = 0; y < 90; ++y) {
+    for (int x = 0; x < 120; ++x) {
+      if (r.Background(x, y) || !OnGround(r.World(x, y))) continue;
+      const glm::vec3 p = r.World(x, y);
+      if (std::max(std::fabs(p.x), std::fabs(p.z)) > 1.5f) continue;  // well inside the cone
+      ++underCone;
+      lit += !UnpackHardShadow(r.Term(x, y));
+    }
+  }
+  CHECK(underCone > 500);
+  CHECK(lit == 0);
 }
 
 TEST_CASE("shadow map: identical bits at 1, 2 and 3 threads", "[shadow]") {

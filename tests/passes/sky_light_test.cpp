@@ -133,7 +133,7 @@ TEST_CASE("sky light: the visibility volume is the same at any thread count", "[
   }
   CHECK(volumes[0].coefficients == volumes[1].coefficients);
   CHECK(volumes[0].coefficients == volumes[2].coefficients);
-  CHECK(volumes[0].meshHash == SceneGeometryHash(defaults.scene));
+  CHECK(volumes[0].meshHash == MeshGeometryHash(defaults.scene.mesh));
 }
 
 TEST_CASE("sky light: the SIMD kernel gives the scalar bytes on every target", "[sky_light][simd]") {

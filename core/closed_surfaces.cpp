@@ -1,0 +1,122 @@
+#include "core/closed_surfaces.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <numeric>
+
+namespace ssgi {
+namespace {
+
+// Union-find over triangles; the smaller index becomes the root, so the parts do not depend on the
+// order the edges are joined in.
+class Parts {
+ public:
+  explicit Parts(size_t count) : parent_(count) { std::iota(parent_.begin(), parent_.end(), uint32_t(0)); }
+  uint32_t Find(uint32_t t) {
+    while (parent_[t] != t) t = parent_[t] = parent_[parent_[t]];
+    return t;
+  }
+  void Join(uint32_t a, uint32_t b) {
+    a = Find(a);
+    b = Find(b);
+    if (a < b) parent_[b] = a;
+    if (b < a) parent_[a] = b;
+  }
+
+ private:
+  std::vector<uint32_t> parent_;
+};
+
+// Per vertex: an index shared by every vertex at the same position (the same bits).
+std::vector<uint32_t> WeldPositions(const std::vector<glm::vec3>& positions) {
+  using Bits = std::array<uint32_t, 3>;
+  const auto bits = [&](uint32_t v) {
+    const glm::vec3& p = positions[v];
+    return Bits{std::bit_cast<uint32_t>(p.x), std::bit_cast<uint32_t>(p.y), std::bit_cast<uint32_t>(p.z)};
+  };
+  std::vector<uint32_t> order(positions.size());
+  std::iota(order.begin(), order.end(), uint32_t(0));
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits(a) < bits(b); });
+  std::vector<uint32_t> welded(positions.size());
+  for (size_t i = 0; i < order.size(); ++i)
+    welded[order[i]] = i > 0 && bits(order[i]) == bits(order[i - 1]) ? welded[order[i - 1]] : order[i];
+  return welded;
+}
+
+struct Edge {
+  uint64_t key;  // the welded ends, smaller first
+  uint32_t triangle;
+  bool ascending;  // the triangle runs from the smaller end to the larger
+};
+
+}  // namespace
+
+ClosedSurfaces FindClosedSurfaces(const Mesh& mesh) {
+  const size_t triangles = mesh.TriangleCount();
+  const std::vector<uint32_t> welded = WeldPositions(mesh.positions);
+  std::vector<Edge> edges;
+  edges.reserve(3 * triangles);
+  std::vector<uint8_t> open(triangles, 0);
+  for (size_t t = 0; t < triangles; ++t) {
+    const uint32_t corner[3] = {welded[mesh.indices[3 * t]], welded[mesh.indices[3 * t + 1]],
+                                welded[mesh.indices[3 * t + 2]]};
+    if (corner[0] == corner[1] || corner[1] == corner[2] || corner[2] == corner[0]) open[t] = 1;
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t from = corner[e], to = corner[(e + 1) % 3];
+      const uint64_t lo = std::min(from, to), hi = std::max(from, to);
+      edges.push_back({lo << 32 | hi, uint32_t(t), from < to});
+    }
+  }
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& a, const Edge& b) { return a.key != b.key ? a.key < b.key : a.triangle < b.triangle; });
+  Parts parts(triangles);
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j].key == edges[i].key) ++j;
+    for (size_t k = i + 1; k < j; ++k) parts.Join(edges[i].triangle, edges[k].triangle);
+    const bool manifold = j - i == 2 && edges[i].ascending != edges[i + 1].ascending;
+    if (!manifold)
+      for (size_t k = i; k < j; ++k) open[edges[k].triangle] = 1;
+    i = j;
+  }
+
+  // A part is closed when none of its triangles is open and it encloses a positive volume (its front
+  // faces outside): a closed part turned inside out, as a room modelled from within, is seen through
+  // its back faces first. The volume is the sum of the signed tetrahedra from the part's first
+  // vertex, in double and in triangle order.
+  std::vector<uint8_t> partOpen(triangles, 0);
+  std::vector<double> volume(triangles, 0.0);
+  std::vector<glm::dvec3> origin(triangles);
+  for (size_t t = 0; t < triangles; ++t) {
+    const uint32_t root = parts.Find(uint32_t(t));
+    partOpen[root] |= open[t];
+    if (root == t) origin[root] = glm::dvec3(mesh.positions[mesh.indices[3 * t]]);
+    const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]]) - origin[root];
+    const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]) - origin[root];
+    const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]]) - origin[root];
+    volume[root] += glm::dot(a, glm::cross(b, c));
+  }
+
+  ClosedSurfaces out;
+  out.meshHash = MeshGeometryHash(mesh);
+  out.surface.assign(triangles, ClosedSurfaces::kOpen);
+  std::vector<uint32_t> surfaceOfRoot(triangles, ClosedSurfaces::kOpen);
+  for (size_t t = 0; t < triangles; ++t) {
+    const uint32_t root = parts.Find(uint32_t(t));
+    if (partOpen[root] || !(volume[root] > 0.0)) continue;
+    if (surfaceOfRoot[root] == ClosedSurfaces::kOpen) {
+      surfaceOfRoot[root] = uint32_t(out.lo.size());
+      out.lo.push_back(mesh.positions[mesh.indices[3 * t]]);
+      out.hi.push_back(out.lo.back());
+    }
+    const uint32_t s = out.surface[t] = surfaceOfRoot[root];
+    for (int k = 0; k < 3; ++k) {
+      out.lo[s] = glm::min(out.lo[s], mesh.positions[mesh.indices[3 * t + k]]);
+      out.hi[s] = glm::max(out.hi[s], mesh.positions[mesh.indices[3 * t + k]]);
+    }
+  }
+  return out;
+}
+
+}  // namespace ssgi

@@ -1,0 +1,32 @@
+// Closed surfaces of a mesh (docs/pipeline.md §Shadow map and blocker search): the connected parts
+// whose every edge is shared by exactly two triangles that run along it in opposite directions, so
+// the part encloses a volume with its front faces outside. Seen from outside, the nearest of its
+// surfaces along any ray is a front face, so a depth-only raster from a viewpoint outside may cull
+// its back faces and keep the same nearest depths.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <limits>
+#include <vector>
+
+#include "core/mesh.h"
+
+namespace ssgi {
+
+struct ClosedSurfaces {
+  static constexpr uint32_t kOpen = std::numeric_limits<uint32_t>::max();
+  // Per triangle: the index of its closed surface, or kOpen.
+  std::vector<uint32_t> surface;
+  // Per closed surface: the world-space box of its vertices.
+  std::vector<glm::vec3> lo, hi;
+  uint64_t meshHash = 0;  // MeshGeometryHash of the mesh they were found in
+};
+
+// Triangles are connected where they share an edge, their corners joined by equal positions (the
+// same bits; an OBJ splits a vertex where its normal or UV changes). A part is closed when every
+// edge has exactly two triangles, traversing it in opposite directions, and no triangle has two
+// corners at one position.
+ClosedSurfaces FindClosedSurfaces(const Mesh& mesh);
+
+}  // namespace ssgi
