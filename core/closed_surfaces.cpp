@@ -52,6 +52,15 @@ struct Edge {
 
 }  // namespace
 
+size_t ClosedSurfacesBuildBytes(size_t triangles, size_t vertices) {
+  // Per vertex: the sort order and the joined index. Per triangle: three edges, the open flags, the
+  // parts, the part's flag, volume and origin, the result's index and a part's surface index, and at
+  // most a quarter of a surface's box (a closed surface has at least four triangles).
+  const size_t perTriangle = 3 * sizeof(Edge) + 2 * sizeof(uint8_t) + 3 * sizeof(uint32_t) + sizeof(double) +
+                             sizeof(glm::dvec3) + 2 * sizeof(glm::vec3) / 4 + sizeof(uint32_t);
+  return 2 * sizeof(uint32_t) * vertices + perTriangle * triangles;
+}
+
 ClosedSurfaces FindClosedSurfaces(const Mesh& mesh) {
   const size_t triangles = mesh.TriangleCount();
   const std::vector<uint32_t> welded = WeldPositions(mesh.positions);

@@ -5,6 +5,7 @@
 // its back faces and keep the same nearest depths.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <limits>
@@ -28,5 +29,9 @@ struct ClosedSurfaces {
 // edge has exactly two triangles, traversing it in opposite directions, and no triangle has two
 // corners at one position.
 ClosedSurfaces FindClosedSurfaces(const Mesh& mesh);
+
+// What FindClosedSurfaces holds at most while it works on a mesh of `triangles` triangles and
+// `vertices` vertices, its result included.
+size_t ClosedSurfacesBuildBytes(size_t triangles, size_t vertices);
 
 }  // namespace ssgi

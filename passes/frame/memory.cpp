@@ -15,6 +15,7 @@ FrameMemoryEstimate EstimateFrameMemory(const Scene& scene, const FrameConfig& c
   const bool release = lifetime == BufferLifetime::kUntilLastReader;
   FrameShape shape{size_t(config.width), size_t(config.height), scene.mesh.TriangleCount(),
                    size_t(config.shadowMap.resolution)};
+  shape.vertices = scene.mesh.positions.size();
   shape.handOver = release;
   shape.edgeCoverage = config.antialiasing == Antialiasing::kEdge;
   shape.mlaa = config.antialiasing == Antialiasing::kMlaa;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/check.h"
+#include "core/closed_surfaces.h"
 #include "core/lighting.h"
 #include "core/pyramid.h"
 #include "core/stopwatch.h"
@@ -222,13 +223,20 @@ PassDeclaration ShadowMapPass() {
   pass.makes = {
       {.id = B::kShadowMap,
        .name = "shadow map",
-       // Depth keys only: the shadow map's raster writes no triangle indices.
-       .bytes = [](const FrameShape& s) { return PlaneBytes(s.shadowMapResolution, s.shadowMapResolution); },
+       // Depth keys only: the shadow map's raster writes no triangle indices. With them, the mesh's
+       // closed surfaces, kept from frame to frame: a surface index per triangle (their boxes, 24
+       // bytes a closed surface, are left out).
+       .bytes =
+           [](const FrameShape& s) {
+             return PlaneBytes(s.shadowMapResolution, s.shadowMapResolution) + sizeof(uint32_t) * s.triangles;
+           },
        .layers = {{"depthKey", P::kShadowMap, false, DumpPart::kShadowMap, false,
                    "shadow map: reversed-Z depth key seen from the light, [0, 1]; 0 = nothing drawn"}},
        .heldBytes =
            [](const Frame& f) {
-             return f.shadowMap ? Held(f.shadowMap->shadowMap.depthKey) + Held(f.shadowMap->shadowMap.triangle) : 0;
+             return f.shadowMap ? Held(f.shadowMap->shadowMap.depthKey) + Held(f.shadowMap->shadowMap.triangle) +
+                                      sizeof(uint32_t) * f.shadowMap->closedSurfaces.surface.size()
+                                : 0;
            },
        .release = [](Frame& f) { f.shadowMap.reset(); },
        .dump =
@@ -239,7 +247,10 @@ PassDeclaration ShadowMapPass() {
   pass.reads = {B::kGBufferWords};
   pass.writes = {B::kShadowTerm};
   pass.scratchName = "shadow-map raster set-up";
-  pass.scratchBytes = [](const FrameShape& s) { return kRasterBytesPerTriangle * s.triangles; };
+  // Finding the closed surfaces (the first frame) comes before the raster, and needs less.
+  pass.scratchBytes = [](const FrameShape& s) {
+    return std::max(kRasterBytesPerTriangle * s.triangles, ClosedSurfacesBuildBytes(s.triangles, s.vertices));
+  };
   pass.stats = {
       {"shadow map",
        [](const FrameStats& s) -> std::optional<StageStats> {

@@ -109,6 +109,7 @@ struct FrameShape {
   size_t width = 0, height = 0;
   size_t triangles = 0;  // submitted to the rasterizer
   size_t shadowMapResolution = 0;
+  size_t vertices = 0;             // the mesh's
   size_t skyVolumeBytes = 0;       // the sky visibility volume of the scene (SkyVisibilityBytes)
   size_t skyVolumeBuildBytes = 0;  // what making it holds besides the volume
   bool edgeCoverage = false;       // the G-buffer pass writes its edge coverage (--aa edge)

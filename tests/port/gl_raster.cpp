@@ -5,6 +5,7 @@
 #include <initializer_list>
 #include <memory>
 
+#include "core/check.h"
 #include "core/color.h"
 #include "core/error.h"
 #include "core/raster/raster.h"
@@ -15,7 +16,7 @@ namespace {
 
 // surface.glsl's, raster.glsl's and the passes' bindings.
 constexpr GLuint kPositions = 5, kUvs = 6, kIndices = 7, kTriangleMaterials = 8, kMaterials = 9, kTextures = 12,
-                 kTexels = 13, kNormals = 10, kSrgbThresholds = 11, kPieces = 3, kPieceCounts = 4;
+                 kTexels = 13, kNormals = 10, kSrgbThresholds = 11, kPieces = 3, kPieceCounts = 4, kClosedCulled = 16;
 constexpr int kMaxPieces = 7;          // raster.glsl's
 constexpr int kSetUpRowLength = 1024;  // raster_setup.comp's triangles per row of invocations
 
@@ -204,11 +205,19 @@ class Framebuffer {
 
 // raster.glsl's oracle set-up of every triangle seen from `view`, bound where it reads it.
 struct RasterSetUp {
-  RasterSetUp(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces)
-      : pieces(scene.triangles() * kMaxPieces * 16), counts(scene.triangles()) {
+  RasterSetUp(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces,
+              const std::vector<uint32_t>& closedCulledTriangles)
+      : pieces(scene.triangles() * kMaxPieces * 16),
+        counts(scene.triangles()),
+        closedCulled(std::max<size_t>(1, scene.triangles()),
+                     closedCulledTriangles.empty()
+                         ? std::vector<uint32_t>(std::max<size_t>(1, scene.triangles()), 0u).data()
+                         : closedCulledTriangles.data()) {
+    SSGI_CHECK(closedCulledTriangles.empty() || closedCulledTriangles.size() == scene.triangles());
     scene.Bind();
     pieces.Bind(kPieces);
     counts.Bind(kPieceCounts);
+    closedCulled.Bind(kClosedCulled);
     const Program setUp("raster_setup.comp", {"surface.glsl", "raster.glsl"});
     SetRasterView(setUp, view);
     setUp.Set("triangleCount", int(scene.triangles()));
@@ -216,7 +225,7 @@ struct RasterSetUp {
     setUp.Set("cullBackFaces", cullBackFaces ? 1 : 0);
     setUp.Dispatch(kSetUpRowLength, int((scene.triangles() + kSetUpRowLength - 1) / kSetUpRowLength));
   }
-  Buffer pieces, counts;
+  Buffer pieces, counts, closedCulled;
 };
 
 }  // namespace
@@ -229,8 +238,8 @@ void SetRasterView(const Program& program, const ViewProjection& view, int snapB
 }
 
 VisibilityTargets RunVisibilityPass(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces,
-                                    RasterKind kind, int snapBits) {
-  const RasterSetUp setUp(scene, view, cullBackFaces);
+                                    RasterKind kind, int snapBits, const std::vector<uint32_t>& closedCulled) {
+  const RasterSetUp setUp(scene, view, cullBackFaces, closedCulled);
   const Program draw("visibility.vert", "visibility.frag", {"surface.glsl", "raster.glsl"});
   SetRasterView(draw, view, snapBits);
   draw.Set("cullBackFaces", cullBackFaces ? 1 : 0);

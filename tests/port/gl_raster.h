@@ -41,10 +41,11 @@ struct VisibilityTargets {
 enum class RasterKind { kVisibility, kDepthOnly };
 
 // §Rasterizer on GL: every triangle of the scene seen from `view` (the camera, or a light at the
-// map's resolution), back faces of one-sided materials culled where `cullBackFaces`, the vertices
-// snapped to `snapBits` sub-pixel bits first where fewer than GL's 8 (an emulated coarser rasterizer).
+// map's resolution), back faces of one-sided materials culled where `cullBackFaces` and those of the
+// triangles `closedCulled` marks (per triangle, not 0: cull; empty: none), the vertices snapped to
+// `snapBits` sub-pixel bits first where fewer than GL's 8 (an emulated coarser rasterizer).
 VisibilityTargets RunVisibilityPass(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces,
-                                    RasterKind kind, int snapBits = 8);
+                                    RasterKind kind, int snapBits = 8, const std::vector<uint32_t>& closedCulled = {});
 
 // G-buffer words 0-2 (word 3 is the shadow pass's) and the visibility buffer they came from.
 struct PortGBuffer {

@@ -1,8 +1,11 @@
 #include "tests/port/gl_shadows.h"
 
 #include <bit>
+#include <vector>
 
+#include "core/closed_surfaces.h"
 #include "core/lighting.h"
+#include "core/raster/scene_raster_input.h"
 
 namespace ssgi::port {
 namespace {
@@ -62,8 +65,14 @@ ShadowMapResult RunPortShadowMap(const ShadowInputs& in, const ShadowMapParams& 
   if (!rasterize) return {lightView, Buffer(0)};
   const size_t texels = size_t(params.resolution) * size_t(params.resolution);
   if (receiverCount == 0) return {lightView, Buffer(texels, std::vector<float>(texels, 0.0f).data())};
-  // Both faces drawn; cut-outs alpha tested with the light's rays.
-  VisibilityTargets map = RunVisibilityPass(in.sceneBuffers, lightView, false, RasterKind::kDepthOnly);
+  // Both faces drawn, but the back faces of the closed surfaces the spec culls (found in the mesh on
+  // the CPU, as an engine keeps static geometry's); cut-outs alpha tested with the light's rays.
+  const ClosedSurfaces closed = FindClosedSurfaces(in.scene.mesh);
+  const std::vector<uint8_t> culled = CulledClosedSurfaces(in.scene, closed, lightView);
+  std::vector<uint32_t> closedCulled(closed.surface.size(), 0u);
+  for (size_t t = 0; t < closedCulled.size(); ++t)
+    closedCulled[t] = closed.surface[t] != ClosedSurfaces::kOpen && culled[closed.surface[t]];
+  VisibilityTargets map = RunVisibilityPass(in.sceneBuffers, lightView, false, RasterKind::kDepthOnly, 8, closedCulled);
   return {lightView, std::move(map.depthKey)};
 }
 

@@ -24,6 +24,9 @@ struct ScreenTriangle {
 // kMaxPieces per triangle; pieceCount[t] of them are set up (0: culled or outside the view).
 layout(std430, binding = 3) buffer ScreenTriangles { ScreenTriangle pieces[]; };
 layout(std430, binding = 4) buffer PieceCounts { uint pieceCount[]; };
+// Per triangle: not 0 where the pass culls its back face as one of a closed surface's (§Shadow map:
+// closed surfaces wholly beyond the light's near plane, without cut-outs); all 0 for the camera.
+layout(std430, binding = 16) readonly buffer ClosedCulled { uint closedCulled[]; };
 
 // The target the triangles are set up for: the image or the shadow map, and its view-projection.
 uniform ivec2 rasterSize;

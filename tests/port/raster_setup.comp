@@ -5,7 +5,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 uniform int triangleCount;
 uniform int rowLength;
-uniform int cullBackFaces;  // the camera's G-buffer culls (unless two-sided); shadow maps draw both faces
+uniform int cullBackFaces;  // the camera's G-buffer culls (unless two-sided); shadow maps draw both faces but closedCulled's
 
 const int kPlanes = 6;
 
@@ -91,7 +91,7 @@ void main() {
   const int triangle = int(gl_GlobalInvocationID.x) + rowLength * int(gl_GlobalInvocationID.y);
   if (int(gl_GlobalInvocationID.x) >= rowLength || triangle >= triangleCount) return;
   const Material material = materials[triangleMaterial[triangle]];
-  const bool cull = cullBackFaces != 0 && material.roughnessCutoffTwoSided.z == 0.0;
+  const bool cull = (cullBackFaces != 0 && material.roughnessCutoffTwoSided.z == 0.0) || closedCulled[triangle] != 0u;
   const uint first = uint(triangle) * uint(kMaxPieces);
   dvec4 polygon[2][9];
   int outsideAll = 63, outsideAny = 0;
