@@ -9,6 +9,7 @@
 
 #include "bench/bench_scene.h"
 #include "core/parallel.h"
+#include "core/plane.h"
 #include "core/procedural_mesh.h"
 #include "passes/frame/frame.h"
 
@@ -56,6 +57,11 @@ Scene StripFloor(int smooth, float sunDegrees = 2.0f) {
 // each stage's mean time as a counter, to show where a frame's cost, or a step in it, comes from.
 // Returns the frame, for its plan and stats.
 Frame TimeFrames(benchmark::State& state, const Scene& scene, const FrameConfig& config, BufferLifetime lifetime) {
+  // Kept buffers: the heap keeps what a frame frees for the next, as in a running renderer (and as
+  // `ssgi figures` renders Table 1); freed ones: every plane on fresh pages, as `ssgi render` pays.
+  const bool keep = lifetime != BufferLifetime::kUntilLastReader;
+  if (!RetainFreedMemory(keep) && keep)
+    state.SkipWithError("cannot set the allocator's page reuse (glibc mallopt)");
   Frame frame;
   RunFramePasses(scene, config, FramePass::kGBuffer, FramePass::kTonemap, frame, lifetime);
   std::map<std::string, double> stageMs;
