@@ -27,7 +27,7 @@ namespace {
 // kPrefetchLaneStep, roughly where the same pixel kPrefetchRows rows below will tap (same view depth,
 // no normal offset): a hint only, which changes no result.
 constexpr int kPrefetchRows = 16;
-constexpr size_t kPrefetchLaneStep = 8;
+constexpr size_t kPrefetchLaneStep = 4;
 
 // What the search of one row reads, flattened into plain values for the dispatch boundary: the
 // row's receiver rays, BlockerSearchContext's constants, and the subexpressions of the scalar kernel
