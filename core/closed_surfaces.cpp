@@ -61,11 +61,11 @@ struct Edge {
 
 size_t ClosedSurfacesBuildBytes(size_t triangles, size_t vertices) {
   // Per vertex: the sort order, the joined index, and the edges' first and next places. Per
-  // triangle: three edges, the open flags, the parts and their roots, the part's flag, volume and
-  // origin, the result's index and a part's surface index, and at most a quarter of a surface's box
-  // (a closed surface has at least four triangles).
+  // triangle: three edges, the open flags, the parts and their roots, the part's flag and volume,
+  // the result's index and a part's surface index, and at most a quarter of a surface's box (a
+  // closed surface has at least four triangles).
   const size_t perTriangle = 3 * sizeof(Edge) + 2 * sizeof(uint8_t) + 4 * sizeof(uint32_t) + sizeof(double) +
-                             sizeof(glm::dvec3) + 2 * sizeof(glm::vec3) / 4 + sizeof(uint32_t);
+                             2 * sizeof(glm::vec3) / 4 + sizeof(uint32_t);
   return 4 * sizeof(uint32_t) * vertices + perTriangle * triangles;
 }
 
@@ -115,19 +115,16 @@ ClosedSurfaces FindClosedSurfaces(const Mesh& mesh) {
   // A part is closed when none of its triangles is open and it encloses a positive volume (its front
   // faces outside): a closed part turned inside out, as a room modelled from within, is seen through
   // its back faces first. The volume is the sum of the signed tetrahedra from the part's first
-  // vertex, in double and in triangle order.
+  // vertex (its root triangle's first corner), in double and in triangle order.
   const std::vector<uint32_t> roots = parts.Roots();
   std::vector<uint8_t> partOpen(triangles, 0);
   std::vector<double> volume(triangles, 0.0);
-  std::vector<glm::dvec3> origin(triangles);
+  const auto corner = [&](size_t t, int k) { return glm::dvec3(mesh.positions[mesh.indices[3 * t + size_t(k)]]); };
   for (size_t t = 0; t < triangles; ++t) {
     const uint32_t root = roots[t];
     partOpen[root] |= open[t];
-    if (root == t) origin[root] = glm::dvec3(mesh.positions[mesh.indices[3 * t]]);
-    const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]]) - origin[root];
-    const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]) - origin[root];
-    const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]]) - origin[root];
-    volume[root] += glm::dot(a, glm::cross(b, c));
+    const glm::dvec3 origin = corner(root, 0);
+    volume[root] += glm::dot(corner(t, 0) - origin, glm::cross(corner(t, 1) - origin, corner(t, 2) - origin));
   }
 
   ClosedSurfaces out;

@@ -26,8 +26,8 @@ struct ClosedSurfaces {
 
 // Triangles are connected where they share an edge, their corners joined by equal positions (the
 // same bits; an OBJ splits a vertex where its normal or UV changes). A part is closed when every
-// edge has exactly two triangles, traversing it in opposite directions, and no triangle has two
-// corners at one position.
+// edge has exactly two triangles, traversing it in opposite directions, no triangle has two corners
+// at one position, and its signed volume is positive (front faces outside).
 ClosedSurfaces FindClosedSurfaces(const Mesh& mesh);
 
 // What FindClosedSurfaces holds at most while it works on a mesh of `triangles` triangles and

@@ -203,17 +203,21 @@ class Framebuffer {
   GLuint id_ = 0;
 };
 
+// raster.glsl's closedCulled: the triangles `marked` marks (empty: none), one word each.
+Buffer ClosedCulledBuffer(size_t triangles, const std::vector<uint32_t>& marked) {
+  SSGI_CHECK(marked.empty() || marked.size() == triangles);
+  if (!marked.empty()) return Buffer(marked.size(), marked.data());
+  const std::vector<uint32_t> none(std::max<size_t>(1, triangles), 0u);
+  return Buffer(none.size(), none.data());
+}
+
 // raster.glsl's oracle set-up of every triangle seen from `view`, bound where it reads it.
 struct RasterSetUp {
   RasterSetUp(const SceneBuffers& scene, const ViewProjection& view, bool cullBackFaces,
               const std::vector<uint32_t>& closedCulledTriangles)
       : pieces(scene.triangles() * kMaxPieces * 16),
         counts(scene.triangles()),
-        closedCulled(std::max<size_t>(1, scene.triangles()),
-                     closedCulledTriangles.empty()
-                         ? std::vector<uint32_t>(std::max<size_t>(1, scene.triangles()), 0u).data()
-                         : closedCulledTriangles.data()) {
-    SSGI_CHECK(closedCulledTriangles.empty() || closedCulledTriangles.size() == scene.triangles());
+        closedCulled(ClosedCulledBuffer(scene.triangles(), closedCulledTriangles)) {
     scene.Bind();
     pieces.Bind(kPieces);
     counts.Bind(kPieceCounts);
